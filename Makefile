@@ -1,0 +1,24 @@
+# The two commands of the README. Both install what they need first (scripts/install-deps.sh is
+# idempotent), configure and build with the default CMake preset.
+.PHONY: demo test deps build debug-test format
+
+deps:
+	./scripts/install-deps.sh
+
+build: deps
+	cmake --preset default
+	cmake --build --preset default
+
+demo: build
+	./scripts/demo.sh
+
+test: build
+	ctest --preset default
+
+debug-test: deps
+	cmake --preset debug
+	cmake --build --preset debug
+	ctest --preset debug
+
+format:
+	find . -path ./build -prune -o \( -name '*.cpp' -o -name '*.hpp' \) -print | xargs clang-format -i

@@ -1,0 +1,39 @@
+#pragma once
+// Output files appear whole or not at all: write to a temporary sibling, then Commit() renames it
+// over the destination. A destroyed AtomicOutput that was never committed removes its temporary,
+// so an error or Ctrl-C leaves no partial file behind.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace owval {
+
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(std::filesystem::path destination);
+  ~AtomicOutput();
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+  // Path to write to (for libraries that open files themselves, e.g. HDF5 or libavformat).
+  const std::filesystem::path& temporary_path() const { return temporary_; }
+  const std::filesystem::path& destination() const { return destination_; }
+  // A binary stream on the temporary file, opened on first use.
+  std::ofstream& stream();
+  // Flushes, closes and renames the temporary onto the destination. Throws on I/O failure.
+  void Commit();
+
+ private:
+  std::filesystem::path destination_;
+  std::filesystem::path temporary_;
+  std::ofstream stream_;
+  bool committed_ = false;
+};
+
+// Writes the whole string atomically.
+void WriteFileAtomically(const std::filesystem::path& destination, const std::string& contents);
+
+// Reads a whole file; throws InputError naming the file when it is missing or unreadable.
+std::string ReadWholeFile(const std::filesystem::path& path);
+
+}  // namespace owval

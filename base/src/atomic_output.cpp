@@ -1,0 +1,68 @@
+#include "owval/base/atomic_output.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+
+namespace owval {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path TemporarySibling(const fs::path& destination) {
+  static std::atomic<int> counter{0};
+  std::ostringstream name;
+  name << "." << destination.filename().string() << ".tmp." << ::getpid() << "." << counter++;
+  return destination.parent_path() / name.str();
+}
+}  // namespace
+
+AtomicOutput::AtomicOutput(fs::path destination)
+    : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
+  if (!destination_.parent_path().empty()) fs::create_directories(destination_.parent_path());
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (committed_) return;
+  if (stream_.is_open()) stream_.close();
+  std::error_code ignored;
+  fs::remove(temporary_, ignored);
+}
+
+std::ofstream& AtomicOutput::stream() {
+  if (!stream_.is_open()) {
+    stream_.open(temporary_, std::ios::binary | std::ios::trunc);
+    if (!stream_) throw InputError(destination_.string(), 0, "cannot open for writing");
+  }
+  return stream_;
+}
+
+void AtomicOutput::Commit() {
+  if (stream_.is_open()) {
+    stream_.flush();
+    if (!stream_) throw InputError(destination_.string(), 0, "write failed (disk full?)");
+    stream_.close();
+  }
+  std::error_code error;
+  fs::rename(temporary_, destination_, error);
+  if (error) throw InputError(destination_.string(), 0, "cannot rename into place: " + error.message());
+  committed_ = true;
+}
+
+void WriteFileAtomically(const fs::path& destination, const std::string& contents) {
+  AtomicOutput out(destination);
+  out.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
+  out.Commit();
+}
+
+std::string ReadWholeFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+}  // namespace owval

@@ -1,0 +1,29 @@
+#pragma once
+// How a command group plugs into the owval executable: a cmd_*.cpp file defines
+//   static const bool registered = owval::cli::RegisterCommand(&SetUpMyCommand);
+// where SetUpMyCommand adds a subcommand to the app and sets its callback. Callbacks report bad
+// input by throwing owval::InputError (exit 2) and gate failures through SetExitCode(1).
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace owval::cli {
+
+using CommandSetUp = std::function<void(CLI::App& app)>;
+bool RegisterCommand(CommandSetUp set_up);
+
+// The exit code the process ends with once the callback returns (default 0).
+void SetExitCode(int code);
+
+// Global flags, read by every command.
+struct GlobalFlags {
+  bool quiet = false;
+};
+const GlobalFlags& Flags();
+
+// Where owval finds built-in data: the source tree's scenarios/ and reference_trajectories/.
+// Overridable with the OWVAL_DATA_DIR environment variable (a copy of the source tree's root).
+std::filesystem::path DataDir();
+
+}  // namespace owval::cli
