@@ -1,0 +1,47 @@
+#pragma once
+// Running a simulation in process: configuration in, trajectory out. This is the engine's whole
+// public surface for the harness (owval run, fits, benchmarks); solver internals stay inside.
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "owval/engine/config.hpp"
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval::engine {
+
+enum class Backend { kPcisph };                              // later: kXpbd, kWcsph
+enum class Integrator { kSemiImplicitEuler, kLeapfrog };     // Sibernetic's modes 2 and 0/1
+
+struct RunOptions {
+  double duration_s = 0.05;      // steps = (int)(duration_s / dt) computed in float, as Sibernetic
+  int log_step = 1;              // a frame after step k when k % log_step == 0
+  Backend backend = Backend::kPcisph;
+  Integrator integrator = Integrator::kSemiImplicitEuler;
+  PhysicsConstants constants;    // Sibernetic's defaults unless changed
+  // Apply the configuration's [physical parameters] block (Sibernetic ignores it). When true,
+  // the result is labelled as no longer reference-equivalent in its provenance.
+  bool apply_physical_parameters = false;
+  int threads = 0;               // 0: OpenMP default
+  bool record_fields = true;     // store velocity, density and pressure per frame
+  // Called after every step with (steps done, total steps); may be empty.
+  std::function<void(std::size_t, std::size_t)> on_step;
+};
+
+struct RunSummary {
+  std::size_t steps = 0;
+  std::size_t frames = 0;
+  double wall_s = 0;
+  double steps_per_s = 0;
+  bool reference_equivalent = true;  // false when constants differ from Sibernetic's
+  std::vector<std::string> warnings; // e.g. "[physical parameters] parsed but not applied"
+};
+
+// Runs the configuration. Throws InputError for a configuration the engine cannot run (particle
+// outside the box, connection to a missing particle, ...). When a NaN appears it throws
+// InputError naming the step and particle, after writing a state dump next to the working
+// directory (path in the message).
+Trajectory Run(const SiberneticConfig& config, const RunOptions& options,
+               RunSummary* summary = nullptr);
+
+}  // namespace owval::engine
