@@ -13,6 +13,10 @@ namespace owval::cli {
 using CommandSetUp = std::function<void(CLI::App& app)>;
 bool RegisterCommand(CommandSetUp set_up);
 
+// The shared "owval bench" group: each library adds its own benchmark as a subcommand of it,
+// e.g. Bench(app).add_subcommand("engine", ...). Benchmarks write JSON.
+CLI::App& Bench(CLI::App& app);
+
 // The exit code the process ends with once the callback returns (default 0).
 void SetExitCode(int code);
 

@@ -22,6 +22,14 @@ bool RegisterCommand(CommandSetUp set_up) {
   Registry().push_back(std::move(set_up));
   return true;
 }
+CLI::App& Bench(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App* a) { return a->get_name() == "bench"; }))
+    return *sub;
+  CLI::App* bench = app.add_subcommand("bench", "Benchmarks (JSON results)");
+  bench->require_subcommand(1);
+  return *bench;
+}
+
 void SetExitCode(int code) { g_exit_code = code; }
 const GlobalFlags& Flags() { return g_flags; }
 
