@@ -1,0 +1,380 @@
+// Sibernetic position_buffer.txt: reading (layout detection from the counts) and writing.
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval {
+namespace {
+
+constexpr int kHeaderLines = 11;
+
+// A cursor over the file text that knows its line number, for error messages.
+class TextCursor {
+ public:
+  TextCursor(const std::string& text, const std::string& name)
+      : p_(text.data()), end_(text.data() + text.size()), name_(name) {}
+
+  bool at_end() const { return p_ >= end_; }
+  std::size_t line() const { return line_; }
+  std::size_t offset(const std::string& text) const { return static_cast<std::size_t>(p_ - text.data()); }
+
+  [[noreturn]] void Fail(const std::string& what) const { throw InputError(name_, line_, what); }
+
+  void SkipBlanks() {
+    while (p_ < end_ && (*p_ == '\t' || *p_ == ' ')) ++p_;
+  }
+
+  // Parses one number; `what` names the expected field for the message.
+  template <typename T>
+  T Number(const char* what) {
+    SkipBlanks();
+    T value{};
+    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r') Fail(std::string("expected ") + what + ", found end of line");
+    const char* start = p_;
+    if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
+    auto [next, ec] = std::from_chars(p_, end_, value);
+    if (ec != std::errc() || (next < end_ && !IsSeparator(*next))) {
+      const char* stop = start;
+      while (stop < end_ && !IsSeparator(*stop)) ++stop;
+      Fail(std::string("expected ") + what + ", found '" + std::string(start, stop) + "'");
+    }
+    p_ = next;
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(value)) Fail(std::string(what) + " is not finite (NaN or Inf)");
+    }
+    return value;
+  }
+
+  void EndOfLine(const char* what) {
+    SkipBlanks();
+    if (p_ < end_ && *p_ == '\r') ++p_;
+    if (p_ < end_ && *p_ != '\n') {
+      const char* stop = p_;
+      while (stop < end_ && *stop != '\n') ++stop;
+      Fail(std::string("unexpected extra field after ") + what + ": '" + std::string(p_, stop) + "'");
+    }
+    if (p_ < end_) ++p_;
+    ++line_;
+  }
+
+  void SkipEmptyTail() {
+    while (p_ < end_ && (*p_ == '\n' || *p_ == '\r' || *p_ == ' ' || *p_ == '\t')) {
+      if (*p_ == '\n') ++line_;
+      ++p_;
+    }
+  }
+
+ private:
+  static bool IsSeparator(char c) { return c == '\t' || c == ' ' || c == '\n' || c == '\r'; }
+
+  const char* p_;
+  const char* end_;
+  std::string name_;
+  std::size_t line_ = 1;
+};
+
+struct Header {
+  Box box;
+  std::size_t elastic = 0, liquid = 0, boundary = 0;
+  double time_step_s = 0;
+  int log_step = 1;
+  std::size_t particles() const { return elastic + liquid + boundary; }
+  std::size_t moving() const { return elastic + liquid; }
+};
+
+std::size_t Count(TextCursor& in, const char* what) {
+  const double value = in.Number<double>(what);
+  if (value < 0 || value != std::floor(value)) in.Fail(std::string("expected ") + what + " (a whole number)");
+  return static_cast<std::size_t>(value);
+}
+
+Header ParseHeader(TextCursor& in) {
+  Header h;
+  float* box_fields[6] = {&h.box.xmin, &h.box.xmax, &h.box.ymin, &h.box.ymax, &h.box.zmin, &h.box.zmax};
+  const char* box_names[6] = {"box xmin", "box xmax", "box ymin", "box ymax", "box zmin", "box zmax"};
+  for (int i = 0; i < 6; ++i) {
+    if (in.at_end()) in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
+    *box_fields[i] = in.Number<float>(box_names[i]);
+    in.EndOfLine(box_names[i]);
+  }
+  std::size_t* counts[3] = {&h.elastic, &h.liquid, &h.boundary};
+  const char* count_names[3] = {"elastic particle count", "liquid particle count", "boundary particle count"};
+  for (int i = 0; i < 3; ++i) {
+    if (in.at_end()) in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
+    *counts[i] = Count(in, count_names[i]);
+    in.EndOfLine(count_names[i]);
+  }
+  if (in.at_end()) in.Fail("truncated header: expected the time step on line 10");
+  h.time_step_s = in.Number<double>("time step (s)");
+  in.EndOfLine("time step");
+  if (in.at_end()) in.Fail("truncated header: expected the log step on line 11");
+  h.log_step = static_cast<int>(Count(in, "log step"));
+  in.EndOfLine("log step");
+  if (h.particles() == 0) in.Fail("header declares no particles");
+  if (h.time_step_s <= 0) in.Fail("time step must be positive");
+  if (h.log_step <= 0) h.log_step = 1;
+  return h;
+}
+
+struct Rows {
+  std::vector<float> xyz;
+  std::vector<float> first_frame_type;  // types of the first `particles` rows
+  std::size_t rows = 0;
+  std::size_t boundary_rows_after_first_frame = 0;
+  std::vector<std::size_t> row_line;  // line numbers of a few rows, for messages (first row only)
+  std::size_t first_row_line = 0;
+};
+
+Rows ParseRows(TextCursor& in, const Header& h, const std::string& text, bool quiet) {
+  Rows r;
+  r.first_row_line = in.line();
+  const std::size_t remaining = text.size() - in.offset(text);
+  r.xyz.reserve(remaining / 28 * 3 + 16);  // ~28 bytes per row in Sibernetic's output
+  r.first_frame_type.reserve(h.particles());
+  Progress progress("parse", text.size(), quiet || text.size() < (64u << 20));
+  while (true) {
+    in.SkipEmptyTail();
+    if (in.at_end()) break;
+    r.xyz.push_back(in.Number<float>("x"));
+    r.xyz.push_back(in.Number<float>("y"));
+    r.xyz.push_back(in.Number<float>("z"));
+    const float type = in.Number<float>("particle type");
+    in.EndOfLine("particle type");
+    if (r.rows < h.particles()) {
+      r.first_frame_type.push_back(type);
+    } else if (static_cast<int>(type) == 3) {
+      ++r.boundary_rows_after_first_frame;
+    }
+    ++r.rows;
+    if ((r.rows & 0xFFFFF) == 0) progress.Update(in.offset(text));
+  }
+  return r;
+}
+
+void CheckFirstFrameTypes(const Rows& r, const Header& h, const std::string& name) {
+  std::size_t elastic = 0, liquid = 0, boundary = 0;
+  for (float t : r.first_frame_type) {
+    switch (KindOf(t)) {
+      case ParticleKind::kElastic: ++elastic; break;
+      case ParticleKind::kLiquid: ++liquid; break;
+      case ParticleKind::kBoundary: ++boundary; break;
+    }
+  }
+  if (elastic != h.elastic || liquid != h.liquid || boundary != h.boundary) {
+    std::ostringstream msg;
+    msg << "wrong particle counts: header says " << h.elastic << " elastic, " << h.liquid
+        << " liquid, " << h.boundary << " boundary; the first frame has " << elastic << ", " << liquid
+        << ", " << boundary;
+    throw InputError(name, r.first_row_line, msg.str());
+  }
+}
+
+bool FitsOpenCL(std::size_t rows, const Header& h) {
+  if (rows < h.particles()) return false;
+  if (h.moving() == 0) return rows == h.particles();
+  return (rows - h.particles()) % h.moving() == 0;
+}
+bool FitsNative(std::size_t rows, const Header& h) { return rows > 0 && rows % h.particles() == 0; }
+
+TextLayout DetectLayout(const Rows& r, const Header& h, const std::string& name) {
+  const bool opencl = FitsOpenCL(r.rows, h);
+  const bool native = FitsNative(r.rows, h);
+  if (opencl && !native) return TextLayout::kOpenCL;
+  if (native && !opencl) return TextLayout::kNative;
+  if (opencl && native) {
+    // Both fit by counts: the type column decides. Later frames of an OpenCL buffer hold no
+    // boundary rows; a native dump holds all of them in every frame.
+    if (h.boundary == 0 || r.rows == h.particles()) return TextLayout::kOpenCL;  // layouts coincide
+    if (r.boundary_rows_after_first_frame == 0) return TextLayout::kOpenCL;
+    if (r.boundary_rows_after_first_frame == (r.rows / h.particles() - 1) * h.boundary)
+      return TextLayout::kNative;
+  }
+  std::ostringstream msg;
+  msg << r.rows << " position rows fit neither layout for header counts " << h.elastic << " elastic + "
+      << h.liquid << " liquid + " << h.boundary << " boundary: opencl needs " << h.particles() << " + k*"
+      << h.moving() << " rows, native needs k*" << h.particles()
+      << " (truncated file or wrong counts?); pass --layout opencl|native to override detection";
+  throw InputError(name, 0, msg.str());
+}
+
+void CheckForcedLayout(TextLayout layout, const Rows& r, const Header& h, const std::string& name) {
+  const bool fits = layout == TextLayout::kOpenCL ? FitsOpenCL(r.rows, h) : FitsNative(r.rows, h);
+  if (fits) return;
+  std::ostringstream msg;
+  msg << r.rows << " position rows do not fit the requested " << LayoutName(layout) << " layout for "
+      << h.particles() << " particles (" << h.moving() << " moving): the last frame is incomplete";
+  throw InputError(name, 0, msg.str());
+}
+
+Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
+  Trajectory t;
+  t.box = h.box;
+  t.time_step_s = h.time_step_s;
+  t.log_step = h.log_step;
+  t.type = std::move(r.first_frame_type);
+  const std::size_t n = h.particles();
+  std::size_t frames = 0;
+  if (layout == TextLayout::kNative) {
+    frames = r.rows / n;
+    t.positions = std::move(r.xyz);
+  } else {
+    frames = h.moving() == 0 ? 1 : 1 + (r.rows - n) / h.moving();
+    t.positions.resize(frames * n * 3);
+    std::memcpy(t.positions.data(), r.xyz.data(), n * 3 * sizeof(float));
+    // Boundary particles never move: later frames repeat frame 0's boundary rows. The moving
+    // particles are the first E+L rows (Sibernetic keeps elastic, liquid, boundary order).
+    for (std::size_t f = 1; f < frames; ++f) {
+      float* dst = &t.positions[f * n * 3];
+      const float* src = &r.xyz[(n + (f - 1) * h.moving()) * 3];
+      std::memcpy(dst, src, h.moving() * 3 * sizeof(float));
+      std::memcpy(dst + h.moving() * 3, &r.xyz[h.moving() * 3], h.boundary * 3 * sizeof(float));
+    }
+  }
+  t.time_s.resize(frames);
+  for (std::size_t f = 0; f < frames; ++f)
+    t.time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
+  return t;
+}
+
+std::string Describe(TextLayout layout, const Trajectory& t, const Header& h) {
+  std::ostringstream s;
+  s << LayoutName(layout) << " layout: " << t.frame_count() << " frames, " << h.elastic << " elastic + "
+    << h.liquid << " liquid + " << h.boundary << " boundary particles, dt " << h.time_step_s
+    << " s, log step " << h.log_step;
+  return s.str();
+}
+
+void CheckMovingFirst(const Trajectory& t, const Header& h, const std::string& name) {
+  // The OpenCL layout lists only the first E+L particles in later frames; that is only
+  // meaningful when the boundary particles come last.
+  for (std::size_t i = 0; i < h.moving(); ++i) {
+    if (KindOf(t.type[i]) == ParticleKind::kBoundary)
+      throw InputError(name, 0, "boundary particle at row " + std::to_string(i) +
+                                    " of frame 0: expected elastic and liquid particles first");
+  }
+}
+
+}  // namespace
+
+const char* LayoutName(TextLayout layout) {
+  switch (layout) {
+    case TextLayout::kAuto: return "auto";
+    case TextLayout::kOpenCL: return "opencl";
+    case TextLayout::kNative: return "native";
+  }
+  return "?";
+}
+
+TextLayout ParseLayout(const std::string& name) {
+  if (name == "auto") return TextLayout::kAuto;
+  if (name == "opencl") return TextLayout::kOpenCL;
+  if (name == "native") return TextLayout::kNative;
+  throw InputError("unknown layout '" + name + "': expected auto, opencl or native");
+}
+
+Trajectory ParseSiberneticText(const std::string& text, const std::string& name,
+                               const TextReadOptions& options, TextReadReport* report) {
+  if (text.empty()) throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
+  TextCursor in(text, name);
+  const Header header = ParseHeader(in);
+  Rows rows = ParseRows(in, header, text, options.quiet);
+  if (rows.rows < header.particles()) {
+    throw InputError(name, in.line(), "truncated first frame: expected " +
+                                          std::to_string(header.particles()) + " rows, found " +
+                                          std::to_string(rows.rows));
+  }
+  CheckFirstFrameTypes(rows, header, name);
+  TextLayout layout = options.layout;
+  if (layout == TextLayout::kAuto) {
+    layout = DetectLayout(rows, header, name);
+  } else {
+    CheckForcedLayout(layout, rows, header, name);
+  }
+  const std::size_t row_count = rows.rows;
+  Trajectory t = Assemble(std::move(rows), header, layout);
+  if (layout == TextLayout::kOpenCL) CheckMovingFirst(t, header, name);
+  t.provenance["source_file"] = name;
+  t.provenance["source_layout"] = LayoutName(layout);
+  if (report) {
+    report->detected = layout;
+    report->rows = row_count;
+    report->bytes = text.size();
+    report->description = Describe(layout, t, header);
+  }
+  return t;
+}
+
+Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadOptions& options,
+                              TextReadReport* report) {
+  const std::string text = ReadWholeFile(path);
+  return ParseSiberneticText(text, path.string(), options, report);
+}
+
+namespace {
+
+void AppendNumber(std::string& out, float value) {
+  char buffer[32];
+  auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6);
+  out.append(buffer, end);
+}
+
+void AppendRow(std::string& out, const float* xyz, float type) {
+  AppendNumber(out, xyz[0]);
+  out.push_back('\t');
+  AppendNumber(out, xyz[1]);
+  out.push_back('\t');
+  AppendNumber(out, xyz[2]);
+  out.push_back('\t');
+  AppendNumber(out, type);
+  out.push_back('\n');
+}
+
+std::string HeaderText(const Trajectory& t) {
+  std::string out;
+  for (float v : {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax}) {
+    AppendNumber(out, v);
+    out.push_back('\n');
+  }
+  for (ParticleKind kind : {ParticleKind::kElastic, ParticleKind::kLiquid, ParticleKind::kBoundary})
+    out += std::to_string(t.count(kind)) + "\n";
+  char dt[32];
+  auto [end, ec] = std::to_chars(dt, dt + sizeof dt, t.time_step_s, std::chars_format::general, 6);
+  out.append(dt, end);
+  out += "\n" + std::to_string(t.log_step) + "\n";
+  return out;
+}
+
+}  // namespace
+
+void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path, TextLayout layout) {
+  t.CheckShape();
+  const std::size_t n = t.particle_count();
+  std::size_t moving = n - t.count(ParticleKind::kBoundary);
+  if (layout == TextLayout::kOpenCL) {
+    for (std::size_t i = 0; i < moving; ++i)
+      if (KindOf(t.type[i]) == ParticleKind::kBoundary)
+        throw InputError(path.string(), 0,
+                         "cannot write the opencl layout: boundary particles must come last");
+  }
+  AtomicOutput out(path);
+  std::string buffer = HeaderText(t);
+  buffer.reserve(1 << 22);
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    const std::size_t rows = (f == 0 || layout == TextLayout::kNative) ? n : moving;
+    for (std::size_t i = 0; i < rows; ++i) AppendRow(buffer, t.position(f, i), t.type[i]);
+    if (buffer.size() > (1 << 22)) {
+      out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      buffer.clear();
+    }
+  }
+  out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  out.Commit();
+}
+
+}  // namespace owval
