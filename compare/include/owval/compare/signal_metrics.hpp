@@ -4,8 +4,9 @@
 //    of crossing times, period = mean spacing (count and spread reported);
 //  - half-amplitude: half the peak-to-peak over whole cycles; equilibrium: mean over whole cycles;
 //  - damping: logarithmic decrement of successive peaks (about the equilibrium);
-//  - settling time: first time after which the signal stays within ±2% band of its final value
-//    (band relative to the signal's range);
+//  - settling time: first time after which the signal stays within a ±2% band of its final value
+//    (2% of |final value|; of the range when the final value is 0); reported only when the signal
+//    stays in the band for at least the last 10% of the window;
 //  - drift: slope of a linear fit of the per-cycle means (units per second).
 #include <optional>
 #include <string>
@@ -30,7 +31,8 @@ struct SignalMetrics {
   std::optional<double> drift_per_s;      // slope of cycle means; needs >= 2 whole cycles
   std::optional<double> log_decrement;    // mean ln(peak_k / peak_{k+1}) of |peak - equilibrium|
   std::optional<double> settling_time_s;  // empty if it never settles within the window
-  double minimum = 0, maximum = 0, final_value = 0;
+  double initial_value = 0, minimum = 0, maximum = 0, final_value = 0;
+  double time_of_minimum_s = 0, time_of_maximum_s = 0;  // first occurrence
   bool whole_cycles = false;  // true when the amplitude/equilibrium came from whole cycles
 };
 

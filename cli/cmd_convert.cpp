@@ -1,0 +1,41 @@
+// owval convert IN OUT: between Sibernetic text layouts and owval's HDF5.
+#include <cstdio>
+
+#include "command.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::cli {
+namespace {
+
+struct ConvertArgs {
+  std::string in, out;
+  std::string layout = "auto";
+  std::string out_layout = "opencl";
+};
+
+void RunConvert(const ConvertArgs& a) {
+  TextReadOptions options;
+  options.layout = ParseLayout(a.layout);
+  options.quiet = Flags().quiet;
+  TextReadReport read;
+  const Trajectory t = ReadTrajectory(a.in, options, &read);
+  WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
+  if (!Flags().quiet) std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(), a.out.c_str());
+}
+
+void SetUp(CLI::App& app) {
+  auto args = std::make_shared<ConvertArgs>();
+  CLI::App* cmd = app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
+  cmd->add_option("input", args->in, "Input trajectory")->required();
+  cmd->add_option("output", args->out, "Output (.h5/.hdf5 = HDF5, else Sibernetic text)")->required();
+  cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
+      ->check(CLI::IsMember({"auto", "opencl", "native"}));
+  cmd->add_option("--out-layout", args->out_layout, "Output text layout: opencl or native")
+      ->check(CLI::IsMember({"opencl", "native"}));
+  cmd->callback([args] { RunConvert(*args); });
+}
+
+const bool registered = RegisterCommand(&SetUp);
+
+}  // namespace
+}  // namespace owval::cli
