@@ -68,12 +68,12 @@ void WriteFrameField(hid_t file, const char* name, const std::vector<float>& dat
 
 void WriteStringAttribute(hid_t object, const std::string& name, const std::string& value) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type, std::max<size_t>(1, value.size()));
+  H5Tset_size(type, value.size() + 1);  // room for the terminating NUL
   H5Tset_strpad(type, H5T_STR_NULLTERM);
   H5Tset_cset(type, H5T_CSET_UTF8);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  H5Awrite(attr, type, value.empty() ? "" : value.c_str());
+  H5Awrite(attr, type, value.c_str());
 }
 
 template <typename T>
@@ -171,10 +171,12 @@ void ReadAttributes(hid_t file, Trajectory& t, const std::string& path) {
     if (key.rfind("provenance:", 0) != 0) continue;
     Handle type(H5Aget_type(attr), H5Tclose);
     if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0) continue;
-    std::string value(H5Tget_size(type), '\0');
+    std::string value(H5Tget_size(type) + 1, '\0');
     Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(mem, value.size());
-    H5Aread(attr, mem, value.data());
+    H5Tset_cset(mem, H5Tget_cset(type));
+    if (H5Aread(attr, mem, value.data()) < 0)
+      throw InputError(path, 0, "HDF5: cannot read attribute " + key);
     value.resize(std::strlen(value.c_str()));
     t.provenance[key.substr(11)] = value;
   }
