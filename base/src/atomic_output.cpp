@@ -60,9 +60,14 @@ void WriteFileAtomically(const fs::path& destination, const std::string& content
 std::string ReadWholeFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  std::error_code error;
+  const auto size = fs::file_size(path, error);
+  if (error || fs::is_directory(path)) throw InputError(path.string(), 0, "not a regular file");
+  std::string contents(size, '\0');
+  in.read(contents.data(), static_cast<std::streamsize>(size));
+  if (static_cast<std::uintmax_t>(in.gcount()) != size)
+    throw InputError(path.string(), 0, "read failed (file changed while reading?)");
+  return contents;
 }
 
 }  // namespace owval

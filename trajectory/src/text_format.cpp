@@ -1,11 +1,13 @@
 // Sibernetic position_buffer.txt: reading (layout detection from the counts) and writing.
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <sstream>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/mapped_file.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -17,12 +19,12 @@ constexpr int kHeaderLines = 11;
 // A cursor over the file text that knows its line number, for error messages.
 class TextCursor {
  public:
-  TextCursor(const std::string& text, const std::string& name)
+  TextCursor(std::string_view text, const std::string& name)
       : p_(text.data()), end_(text.data() + text.size()), name_(name) {}
 
   bool at_end() const { return p_ >= end_; }
   std::size_t line() const { return line_; }
-  std::size_t offset(const std::string& text) const { return static_cast<std::size_t>(p_ - text.data()); }
+  std::size_t offset(std::string_view text) const { return static_cast<std::size_t>(p_ - text.data()); }
 
   [[noreturn]] void Fail(const std::string& what) const { throw InputError(name_, line_, what); }
 
@@ -35,6 +37,9 @@ class TextCursor {
   T Number(const char* what) {
     SkipBlanks();
     T value{};
+    if constexpr (std::is_same_v<T, float>) {
+      if (FastDecimal(&value)) return value;
+    }
     if (p_ >= end_ || *p_ == '\n' || *p_ == '\r') Fail(std::string("expected ") + what + ", found end of line");
     const char* start = p_;
     if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
@@ -49,6 +54,36 @@ class TextCursor {
       if (!std::isfinite(value)) Fail(std::string(what) + " is not finite (NaN or Inf)");
     }
     return value;
+  }
+
+  // Clinger's fast path for the plain decimals Sibernetic writes ("-17.535"): with at most 7
+  // significant digits and 10 fraction digits, mantissa and power of ten are exact floats, so one
+  // IEEE division gives the correctly rounded result, the same value std::from_chars returns.
+  // Anything else (exponents, long mantissas, "nan") is left to from_chars.
+  bool FastDecimal(float* out) {
+    static constexpr float kPow10[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f,
+                                       1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+    const char* p = p_;
+    const bool negative = p < end_ && *p == '-';
+    if (negative) ++p;
+    std::uint32_t mantissa = 0;
+    int digits = 0, fraction = 0;
+    const char* start = p;
+    while (p < end_ && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0'), ++digits;
+    if (p < end_ && *p == '.') {
+      ++p;
+      while (p < end_ && static_cast<unsigned>(*p - '0') < 10) {
+        mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0');
+        ++digits;
+        ++fraction;
+      }
+    }
+    if (digits == 0 || digits > 7 || fraction > 10 || p == start) return false;
+    if (p < end_ && !IsSeparator(*p)) return false;
+    const float magnitude = static_cast<float>(mantissa) / kPow10[fraction];
+    *out = negative ? -magnitude : magnitude;
+    p_ = p;
+    return true;
   }
 
   void EndOfLine(const char* what) {
@@ -131,11 +166,16 @@ struct Rows {
   std::size_t first_row_line = 0;
 };
 
-Rows ParseRows(TextCursor& in, const Header& h, const std::string& text, bool quiet) {
+// Reserves room for the rows a text of `bytes` can hold, backed by huge pages when large.
+void ReserveForText(std::vector<float>& xyz, std::size_t bytes) {
+  xyz.reserve(bytes / 24 * 3 + 64);  // Sibernetic's rows take about 24 to 32 bytes
+  AdviseHugePages(xyz.data(), xyz.capacity() * sizeof(float));
+}
+
+Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, bool quiet) {
   Rows r;
   r.first_row_line = in.line();
-  const std::size_t remaining = text.size() - in.offset(text);
-  r.xyz.reserve(remaining / 28 * 3 + 16);  // ~28 bytes per row in Sibernetic's output
+  ReserveForText(r.xyz, text.size() - in.offset(text));
   r.first_frame_type.reserve(h.particles());
   Progress progress("parse", text.size(), quiet || text.size() < (64u << 20));
   while (true) {
@@ -225,6 +265,8 @@ Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
     t.positions = std::move(r.xyz);
   } else {
     frames = h.moving() == 0 ? 1 : 1 + (r.rows - n) / h.moving();
+    t.positions.reserve(frames * n * 3);
+    AdviseHugePages(t.positions.data(), frames * n * 3 * sizeof(float));
     t.positions.resize(frames * n * 3);
     std::memcpy(t.positions.data(), r.xyz.data(), n * 3 * sizeof(float));
     // Boundary particles never move: later frames repeat frame 0's boundary rows. The moving
@@ -278,7 +320,7 @@ TextLayout ParseLayout(const std::string& name) {
   throw InputError("unknown layout '" + name + "': expected auto, opencl or native");
 }
 
-Trajectory ParseSiberneticText(const std::string& text, const std::string& name,
+Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
                                const TextReadOptions& options, TextReadReport* report) {
   if (text.empty()) throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
   TextCursor in(text, name);
@@ -312,8 +354,8 @@ Trajectory ParseSiberneticText(const std::string& text, const std::string& name,
 
 Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadOptions& options,
                               TextReadReport* report) {
-  const std::string text = ReadWholeFile(path);
-  return ParseSiberneticText(text, path.string(), options, report);
+  const MappedFile file(path);
+  return ParseSiberneticText(file.text(), path.string(), options, report);
 }
 
 namespace {

@@ -9,6 +9,7 @@
 // Readers throw InputError("file:line: what was expected") on any malformed input.
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "owval/trajectory/trajectory.hpp"
 
@@ -38,7 +39,7 @@ struct TextReadReport {
 Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadOptions& options = {},
                               TextReadReport* report = nullptr);
 // Same, from text already in memory (name is used in error messages).
-Trajectory ParseSiberneticText(const std::string& text, const std::string& name,
+Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
                                const TextReadOptions& options = {}, TextReadReport* report = nullptr);
 
 // Writes with 6 significant digits (Sibernetic's ostream default), atomically.
