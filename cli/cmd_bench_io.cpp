@@ -22,6 +22,7 @@ struct BenchIoArgs {
   std::string dir = fs::temp_directory_path().string();
   std::string json_out;
   bool keep = false;
+  Hdf5WriteOptions hdf5;
 };
 
 // A demo1-like scene: a walled box of boundary particles and a block of moving particles whose
@@ -66,7 +67,7 @@ void RunBenchIo(const BenchIoArgs& a) {
   Trajectory t = ReadSiberneticText(text, options);
   const double parse_s = Seconds(start);
   start = std::chrono::steady_clock::now();
-  WriteHdf5(t, h5);
+  WriteHdf5(t, h5, a.hdf5);
   const double write_s = Seconds(start);
   const double position_bytes = static_cast<double>(t.positions.size() * sizeof(float));
   t = Trajectory();
@@ -84,6 +85,8 @@ void RunBenchIo(const BenchIoArgs& a) {
       {"hdf5_write_s", write_s},
       {"hdf5_read_s", read_s},
       {"hdf5_read_gb_per_s_uncompressed", position_bytes / 1e9 / read_s},
+      {"hdf5_compression_level", a.hdf5.compression_level},
+      {"hdf5_frames_per_chunk", a.hdf5.frames_per_chunk},
       {"threads", 1},
   };
   if (!a.keep) {
@@ -100,6 +103,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--size-mb", args->size_mb, "Size of the generated position_buffer.txt (MB)");
   cmd->add_option("--dir", args->dir, "Where to write the generated files");
   cmd->add_option("--json-out", args->json_out, "Also write the JSON result here");
+  cmd->add_option("--hdf5-level", args->hdf5.compression_level, "HDF5 deflate level (0-9)");
+  cmd->add_option("--hdf5-chunk-frames", args->hdf5.frames_per_chunk, "HDF5 frames per chunk");
   cmd->add_flag("--keep", args->keep, "Keep the generated files");
   cmd->callback([args] { RunBenchIo(*args); });
 }

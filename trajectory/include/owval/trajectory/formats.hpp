@@ -48,7 +48,7 @@ void WriteSiberneticText(const Trajectory& trajectory, const std::filesystem::pa
 
 struct Hdf5WriteOptions {
   int compression_level = 4;          // deflate level 0..9
-  std::size_t frames_per_chunk = 16;  // chunking along the frame axis
+  std::size_t frames_per_chunk = 4;  // chunking along the frame axis
 };
 void WriteHdf5(const Trajectory& trajectory, const std::filesystem::path& path,
                const Hdf5WriteOptions& options = {});
