@@ -52,8 +52,8 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 }
 
 void RunBenchIo(const BenchIoArgs& a) {
-  // ~28 bytes per row, 64,000 moving rows per later frame.
-  const std::size_t frames = static_cast<std::size_t>(std::ceil(a.size_mb * 1e6 / (28.0 * 64000)));
+  // ~27 bytes per row, 64,000 moving rows per later frame.
+  const std::size_t frames = static_cast<std::size_t>(std::ceil(a.size_mb * 1e6 / (27.0 * 64000)));
   const fs::path text = fs::path(a.dir) / "owval_bench_position_buffer.txt";
   const fs::path h5 = fs::path(a.dir) / "owval_bench_trajectory.h5";
   {

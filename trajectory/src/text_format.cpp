@@ -158,42 +158,73 @@ Header ParseHeader(TextCursor& in) {
 }
 
 struct Rows {
+  // Positions as they will be stored. In the OpenCL layout later frames list only the moving
+  // particles; while `expanded`, each such frame is completed in place with frame 0's boundary
+  // rows (boundary particles never move), so no second copy of the data is ever made.
   std::vector<float> xyz;
+  bool expanded = false;
   std::vector<float> first_frame_type;  // types of the first `particles` rows
   std::size_t rows = 0;
   std::size_t boundary_rows_after_first_frame = 0;
-  std::vector<std::size_t> row_line;  // line numbers of a few rows, for messages (first row only)
   std::size_t first_row_line = 0;
 };
 
-// Reserves room for the rows a text of `bytes` can hold, backed by huge pages when large.
-void ReserveForText(std::vector<float>& xyz, std::size_t bytes) {
-  xyz.reserve(bytes / 24 * 3 + 64);  // Sibernetic's rows take about 24 to 32 bytes
-  AdviseHugePages(xyz.data(), xyz.capacity() * sizeof(float));
+// Reserves room for the positions a text of `bytes` can hold, backed by huge pages.
+void ReserveForText(Rows& r, const Header& h, std::size_t bytes) {
+  const std::size_t rows = bytes / 24 + h.particles();  // Sibernetic's rows take 24 to 32 bytes
+  const std::size_t floats = r.expanded ? (1 + rows / h.moving()) * h.particles() * 3 : rows * 3;
+  r.xyz.reserve(floats);
+  AdviseHugePages(r.xyz.data(), r.xyz.capacity() * sizeof(float));
 }
 
-Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, bool quiet) {
+void AppendBoundaryBlock(Rows& r, const Header& h) {
+  const std::size_t begin = h.moving() * 3, end = h.particles() * 3;
+  r.xyz.insert(r.xyz.end(), r.xyz.begin() + static_cast<std::ptrdiff_t>(begin),
+               r.xyz.begin() + static_cast<std::ptrdiff_t>(end));
+}
+
+// Before storing row r of an expanded OpenCL buffer: completes the previous frame when r starts
+// a new one. A boundary row where frame 2 would start means the file is a native dump (frame 1
+// carries its boundary rows): the rows stored so far are then exactly a native prefix.
+void BeforeRow(Rows& r, const Header& h, bool boundary_row, bool may_switch) {
+  const std::size_t n = h.particles(), m = h.moving();
+  if (r.rows <= n || (r.rows - n) % m != 0) return;
+  if (boundary_row && r.rows == n + m && may_switch) {
+    r.expanded = false;
+    return;
+  }
+  AppendBoundaryBlock(r, h);
+}
+
+Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayout requested, bool quiet) {
   Rows r;
   r.first_row_line = in.line();
-  ReserveForText(r.xyz, text.size() - in.offset(text));
+  r.expanded = requested != TextLayout::kNative && h.moving() > 0 && h.boundary > 0;
+  const bool may_switch = requested == TextLayout::kAuto;
+  ReserveForText(r, h, text.size() - in.offset(text));
   r.first_frame_type.reserve(h.particles());
   Progress progress("parse", text.size(), quiet || text.size() < (64u << 20));
   while (true) {
     in.SkipEmptyTail();
     if (in.at_end()) break;
-    r.xyz.push_back(in.Number<float>("x"));
-    r.xyz.push_back(in.Number<float>("y"));
-    r.xyz.push_back(in.Number<float>("z"));
+    const float x = in.Number<float>("x"), y = in.Number<float>("y"), z = in.Number<float>("z");
     const float type = in.Number<float>("particle type");
     in.EndOfLine("particle type");
+    const bool boundary_row = static_cast<int>(type) == 3;
     if (r.rows < h.particles()) {
       r.first_frame_type.push_back(type);
-    } else if (static_cast<int>(type) == 3) {
+    } else if (boundary_row) {
       ++r.boundary_rows_after_first_frame;
     }
+    if (r.expanded) BeforeRow(r, h, boundary_row, may_switch);
+    r.xyz.push_back(x);
+    r.xyz.push_back(y);
+    r.xyz.push_back(z);
     ++r.rows;
     if ((r.rows & 0xFFFFF) == 0) progress.Update(in.offset(text));
   }
+  const std::size_t n = h.particles();
+  if (r.expanded && r.rows > n && (r.rows - n) % h.moving() == 0) AppendBoundaryBlock(r, h);
   return r;
 }
 
@@ -259,25 +290,10 @@ Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
   t.log_step = h.log_step;
   t.type = std::move(r.first_frame_type);
   const std::size_t n = h.particles();
-  std::size_t frames = 0;
-  if (layout == TextLayout::kNative) {
-    frames = r.rows / n;
-    t.positions = std::move(r.xyz);
-  } else {
-    frames = h.moving() == 0 ? 1 : 1 + (r.rows - n) / h.moving();
-    t.positions.reserve(frames * n * 3);
-    AdviseHugePages(t.positions.data(), frames * n * 3 * sizeof(float));
-    t.positions.resize(frames * n * 3);
-    std::memcpy(t.positions.data(), r.xyz.data(), n * 3 * sizeof(float));
-    // Boundary particles never move: later frames repeat frame 0's boundary rows. The moving
-    // particles are the first E+L rows (Sibernetic keeps elastic, liquid, boundary order).
-    for (std::size_t f = 1; f < frames; ++f) {
-      float* dst = &t.positions[f * n * 3];
-      const float* src = &r.xyz[(n + (f - 1) * h.moving()) * 3];
-      std::memcpy(dst, src, h.moving() * 3 * sizeof(float));
-      std::memcpy(dst + h.moving() * 3, &r.xyz[h.moving() * 3], h.boundary * 3 * sizeof(float));
-    }
-  }
+  const std::size_t frames = layout == TextLayout::kNative ? r.rows / n
+                             : h.moving() == 0            ? 1
+                                                          : 1 + (r.rows - n) / h.moving();
+  t.positions = std::move(r.xyz);
   t.time_s.resize(frames);
   for (std::size_t f = 0; f < frames; ++f)
     t.time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
@@ -325,7 +341,7 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
   if (text.empty()) throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
   TextCursor in(text, name);
   const Header header = ParseHeader(in);
-  Rows rows = ParseRows(in, header, text, options.quiet);
+  Rows rows = ParseRows(in, header, text, options.layout, options.quiet);
   if (rows.rows < header.particles()) {
     throw InputError(name, in.line(), "truncated first frame: expected " +
                                           std::to_string(header.particles()) + " rows, found " +
@@ -337,6 +353,15 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
     layout = DetectLayout(rows, header, name);
   } else {
     CheckForcedLayout(layout, rows, header, name);
+  }
+  // Rows were stored as the OpenCL layout needs them until a native frame showed up; the two
+  // agree when there are no boundary (or no moving) particles.
+  const bool stored_as_opencl = rows.expanded || header.boundary == 0 || header.moving() == 0;
+  if ((layout == TextLayout::kOpenCL) != stored_as_opencl && rows.rows > header.particles()) {
+    throw InputError(name, 0, std::string("rows look like the ") +
+                                  (stored_as_opencl ? "opencl" : "native") +
+                                  " layout but their counts fit the " + LayoutName(layout) +
+                                  " layout; pass --layout opencl|native to say which it is");
   }
   const std::size_t row_count = rows.rows;
   Trajectory t = Assemble(std::move(rows), header, layout);
