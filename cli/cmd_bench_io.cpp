@@ -39,9 +39,11 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
   std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
   std::vector<float> frame(t.type.size() * 3);
   for (std::size_t p = 0; p < t.type.size(); ++p)
-    for (int a = 0; a < 3; ++a) frame[p * 3 + a] = 5.0f + 1.67f * static_cast<float>((p >> (4 * a)) % 45);
+    for (int a = 0; a < 3; ++a)
+      frame[p * 3 + a] = 5.0f + 1.67f * static_cast<float>((p >> (4 * a)) % 45);
   for (std::size_t f = 0; f < frames; ++f) {
-    for (std::size_t p = 0; p < static_cast<std::size_t>(side * side * side) * 3; ++p) frame[p] += jitter(rng);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(side * side * side) * 3; ++p)
+      frame[p] += jitter(rng);
     t.AppendFrame(static_cast<double>(f) * 20 * 2e-5, frame.data());
   }
   return t;
@@ -99,7 +101,8 @@ void RunBenchIo(const BenchIoArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<BenchIoArgs>();
-  CLI::App* cmd = Bench(app).add_subcommand("io", "Text parse and HDF5 read throughput on a large generated file");
+  CLI::App* cmd = Bench(app).add_subcommand(
+      "io", "Text parse and HDF5 read throughput on a large generated file");
   cmd->add_option("--size-mb", args->size_mb, "Size of the generated position_buffer.txt (MB)");
   cmd->add_option("--dir", args->dir, "Where to write the generated files");
   cmd->add_option("--json-out", args->json_out, "Also write the JSON result here");

@@ -20,14 +20,18 @@ void RunConvert(const ConvertArgs& a) {
   TextReadReport read;
   const Trajectory t = ReadTrajectory(a.in, options, &read);
   WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
-  if (!Flags().quiet) std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(), a.out.c_str());
+  if (!Flags().quiet)
+    std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
+                 a.out.c_str());
 }
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd = app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
+  CLI::App* cmd =
+      app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
   cmd->add_option("input", args->in, "Input trajectory")->required();
-  cmd->add_option("output", args->out, "Output (.h5/.hdf5 = HDF5, else Sibernetic text)")->required();
+  cmd->add_option("output", args->out, "Output (.h5/.hdf5 = HDF5, else Sibernetic text)")
+      ->required();
   cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));
   cmd->add_option("--out-layout", args->out_layout, "Output text layout: opencl or native")

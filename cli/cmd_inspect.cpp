@@ -33,15 +33,18 @@ std::string Cu(const std::optional<double>& v, const char* unit = "cu") {
   return b;
 }
 
-void PrintTable(const compare::SignalMetrics& m, const std::string& subject, const TextReadReport& read) {
+void PrintTable(const compare::SignalMetrics& m, const std::string& subject,
+                const TextReadReport& read) {
   std::printf("%s\n", read.description.c_str());
   std::printf("signal: %s, %zu samples, t = %.6g .. %.6g s\n\n", subject.c_str(), m.samples,
               m.window_start_s, m.window_end_s);
   std::printf("%-26s %s\n", "zero-crossing period", Ms(m.period_s).c_str());
-  std::printf("%-26s %zu upward, spread %s\n", "  crossings", m.upward_crossings, Ms(m.period_spread_s).c_str());
+  std::printf("%-26s %zu upward, spread %s\n", "  crossings", m.upward_crossings,
+              Ms(m.period_spread_s).c_str());
   std::printf("%-26s %s%s\n", "half-amplitude", Cu(m.half_amplitude).c_str(),
               m.whole_cycles ? "" : " (no whole cycle: half the range)");
-  std::printf("%-26s %.6g cu%s\n", "equilibrium", m.equilibrium, m.whole_cycles ? "" : " (window mean)");
+  std::printf("%-26s %.6g cu%s\n", "equilibrium", m.equilibrium,
+              m.whole_cycles ? "" : " (window mean)");
   std::printf("%-26s %s\n", "drift", Cu(m.drift_per_s, "cu/s").c_str());
   std::printf("%-26s %s\n", "logarithmic decrement", Cu(m.log_decrement, "").c_str());
   std::printf("%-26s %s\n", "settling time (2% band)", Ms(m.settling_time_s).c_str());
@@ -69,7 +72,9 @@ void RunInspect(const InspectArgs& a) {
   }
   const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, series, {a.start_s, a.end_s});
   if (a.json) {
-    nlohmann::json out = {{"file", a.path}, {"layout", read.description}, {"signal", subject},
+    nlohmann::json out = {{"file", a.path},
+                          {"layout", read.description},
+                          {"signal", subject},
                           {"metrics", compare::ToJson(m)}};
     std::cout << out.dump(2) << "\n";
   } else {
@@ -79,11 +84,15 @@ void RunInspect(const InspectArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<InspectArgs>();
-  CLI::App* cmd = app.add_subcommand("inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
-  cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")->required();
-  auto* particle = cmd->add_option("--particle", args->particle, "Particle index (file order; default 0)");
+  CLI::App* cmd = app.add_subcommand(
+      "inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
+  cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
+      ->required();
+  auto* particle =
+      cmd->add_option("--particle", args->particle, "Particle index (file order; default 0)");
   cmd->add_option("--group", args->group, "Group centroid instead: elastic, liquid or all")
-      ->excludes(particle)->check(CLI::IsMember({"elastic", "liquid", "all"}));
+      ->excludes(particle)
+      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
   cmd->add_option("--axis", args->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));
   cmd->add_option("--from", args->start_s, "Window start (s)");
   cmd->add_option("--to", args->end_s, "Window end (s)");

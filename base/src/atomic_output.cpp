@@ -47,7 +47,8 @@ void AtomicOutput::Commit() {
   }
   std::error_code error;
   fs::rename(temporary_, destination_, error);
-  if (error) throw InputError(destination_.string(), 0, "cannot rename into place: " + error.message());
+  if (error)
+    throw InputError(destination_.string(), 0, "cannot rename into place: " + error.message());
   committed_ = true;
 }
 

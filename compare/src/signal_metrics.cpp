@@ -32,7 +32,8 @@ Window Select(const std::vector<double>& time_s, const std::vector<double>& valu
 }
 
 double Mean(const std::vector<double>& v, std::size_t begin, std::size_t end) {
-  return std::accumulate(v.begin() + begin, v.begin() + end, 0.0) / static_cast<double>(end - begin);
+  return std::accumulate(v.begin() + begin, v.begin() + end, 0.0) /
+         static_cast<double>(end - begin);
 }
 
 // Upward crossings of the centred signal: times (linearly interpolated) and the index of the
@@ -87,7 +88,8 @@ void MeasureSettling(const Window& w, SignalMetrics* m) {
   const double range = m->maximum - m->minimum;
   const double band = m->final_value != 0 ? 0.02 * std::abs(m->final_value) : 0.02 * range;
   std::size_t first_inside = w.v.size() - 1;
-  while (first_inside > 0 && std::abs(w.v[first_inside - 1] - m->final_value) <= band) --first_inside;
+  while (first_inside > 0 && std::abs(w.v[first_inside - 1] - m->final_value) <= band)
+    --first_inside;
   const double duration = w.t.back() - w.t.front();
   if (w.t.back() - w.t[first_inside] >= 0.1 * duration) m->settling_time_s = w.t[first_inside];
 }
@@ -116,7 +118,8 @@ SignalMetrics MeasureSignal(const std::vector<double>& time_s, const std::vector
   m.upward_crossings = crossing_t.size();
   if (crossing_t.size() >= 2) {
     std::vector<double> spacing(crossing_t.size() - 1);
-    for (std::size_t i = 0; i + 1 < crossing_t.size(); ++i) spacing[i] = crossing_t[i + 1] - crossing_t[i];
+    for (std::size_t i = 0; i + 1 < crossing_t.size(); ++i)
+      spacing[i] = crossing_t[i + 1] - crossing_t[i];
     const double mean = Mean(spacing, 0, spacing.size());
     double var = 0;
     for (double s : spacing) var += (s - mean) * (s - mean);

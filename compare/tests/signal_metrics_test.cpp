@@ -93,8 +93,8 @@ TEST(SignalMetrics, NoCrossingsLeavesPeriodEmpty) {
 
 // Golden check on Sibernetic's own one_sprig run (bundled copy of ../shared/reference).
 TEST(SignalMetricsGolden, OneSprigElasticParticleY) {
-  const std::filesystem::path path =
-      std::filesystem::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  const std::filesystem::path path = std::filesystem::path(OWVAL_SOURCE_DIR) /
+                                     "reference_trajectories/one_sprig/position_buffer.txt";
   const Trajectory t = ReadTrajectory(path);
   const SignalMetrics m = MeasureSignal(t.time_s, ParticleSeries(t, 0, 1));
   ASSERT_TRUE(m.period_s);

@@ -58,7 +58,8 @@ void WriteDataset(hid_t file, const char* name, hid_t type, const void* data,
 }
 
 void WriteFrameField(hid_t file, const char* name, const std::vector<float>& data, hsize_t frames,
-                     hsize_t particles, int components, const Hdf5WriteOptions& o, const std::string& path) {
+                     hsize_t particles, int components, const Hdf5WriteOptions& o,
+                     const std::string& path) {
   std::vector<hsize_t> dims = {frames, particles};
   std::vector<hsize_t> chunk = {std::max<hsize_t>(1, std::min<hsize_t>(o.frames_per_chunk, frames)),
                                 std::max<hsize_t>(1, particles)};
@@ -94,22 +95,27 @@ void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf
   AtomicOutput out(path);
   const std::string name = path.string();
   {
-    Handle file(H5Fcreate(out.temporary_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    Handle file(H5Fcreate(out.temporary_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                H5Fclose);
     if (!file.valid()) throw InputError(name, 0, "cannot create HDF5 file");
     const hsize_t frames = t.frame_count(), particles = t.particle_count();
     WriteFrameField(file, "positions", t.positions, frames, particles, 3, o, name);
     WriteDataset(file, "time", H5T_NATIVE_DOUBLE, t.time_s.data(), {frames}, {}, 0, name);
     WriteDataset(file, "type", H5T_NATIVE_FLOAT, t.type.data(), {particles}, {}, 0, name);
-    if (t.has_velocities()) WriteFrameField(file, "velocities", t.velocities, frames, particles, 3, o, name);
+    if (t.has_velocities())
+      WriteFrameField(file, "velocities", t.velocities, frames, particles, 3, o, name);
     if (t.has_density()) WriteFrameField(file, "density", t.density, frames, particles, 1, o, name);
-    if (t.has_pressure()) WriteFrameField(file, "pressure", t.pressure, frames, particles, 1, o, name);
+    if (t.has_pressure())
+      WriteFrameField(file, "pressure", t.pressure, frames, particles, 1, o, name);
     const float box[6] = {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax};
     WriteNumericAttribute(file, "box", H5T_NATIVE_FLOAT, box, 6);
     WriteNumericAttribute(file, "time_step_s", H5T_NATIVE_DOUBLE, &t.time_step_s, 1);
     WriteNumericAttribute(file, "log_step", H5T_NATIVE_INT, &t.log_step, 1);
     WriteStringAttribute(file, "format", "owval trajectory 1");
-    WriteStringAttribute(file, "position_units", "configuration units (metres = cu * simulation_scale)");
-    for (const auto& [key, value] : t.provenance) WriteStringAttribute(file, "provenance:" + key, value);
+    WriteStringAttribute(file, "position_units",
+                         "configuration units (metres = cu * simulation_scale)");
+    for (const auto& [key, value] : t.provenance)
+      WriteStringAttribute(file, "provenance:" + key, value);
     if (H5Fflush(file, H5F_SCOPE_LOCAL) < 0) throw InputError(name, 0, "HDF5 flush failed");
   }
   out.Commit();
@@ -119,8 +125,8 @@ namespace {
 
 // Reads a dataset whose shape must be exactly `expected` (0 entries mean "any").
 template <typename T>
-std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type, std::vector<hsize_t> expected,
-                           const std::string& path, bool required) {
+std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
+                           std::vector<hsize_t> expected, const std::string& path, bool required) {
   if (H5Lexists(file, name, H5P_DEFAULT) <= 0) {
     if (required) throw InputError(path, 0, std::string("HDF5: missing dataset /") + name);
     return {};
@@ -143,7 +149,8 @@ std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type, std::ve
       return s;
     };
     const std::string got = shape(dims), want = shape(expected);
-    throw InputError(path, 0, std::string("HDF5: /") + name + " has shape " + got + ", expected " + want);
+    throw InputError(path, 0,
+                     std::string("HDF5: /") + name + " has shape " + got + ", expected " + want);
   }
   std::size_t total = 1;
   for (hsize_t d : dims) total *= d;
@@ -152,15 +159,18 @@ std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type, std::ve
   AdviseHugePages(data.data(), total * sizeof(T));
   data.resize(total);
   if (total > 0 && H5Dread(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
-    throw InputError(path, 0, std::string("HDF5: cannot read /") + name + " (truncated or corrupt file?)");
+    throw InputError(path, 0,
+                     std::string("HDF5: cannot read /") + name + " (truncated or corrupt file?)");
   return data;
 }
 
 void ReadAttributes(hid_t file, Trajectory& t, const std::string& path) {
   auto numeric = [&](const char* name, hid_t type, void* out) {
-    if (H5Aexists(file, name) <= 0) throw InputError(path, 0, std::string("HDF5: missing attribute ") + name);
+    if (H5Aexists(file, name) <= 0)
+      throw InputError(path, 0, std::string("HDF5: missing attribute ") + name);
     Handle attr(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
-    if (H5Aread(attr, type, out) < 0) throw InputError(path, 0, std::string("HDF5: cannot read attribute ") + name);
+    if (H5Aread(attr, type, out) < 0)
+      throw InputError(path, 0, std::string("HDF5: cannot read attribute ") + name);
   };
   float box[6];
   numeric("box", H5T_NATIVE_FLOAT, box);
@@ -170,7 +180,8 @@ void ReadAttributes(hid_t file, Trajectory& t, const std::string& path) {
   H5O_info_t info;
   H5Oget_info2(file, &info, H5O_INFO_NUM_ATTRS);
   for (hsize_t i = 0; i < info.num_attrs; ++i) {
-    Handle attr(H5Aopen_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    Handle attr(H5Aopen_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT),
+                H5Aclose);
     char name[256] = {};
     H5Aget_name(attr, sizeof name, name);
     const std::string key(name);
@@ -215,11 +226,16 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
   t.type = ReadDataset<float>(file, "type", H5T_NATIVE_FLOAT, {0}, name, true);
   t.time_s = ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, name, true);
   const hsize_t frames = t.time_s.size(), particles = t.type.size();
-  if (particles == 0) throw InputError(name, 0, "HDF5: /type is empty: expected at least one particle");
-  t.positions = ReadDataset<float>(file, "positions", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, true);
-  t.velocities = ReadDataset<float>(file, "velocities", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, false);
-  t.density = ReadDataset<float>(file, "density", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
-  t.pressure = ReadDataset<float>(file, "pressure", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
+  if (particles == 0)
+    throw InputError(name, 0, "HDF5: /type is empty: expected at least one particle");
+  t.positions =
+      ReadDataset<float>(file, "positions", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, true);
+  t.velocities =
+      ReadDataset<float>(file, "velocities", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, false);
+  t.density =
+      ReadDataset<float>(file, "density", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
+  t.pressure =
+      ReadDataset<float>(file, "pressure", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
   ReadAttributes(file, t, name);
   return t;
 }
@@ -229,7 +245,8 @@ FileFormat DetectFormat(const std::filesystem::path& path) {
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   char signature[8] = {};
   in.read(signature, 8);
-  if (in.gcount() == 8 && std::memcmp(signature, "\x89HDF\r\n\x1a\n", 8) == 0) return FileFormat::kHdf5;
+  if (in.gcount() == 8 && std::memcmp(signature, "\x89HDF\r\n\x1a\n", 8) == 0)
+    return FileFormat::kHdf5;
   const std::string ext = path.extension().string();
   if (ext == ".h5" || ext == ".hdf5") return FileFormat::kHdf5;
   return FileFormat::kSiberneticText;
@@ -239,8 +256,9 @@ Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptio
                           TextReadReport* report) {
   if (DetectFormat(path) == FileFormat::kHdf5) {
     Trajectory t = ReadHdf5(path);
-    if (report) report->description = "owval HDF5: " + std::to_string(t.frame_count()) + " frames, " +
-                                      std::to_string(t.particle_count()) + " particles";
+    if (report)
+      report->description = "owval HDF5: " + std::to_string(t.frame_count()) + " frames, " +
+                            std::to_string(t.particle_count()) + " particles";
     return t;
   }
   return ReadSiberneticText(path, options, report);

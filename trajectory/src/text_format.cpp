@@ -1,7 +1,7 @@
 // Sibernetic position_buffer.txt: reading (layout detection from the counts) and writing.
 #include <charconv>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <sstream>
 
@@ -24,7 +24,9 @@ class TextCursor {
 
   bool at_end() const { return p_ >= end_; }
   std::size_t line() const { return line_; }
-  std::size_t offset(std::string_view text) const { return static_cast<std::size_t>(p_ - text.data()); }
+  std::size_t offset(std::string_view text) const {
+    return static_cast<std::size_t>(p_ - text.data());
+  }
 
   [[noreturn]] void Fail(const std::string& what) const { throw InputError(name_, line_, what); }
 
@@ -40,7 +42,8 @@ class TextCursor {
     if constexpr (std::is_same_v<T, float>) {
       if (FastDecimal(&value)) return value;
     }
-    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r') Fail(std::string("expected ") + what + ", found end of line");
+    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r')
+      Fail(std::string("expected ") + what + ", found end of line");
     const char* start = p_;
     if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
     auto [next, ec] = std::from_chars(p_, end_, value);
@@ -69,7 +72,8 @@ class TextCursor {
     std::uint32_t mantissa = 0;
     int digits = 0, fraction = 0;
     const char* start = p;
-    while (p < end_ && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0'), ++digits;
+    while (p < end_ && static_cast<unsigned>(*p - '0') < 10)
+      mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0'), ++digits;
     if (p < end_ && *p == '.') {
       ++p;
       while (p < end_ && static_cast<unsigned>(*p - '0') < 10) {
@@ -92,7 +96,8 @@ class TextCursor {
     if (p_ < end_ && *p_ != '\n') {
       const char* stop = p_;
       while (stop < end_ && *stop != '\n') ++stop;
-      Fail(std::string("unexpected extra field after ") + what + ": '" + std::string(p_, stop) + "'");
+      Fail(std::string("unexpected extra field after ") + what + ": '" + std::string(p_, stop) +
+           "'");
     }
     if (p_ < end_) ++p_;
     ++line_;
@@ -125,23 +130,29 @@ struct Header {
 
 std::size_t Count(TextCursor& in, const char* what) {
   const double value = in.Number<double>(what);
-  if (value < 0 || value != std::floor(value)) in.Fail(std::string("expected ") + what + " (a whole number)");
+  if (value < 0 || value != std::floor(value))
+    in.Fail(std::string("expected ") + what + " (a whole number)");
   return static_cast<std::size_t>(value);
 }
 
 Header ParseHeader(TextCursor& in) {
   Header h;
-  float* box_fields[6] = {&h.box.xmin, &h.box.xmax, &h.box.ymin, &h.box.ymax, &h.box.zmin, &h.box.zmax};
-  const char* box_names[6] = {"box xmin", "box xmax", "box ymin", "box ymax", "box zmin", "box zmax"};
+  float* box_fields[6] = {&h.box.xmin, &h.box.xmax, &h.box.ymin,
+                          &h.box.ymax, &h.box.zmin, &h.box.zmax};
+  const char* box_names[6] = {"box xmin", "box xmax", "box ymin",
+                              "box ymax", "box zmin", "box zmax"};
   for (int i = 0; i < 6; ++i) {
-    if (in.at_end()) in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
+    if (in.at_end())
+      in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
     *box_fields[i] = in.Number<float>(box_names[i]);
     in.EndOfLine(box_names[i]);
   }
   std::size_t* counts[3] = {&h.elastic, &h.liquid, &h.boundary};
-  const char* count_names[3] = {"elastic particle count", "liquid particle count", "boundary particle count"};
+  const char* count_names[3] = {"elastic particle count", "liquid particle count",
+                                "boundary particle count"};
   for (int i = 0; i < 3; ++i) {
-    if (in.at_end()) in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
+    if (in.at_end())
+      in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
     *counts[i] = Count(in, count_names[i]);
     in.EndOfLine(count_names[i]);
   }
@@ -196,7 +207,8 @@ void BeforeRow(Rows& r, const Header& h, bool boundary_row, bool may_switch) {
   AppendBoundaryBlock(r, h);
 }
 
-Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayout requested, bool quiet) {
+Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayout requested,
+               bool quiet) {
   Rows r;
   r.first_row_line = in.line();
   r.expanded = requested != TextLayout::kNative && h.moving() > 0 && h.boundary > 0;
@@ -232,16 +244,22 @@ void CheckFirstFrameTypes(const Rows& r, const Header& h, const std::string& nam
   std::size_t elastic = 0, liquid = 0, boundary = 0;
   for (float t : r.first_frame_type) {
     switch (KindOf(t)) {
-      case ParticleKind::kElastic: ++elastic; break;
-      case ParticleKind::kLiquid: ++liquid; break;
-      case ParticleKind::kBoundary: ++boundary; break;
+      case ParticleKind::kElastic:
+        ++elastic;
+        break;
+      case ParticleKind::kLiquid:
+        ++liquid;
+        break;
+      case ParticleKind::kBoundary:
+        ++boundary;
+        break;
     }
   }
   if (elastic != h.elastic || liquid != h.liquid || boundary != h.boundary) {
     std::ostringstream msg;
     msg << "wrong particle counts: header says " << h.elastic << " elastic, " << h.liquid
-        << " liquid, " << h.boundary << " boundary; the first frame has " << elastic << ", " << liquid
-        << ", " << boundary;
+        << " liquid, " << h.boundary << " boundary; the first frame has " << elastic << ", "
+        << liquid << ", " << boundary;
     throw InputError(name, r.first_row_line, msg.str());
   }
 }
@@ -267,9 +285,9 @@ TextLayout DetectLayout(const Rows& r, const Header& h, const std::string& name)
       return TextLayout::kNative;
   }
   std::ostringstream msg;
-  msg << r.rows << " position rows fit neither layout for header counts " << h.elastic << " elastic + "
-      << h.liquid << " liquid + " << h.boundary << " boundary: opencl needs " << h.particles() << " + k*"
-      << h.moving() << " rows, native needs k*" << h.particles()
+  msg << r.rows << " position rows fit neither layout for header counts " << h.elastic
+      << " elastic + " << h.liquid << " liquid + " << h.boundary << " boundary: opencl needs "
+      << h.particles() << " + k*" << h.moving() << " rows, native needs k*" << h.particles()
       << " (truncated file or wrong counts?); pass --layout opencl|native to override detection";
   throw InputError(name, 0, msg.str());
 }
@@ -278,8 +296,9 @@ void CheckForcedLayout(TextLayout layout, const Rows& r, const Header& h, const 
   const bool fits = layout == TextLayout::kOpenCL ? FitsOpenCL(r.rows, h) : FitsNative(r.rows, h);
   if (fits) return;
   std::ostringstream msg;
-  msg << r.rows << " position rows do not fit the requested " << LayoutName(layout) << " layout for "
-      << h.particles() << " particles (" << h.moving() << " moving): the last frame is incomplete";
+  msg << r.rows << " position rows do not fit the requested " << LayoutName(layout)
+      << " layout for " << h.particles() << " particles (" << h.moving()
+      << " moving): the last frame is incomplete";
   throw InputError(name, 0, msg.str());
 }
 
@@ -291,8 +310,8 @@ Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
   t.type = std::move(r.first_frame_type);
   const std::size_t n = h.particles();
   const std::size_t frames = layout == TextLayout::kNative ? r.rows / n
-                             : h.moving() == 0            ? 1
-                                                          : 1 + (r.rows - n) / h.moving();
+                             : h.moving() == 0             ? 1
+                                                           : 1 + (r.rows - n) / h.moving();
   t.positions = std::move(r.xyz);
   t.time_s.resize(frames);
   for (std::size_t f = 0; f < frames; ++f)
@@ -302,9 +321,9 @@ Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
 
 std::string Describe(TextLayout layout, const Trajectory& t, const Header& h) {
   std::ostringstream s;
-  s << LayoutName(layout) << " layout: " << t.frame_count() << " frames, " << h.elastic << " elastic + "
-    << h.liquid << " liquid + " << h.boundary << " boundary particles, dt " << h.time_step_s
-    << " s, log step " << h.log_step;
+  s << LayoutName(layout) << " layout: " << t.frame_count() << " frames, " << h.elastic
+    << " elastic + " << h.liquid << " liquid + " << h.boundary << " boundary particles, dt "
+    << h.time_step_s << " s, log step " << h.log_step;
   return s.str();
 }
 
@@ -313,8 +332,9 @@ void CheckMovingFirst(const Trajectory& t, const Header& h, const std::string& n
   // meaningful when the boundary particles come last.
   for (std::size_t i = 0; i < h.moving(); ++i) {
     if (KindOf(t.type[i]) == ParticleKind::kBoundary)
-      throw InputError(name, 0, "boundary particle at row " + std::to_string(i) +
-                                    " of frame 0: expected elastic and liquid particles first");
+      throw InputError(name, 0,
+                       "boundary particle at row " + std::to_string(i) +
+                           " of frame 0: expected elastic and liquid particles first");
   }
 }
 
@@ -322,9 +342,12 @@ void CheckMovingFirst(const Trajectory& t, const Header& h, const std::string& n
 
 const char* LayoutName(TextLayout layout) {
   switch (layout) {
-    case TextLayout::kAuto: return "auto";
-    case TextLayout::kOpenCL: return "opencl";
-    case TextLayout::kNative: return "native";
+    case TextLayout::kAuto:
+      return "auto";
+    case TextLayout::kOpenCL:
+      return "opencl";
+    case TextLayout::kNative:
+      return "native";
   }
   return "?";
 }
@@ -338,14 +361,15 @@ TextLayout ParseLayout(const std::string& name) {
 
 Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
                                const TextReadOptions& options, TextReadReport* report) {
-  if (text.empty()) throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
+  if (text.empty())
+    throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
   TextCursor in(text, name);
   const Header header = ParseHeader(in);
   Rows rows = ParseRows(in, header, text, options.layout, options.quiet);
   if (rows.rows < header.particles()) {
-    throw InputError(name, in.line(), "truncated first frame: expected " +
-                                          std::to_string(header.particles()) + " rows, found " +
-                                          std::to_string(rows.rows));
+    throw InputError(name, in.line(),
+                     "truncated first frame: expected " + std::to_string(header.particles()) +
+                         " rows, found " + std::to_string(rows.rows));
   }
   CheckFirstFrameTypes(rows, header, name);
   TextLayout layout = options.layout;
@@ -358,10 +382,10 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
   // agree when there are no boundary (or no moving) particles.
   const bool stored_as_opencl = rows.expanded || header.boundary == 0 || header.moving() == 0;
   if ((layout == TextLayout::kOpenCL) != stored_as_opencl && rows.rows > header.particles()) {
-    throw InputError(name, 0, std::string("rows look like the ") +
-                                  (stored_as_opencl ? "opencl" : "native") +
-                                  " layout but their counts fit the " + LayoutName(layout) +
-                                  " layout; pass --layout opencl|native to say which it is");
+    throw InputError(name, 0,
+                     std::string("rows look like the ") + (stored_as_opencl ? "opencl" : "native") +
+                         " layout but their counts fit the " + LayoutName(layout) +
+                         " layout; pass --layout opencl|native to say which it is");
   }
   const std::size_t row_count = rows.rows;
   Trajectory t = Assemble(std::move(rows), header, layout);
@@ -387,7 +411,8 @@ namespace {
 
 void AppendNumber(std::string& out, float value) {
   char buffer[32];
-  auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6);
+  auto [end, ec] =
+      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6);
   out.append(buffer, end);
 }
 
@@ -419,7 +444,8 @@ std::string HeaderText(const Trajectory& t) {
 
 }  // namespace
 
-void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path, TextLayout layout) {
+void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path,
+                         TextLayout layout) {
   t.CheckShape();
   const std::size_t n = t.particle_count();
   std::size_t moving = n - t.count(ParticleKind::kBoundary);

@@ -74,7 +74,8 @@ std::vector<std::size_t> GroupIndices(const Trajectory& trajectory, const std::s
     // "all" means every particle that can move: boundary particles never do.
     if (all ? k != ParticleKind::kBoundary : k == kind) indices.push_back(i);
   }
-  if (indices.empty()) throw InputError("particle group '" + group + "' is empty in this trajectory");
+  if (indices.empty())
+    throw InputError("particle group '" + group + "' is empty in this trajectory");
   return indices;
 }
 
@@ -102,7 +103,8 @@ std::vector<double> ParticleSeries(const Trajectory& trajectory, std::size_t par
 std::vector<double> CentroidSeries(const Trajectory& trajectory,
                                    const std::vector<std::size_t>& particles, int axis) {
   std::vector<double> series(trajectory.frame_count());
-  for (std::size_t f = 0; f < series.size(); ++f) series[f] = Centroid(trajectory, f, particles)[axis];
+  for (std::size_t f = 0; f < series.size(); ++f)
+    series[f] = Centroid(trajectory, f, particles)[axis];
   return series;
 }
 

@@ -29,7 +29,8 @@ Trajectory WithFields() {
     t.AppendFrame(static_cast<double>(f) * 20 * 2e-5, x.data());
   }
   t.velocities.resize(t.positions.size());
-  for (std::size_t i = 0; i < t.velocities.size(); ++i) t.velocities[i] = 1e-3f * static_cast<float>(i);
+  for (std::size_t i = 0; i < t.velocities.size(); ++i)
+    t.velocities[i] = 1e-3f * static_cast<float>(i);
   t.density.assign(frames * 5, 1000.5f);
   t.pressure.assign(frames * 5, 12.25f);
   t.provenance = {{"producer", "owval test"}, {"scenario", "small"}};

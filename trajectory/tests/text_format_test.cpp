@@ -19,7 +19,7 @@ Trajectory SmallTrajectory() {
   t.type = {2.1f, 1.1f, 3.0f, 3.0f};
   for (int f = 0; f < 3; ++f) {
     const float frame[12] = {1.5f + f, 2.25f, 3.0f, 4.0f, 5.0f - f * 0.5f, 6.0f,
-                             0.5f, 0.5f, 0.5f, 9.5f, 19.5f, 29.5f};
+                             0.5f,     0.5f,  0.5f, 9.5f, 19.5f,           29.5f};
     t.AppendFrame(f * 10 * 2e-5, frame);
   }
   return t;

@@ -16,9 +16,9 @@
 namespace owval {
 
 enum class TextLayout {
-  kAuto,       // detect from the counts (reading only)
-  kOpenCL,     // Sibernetic: boundary particles only in frame 0
-  kNative,     // boundary particles in every frame
+  kAuto,    // detect from the counts (reading only)
+  kOpenCL,  // Sibernetic: boundary particles only in frame 0
+  kNative,  // boundary particles in every frame
 };
 const char* LayoutName(TextLayout layout);
 // "auto" | "opencl" | "native"; throws InputError otherwise.
@@ -33,21 +33,23 @@ struct TextReadReport {
   TextLayout detected = TextLayout::kAuto;  // the layout actually used
   std::size_t rows = 0;                     // position rows parsed
   std::size_t bytes = 0;
-  std::string description;                  // e.g. "opencl layout: 2500 frames, 1 moving + 2168 boundary"
+  std::string description;  // e.g. "opencl layout: 2500 frames, 1 moving + 2168 boundary"
 };
 
-Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadOptions& options = {},
+Trajectory ReadSiberneticText(const std::filesystem::path& path,
+                              const TextReadOptions& options = {},
                               TextReadReport* report = nullptr);
 // Same, from text already in memory (name is used in error messages).
 Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
-                               const TextReadOptions& options = {}, TextReadReport* report = nullptr);
+                               const TextReadOptions& options = {},
+                               TextReadReport* report = nullptr);
 
 // Writes with 6 significant digits (Sibernetic's ostream default), atomically.
 void WriteSiberneticText(const Trajectory& trajectory, const std::filesystem::path& path,
                          TextLayout layout = TextLayout::kOpenCL);
 
 struct Hdf5WriteOptions {
-  int compression_level = 4;          // deflate level 0..9
+  int compression_level = 4;         // deflate level 0..9
   std::size_t frames_per_chunk = 4;  // chunking along the frame axis
 };
 void WriteHdf5(const Trajectory& trajectory, const std::filesystem::path& path,

@@ -1,0 +1,71 @@
+// owval check stability|incompressibility TRAJ: physical sanity gates (exit 1 on violation).
+#include <iostream>
+
+#include "command.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/compare/stability.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::cli {
+namespace {
+
+struct CheckArgs {
+  std::string path;
+  bool json = false;
+  compare::StabilityOptions stability;
+  compare::IncompressibilityOptions incompressibility;
+};
+
+Trajectory Read(const std::string& path) {
+  TextReadOptions read;
+  read.quiet = Flags().quiet;
+  return ReadTrajectory(path, read);
+}
+
+void RunStability(const CheckArgs& a) {
+  const compare::StabilityReport r = compare::CheckStability(Read(a.path), a.stability);
+  std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
+  if (!r.pass()) SetExitCode(kExitGateFailed);
+}
+
+void RunIncompressibility(const CheckArgs& a) {
+  const Trajectory t = Read(a.path);
+  compare::IncompressibilityReport r;
+  try {
+    r = compare::CheckIncompressibility(t, a.incompressibility);
+  } catch (const InputError& e) {
+    throw InputError(a.path, 0, e.what());
+  }
+  std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
+  if (!r.pass()) SetExitCode(kExitGateFailed);
+}
+
+void SetUp(CLI::App& app) {
+  CLI::App* check = app.add_subcommand("check", "Physical sanity gates on one trajectory");
+  check->require_subcommand(1);
+  auto args = std::make_shared<CheckArgs>();
+  CLI::App* stability =
+      check->add_subcommand("stability", "NaN/Inf, box escapes, kinetic blow-up, density range");
+  stability->add_option("trajectory", args->path)->required();
+  stability->add_option("--box-tolerance", args->stability.box_tolerance_cu,
+                        "cu outside the box allowed");
+  stability->add_option("--speed-limit", args->stability.speed_limit_m_s,
+                        "Mean speed (m/s) counted as blow-up");
+  stability->add_option("--density-range", args->stability.density_max, "Maximum density (kg/m^3)");
+  stability->add_flag("--json", args->json);
+  stability->callback([args] { RunStability(*args); });
+  CLI::App* incompressible =
+      check->add_subcommand("incompressibility", "Mean and max |rho/rho0 - 1| of liquid");
+  incompressible->add_option("trajectory", args->path)->required();
+  incompressible->add_option("--rest-density", args->incompressibility.rest_density,
+                             "rho0 (kg/m^3)");
+  incompressible->add_option("--limit", args->incompressibility.limit,
+                             "Allowed deviation (default 0.01)");
+  incompressible->add_flag("--json", args->json);
+  incompressible->callback([args] { RunIncompressibility(*args); });
+}
+
+const bool registered = RegisterCommand(&SetUp);
+
+}  // namespace
+}  // namespace owval::cli

@@ -1,0 +1,179 @@
+#include "owval/compare/stability.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+
+namespace owval::compare {
+namespace {
+
+bool Outside(const Box& box, const float* x, double tolerance) {
+  for (int a = 0; a < 3; ++a)
+    if (x[a] < box.lower(a) - tolerance || x[a] > box.upper(a) + tolerance) return true;
+  return false;
+}
+
+// Mean speed of the moving particles at a frame (m/s): from velocities when present, otherwise
+// from the displacement since the previous frame.
+double MeanSpeed(const Trajectory& t, std::size_t frame, const std::vector<std::size_t>& moving,
+                 double scale) {
+  if (moving.empty()) return 0;
+  double sum = 0;
+  for (std::size_t p : moving) {
+    double v2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      double v;
+      if (t.has_velocities()) {
+        v = t.velocities[(frame * t.particle_count() + p) * 3 + a];
+      } else {
+        const double dt = t.time_s[frame] - t.time_s[frame - 1];
+        v = (t.coordinate(frame, p, a) - t.coordinate(frame - 1, p, a)) * scale / dt;
+      }
+      v2 += v * v;
+    }
+    sum += std::sqrt(v2);
+  }
+  return sum / double(moving.size());
+}
+
+std::string Describe(const char* name, const ViolationCount& v) {
+  std::ostringstream s;
+  s << "  " << name << ": " << v.count;
+  if (v.first_frame) s << " (first at frame " << *v.first_frame << ")";
+  s << "\n";
+  return s.str();
+}
+
+nlohmann::json ToJson(const ViolationCount& v) {
+  return {
+      {"count", v.count},
+      {"first_frame", v.first_frame ? nlohmann::json(*v.first_frame) : nlohmann::json(nullptr)}};
+}
+
+}  // namespace
+
+void ViolationCount::Add(std::size_t frame, std::size_t n) {
+  count += n;
+  if (!first_frame) first_frame = frame;
+}
+
+bool StabilityReport::pass() const {
+  return non_finite.count == 0 && outside_box.count == 0 && blow_up.count == 0 &&
+         density_out_of_range.count == 0;
+}
+
+StabilityReport CheckStability(const Trajectory& t, const StabilityOptions& o) {
+  StabilityReport r;
+  r.density_checked = t.has_density();
+  r.velocities_from_positions = !t.has_velocities();
+  std::vector<std::size_t> moving;
+  for (std::size_t p = 0; p < t.particle_count(); ++p)
+    if (KindOf(t.type[p]) != ParticleKind::kBoundary) moving.push_back(p);
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    std::size_t bad = 0, outside = 0;
+    for (std::size_t p = 0; p < t.particle_count(); ++p) {
+      const float* x = t.position(f, p);
+      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) {
+        ++bad;
+      } else if (Outside(t.box, x, o.box_tolerance_cu)) {
+        ++outside;
+      }
+    }
+    if (bad) r.non_finite.Add(f, bad);
+    if (outside) r.outside_box.Add(f, outside);
+    if (t.has_velocities() || f > 0) {
+      const double speed = MeanSpeed(t, f, moving, o.simulation_scale);
+      if (std::isfinite(speed)) r.max_mean_speed_m_s = std::max(r.max_mean_speed_m_s, speed);
+      if (!(speed <= o.speed_limit_m_s)) r.blow_up.Add(f);
+    }
+    if (t.has_density()) {
+      std::size_t out = 0;
+      for (std::size_t p = 0; p < t.particle_count(); ++p) {
+        const float rho = t.density[f * t.particle_count() + p];
+        if (!(rho >= o.density_min && rho <= o.density_max)) ++out;
+      }
+      if (out) r.density_out_of_range.Add(f, out);
+    }
+  }
+  return r;
+}
+
+nlohmann::json StabilityReport::ToJson() const {
+  return {{"non_finite", compare::ToJson(non_finite)},
+          {"outside_box", compare::ToJson(outside_box)},
+          {"kinetic_energy_blow_up", compare::ToJson(blow_up)},
+          {"density_out_of_range", compare::ToJson(density_out_of_range)},
+          {"density_checked", density_checked},
+          {"speed_from_finite_differences", velocities_from_positions},
+          {"max_mean_speed_m_s", max_mean_speed_m_s},
+          {"pass", pass()}};
+}
+
+std::string StabilityReport::ToTable() const {
+  std::ostringstream s;
+  s << "stability: " << (pass() ? "PASS" : "FAIL") << "\n";
+  s << Describe("NaN/Inf particle-frames", non_finite)
+    << Describe("outside-box particle-frames", outside_box) << Describe("blow-up frames", blow_up);
+  if (density_checked)
+    s << Describe("density out of range", density_out_of_range);
+  else
+    s << "  density: not in this file (not checked)\n";
+  s << "  max mean speed: " << max_mean_speed_m_s << " m/s"
+    << (velocities_from_positions ? " (from positions)" : "") << "\n";
+  return s.str();
+}
+
+IncompressibilityReport CheckIncompressibility(const Trajectory& t,
+                                               const IncompressibilityOptions& o) {
+  if (!t.has_density())
+    throw InputError(
+        "this trajectory carries no density (Sibernetic's position_buffer.txt never does); "
+        "use an owval HDF5 trajectory from `owval run`");
+  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  IncompressibilityReport r;
+  r.liquid_particles = liquid.size();
+  r.limit = o.limit;
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t f = o.skip_first_frame && t.frame_count() > 1 ? 1 : 0; f < t.frame_count();
+       ++f) {
+    ++r.frames;
+    for (std::size_t p : liquid) {
+      const double dev = std::abs(t.density[f * t.particle_count() + p] / o.rest_density - 1);
+      sum += dev;
+      ++n;
+      if (!(dev <= r.max_deviation)) {
+        r.max_deviation = dev;
+        r.worst_frame = f;
+        r.worst_particle = p;
+      }
+    }
+  }
+  r.mean_deviation = n ? sum / double(n) : 0;
+  return r;
+}
+
+nlohmann::json IncompressibilityReport::ToJson() const {
+  return {{"liquid_particles", liquid_particles},
+          {"frames", frames},
+          {"mean_abs_density_deviation", mean_deviation},
+          {"max_abs_density_deviation", max_deviation},
+          {"worst_frame", worst_frame ? nlohmann::json(*worst_frame) : nlohmann::json(nullptr)},
+          {"worst_particle",
+           worst_particle ? nlohmann::json(*worst_particle) : nlohmann::json(nullptr)},
+          {"limit", limit},
+          {"pass", pass()}};
+}
+
+std::string IncompressibilityReport::ToTable() const {
+  std::ostringstream s;
+  s << "incompressibility: " << (pass() ? "PASS" : "FAIL") << " (limit " << limit * 100 << "%)\n";
+  s << "  liquid particles " << liquid_particles << ", frames " << frames << "\n";
+  s << "  mean |rho/rho0 - 1| " << mean_deviation * 100 << "%, max " << max_deviation * 100 << "%";
+  if (worst_frame) s << " (frame " << *worst_frame << ", particle " << *worst_particle << ")";
+  s << "\n";
+  return s.str();
+}
+
+}  // namespace owval::compare
