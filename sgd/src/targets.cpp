@@ -1,0 +1,182 @@
+#include "owval/sgd/targets.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+#include "owval/compare/parity.hpp"
+#include "owval/compare/signal_metrics.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::sgd {
+namespace fs = std::filesystem;
+namespace {
+
+std::vector<std::string> Split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
+  return parts;
+}
+
+double Number(const std::string& text, const std::string& context) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError(context + ": expected a number, found '" + text + "'");
+}
+
+std::pair<std::string, std::string> KeyValue(const std::string& text, const std::string& context) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(context + ": expected NAME=VALUE, found '" + text + "'");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+std::vector<double> Series(const Trajectory& t, const Tracking& k) {
+  return k.group.empty() ? ParticleSeries(t, k.particle, k.axis)
+                         : CentroidSeries(t, GroupIndices(t, k.group), k.axis);
+}
+
+double Rms(const Trajectory& t, const Tracking& k, const std::string& reference_file) {
+  static thread_local std::string cached_name;
+  static thread_local Trajectory cached;
+  if (cached_name != reference_file) {
+    cached = ReadTrajectory(reference_file);
+    cached_name = reference_file;
+  }
+  const auto pairs = compare::PairFramesByTime(cached, t);
+  if (pairs.empty())
+    throw InputError(reference_file, 0, "shares no frame time with the simulation");
+  const auto ref = Series(cached, k), cand = Series(t, k);
+  double sum = 0;
+  for (const auto& [fr, fc] : pairs) sum += (cand[fc] - ref[fr]) * (cand[fc] - ref[fr]);
+  return std::sqrt(sum / double(pairs.size()));
+}
+
+double Measure(const compare::SignalMetrics& m, const std::string& metric) {
+  // A signal without two crossings has no period: return a value far from any target so the
+  // optimiser backs away instead of failing.
+  if (metric == "period") return m.period_s ? *m.period_s : 1e3;
+  if (metric == "half_amplitude") return m.half_amplitude ? *m.half_amplitude : 0;
+  if (metric == "equilibrium") return m.equilibrium;
+  throw InputError("unknown target metric '" + metric +
+                   "': expected period, half_amplitude, equilibrium or rms");
+}
+
+}  // namespace
+
+Target ParseTarget(const std::string& text) {
+  const auto parts = Split(text, ':');
+  Target t;
+  std::string value;
+  std::tie(t.metric, value) = KeyValue(parts.at(0), "--target " + text);
+  t.value = Number(value, "--target " + text);
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    const auto [key, v] = KeyValue(parts[i], "--target " + text);
+    if (key == "scale")
+      t.scale = Number(v, "--target scale");
+    else if (key == "weight")
+      t.weight = Number(v, "--target weight");
+    else if (key == "ref")
+      t.reference_file = v;
+    else
+      throw InputError("--target " + text + ": unknown option '" + key + "' (scale, weight, ref)");
+  }
+  if (!(t.scale > 0)) throw InputError("--target " + text + ": scale must be positive");
+  if (t.metric == "rms" && t.reference_file.empty())
+    throw InputError("--target rms needs ref=FILE");
+  return t;
+}
+
+Parameter ParseParameter(const std::string& text) {
+  const auto parts = Split(text, ':');
+  Parameter p;
+  std::string value;
+  std::tie(p.name, value) = KeyValue(parts.at(0), "--param " + text);
+  p.start = Number(value, "--param " + text);
+  std::size_t i = 1;
+  if (i < parts.size() && (parts[i] == "log" || parts[i] == "lin"))
+    p.log_space = parts[i++] == "log";
+  if (i + 2 == parts.size()) {
+    p.lower = Number(parts[i], "--param lower bound");
+    p.upper = Number(parts[i + 1], "--param upper bound");
+  } else if (i != parts.size()) {
+    throw InputError("--param " + text + ": expected NAME=START[:log|:lin][:LOWER:UPPER]");
+  }
+  if (p.log_space && !(p.start > 0))
+    throw InputError("--param " + text + ": a log-space parameter must be positive");
+  return p;
+}
+
+std::vector<double> ScaledResiduals(const Trajectory& t, const Tracking& k,
+                                    const std::vector<Target>& targets) {
+  const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, Series(t, k));
+  std::vector<double> r;
+  for (const Target& target : targets) {
+    const double measured =
+        target.metric == "rms" ? Rms(t, k, target.reference_file) : Measure(m, target.metric);
+    r.push_back(std::sqrt(target.weight) * (measured - target.value) / target.scale);
+  }
+  return r;
+}
+
+nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Tracking& k) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Target& t : targets)
+    j.push_back({{"metric", t.metric},
+                 {"value", t.value},
+                 {"scale", t.scale},
+                 {"weight", t.weight},
+                 {"particle", k.particle},
+                 {"group", k.group},
+                 {"axis", std::string(1, "xyz"[k.axis])}});
+  return j;
+}
+
+Objective MakeObjective(Simulator simulator, Tracking tracking, std::vector<Target> targets) {
+  return [simulator = std::move(simulator), tracking, targets](const std::vector<double>& values) {
+    return ScaledResiduals(simulator(values), tracking, targets);
+  };
+}
+
+Simulator CommandSimulator(std::string command_template, std::vector<Parameter> parameters,
+                           fs::path work_dir) {
+  auto counter = std::make_shared<std::atomic<int>>(0);
+  return [=](const std::vector<double>& values) {
+    const fs::path out = work_dir / ("eval_" + std::to_string((*counter)++));
+    fs::create_directories(out);
+    const fs::path out_file = out / "trajectory.h5";
+    std::string command = command_template;
+    auto replace = [&](const std::string& key, const std::string& with) {
+      for (std::size_t at; (at = command.find(key)) != std::string::npos;)
+        command.replace(at, key.size(), with);
+    };
+    for (std::size_t i = 0; i < parameters.size(); ++i) {
+      std::ostringstream v;
+      v.precision(17);
+      v << values[i];
+      replace("{" + parameters[i].name + "}", v.str());
+    }
+    replace("{out_file}", out_file.string());
+    replace("{out}", out.string());
+    const int status =
+        std::system((command + " > '" + (out / "command.log").string() + "' 2>&1").c_str());
+    if (status != 0)
+      throw InputError(
+          (out / "command.log").string(), 0,
+          "external command failed (status " + std::to_string(status) + "): " + command);
+    for (const fs::path& candidate : {out_file, out / "position_buffer.txt"})
+      if (fs::exists(candidate)) return ReadTrajectory(candidate);
+    throw InputError(
+        out.string(), 0,
+        "the command wrote no trajectory (expected trajectory.h5 or position_buffer.txt)");
+  };
+}
+
+}  // namespace owval::sgd

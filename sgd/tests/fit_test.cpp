@@ -1,0 +1,112 @@
+#include "owval/sgd/fit.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "owval/base/errors.hpp"
+#include "owval/sgd/targets.hpp"
+
+namespace owval::sgd {
+namespace {
+
+// A closed-form stand-in for one_sprig: period T(k) = 2π/√(k/4) against a target period, and a
+// second residual with a known optimum. The exact optimum is k* = 3e8.
+std::vector<double> SpringResiduals(const std::vector<double>& x) {
+  const double kPi = 3.14159265358979;
+  const double target_period = 2 * kPi / std::sqrt(3e8 / 4);
+  const double period = 2 * kPi / std::sqrt(x[0] / 4);
+  return {(period - target_period) / 0.725e-3, 0.5 * (x[0] / 3e8 - 1)};
+}
+
+class ClosedForm : public ::testing::TestWithParam<Solver> {};
+
+TEST_P(ClosedForm, ReachesTheKnownOptimumFromFarAway) {
+  FitOptions options;
+  options.solver = GetParam();
+  options.loss_threshold = 1e-10;
+  options.max_iterations = 200;
+  FitSummary summary;
+  Fit(options, {{"elasticity_coefficient", 1.62e8, true, 1e6, 1e10}}, SpringResiduals, &summary);
+  EXPECT_TRUE(summary.converged) << summary.BriefReport();
+  EXPECT_NEAR(summary.final_values[0], 3e8, 3e8 * 1e-4);
+  EXPECT_LT(summary.final_loss, 1e-10);
+  ASSERT_FALSE(summary.iterations.empty());
+  EXPECT_NEAR(summary.iterations.front().values[0], 1.62e8, 1.62e8 * 1e-12);  // the start
+  EXPECT_EQ(summary.iterations.back().evaluations, summary.evaluations);
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, ClosedForm,
+                         ::testing::Values(Solver::kLevenbergMarquardt, Solver::kDogleg,
+                                           Solver::kGradientDescent));
+
+TEST(Fit, TwoParametersWithBounds) {
+  // Minimum of (x-2)² + (y+1)² outside y's bounds [0, 5]: the fit stops at y = 0.
+  FitOptions options;
+  options.loss_threshold = 0;  // run to Ceres' own convergence
+  FitSummary summary;
+  Fit(
+      options, {{"x", 0.0, false}, {"y", 3.0, false, 0.0, 5.0}},
+      [](const std::vector<double>& v) {
+        return std::vector<double>{v[0] - 2, v[1] + 1};
+      },
+      &summary);
+  // Ceres stops on its relative cost tolerance (1e-6), so x is within ~1e-4 of its optimum.
+  EXPECT_NEAR(summary.final_values[0], 2, 1e-3);
+  EXPECT_NEAR(summary.final_values[1], 0, 1e-9);  // held exactly at its bound
+  EXPECT_NEAR(summary.final_loss, 1, 1e-6);
+}
+
+TEST(Fit, HistoryJsonFollowsTheDocumentedSchema) {
+  FitOptions options;
+  FitSummary summary;
+  const std::vector<Parameter> parameters = {{"k", 1.62e8, true}};
+  Fit(options, parameters, SpringResiduals, &summary);
+  const nlohmann::json h = ToJson(options, parameters, summary);
+  // Required keys and types, as docs/fit_history.md lists them.
+  EXPECT_EQ(h.at("schema"), "owval.fit.history/1");
+  EXPECT_TRUE(h.at("solver").is_string());
+  EXPECT_TRUE(h.at("loss_threshold").is_number());
+  EXPECT_TRUE(h.at("parameters").is_array());
+  EXPECT_TRUE(h.at("converged").is_boolean());
+  EXPECT_TRUE(h.at("stop_reason").is_string());
+  EXPECT_TRUE(h.at("evaluations").is_number_integer());
+  EXPECT_TRUE(h.at("final").at("parameters").at("k").is_number());
+  ASSERT_FALSE(h.at("iterations").empty());
+  for (const auto& it : h.at("iterations")) {
+    for (const char* key : {"loss", "wall_s"}) EXPECT_TRUE(it.at(key).is_number()) << key;
+    for (const char* key : {"residuals", "gradient", "step"})
+      EXPECT_TRUE(it.at(key).is_array()) << key;
+    EXPECT_TRUE(it.at("evaluations").is_number_integer());
+    EXPECT_TRUE(it.at("parameters").at("k").is_number());
+  }
+}
+
+TEST(Fit, CancellationKeepsTheHistory) {
+  FitOptions options;
+  options.solver = Solver::kGradientDescent;
+  options.learning_rate = 1e-3;  // slow on purpose
+  int seen = 0;
+  options.on_iteration = [&](const nlohmann::json&) { ++seen; };
+  options.cancelled = [&] { return seen >= 2; };
+  FitSummary summary;
+  Fit(options, {{"k", 1.62e8, true}}, SpringResiduals, &summary);
+  EXPECT_EQ(summary.stop_reason, "cancelled");
+  EXPECT_EQ(summary.iterations.size(), 2u);
+}
+
+TEST(Targets, ParseTargetAndParameterSpecifications) {
+  const Target t = ParseTarget("half_amplitude=1.694:scale=1.694:weight=0.25");
+  EXPECT_EQ(t.metric, "half_amplitude");
+  EXPECT_DOUBLE_EQ(t.value, 1.694);
+  EXPECT_DOUBLE_EQ(t.weight, 0.25);
+  const Parameter p = ParseParameter("elasticity_coefficient=1.62e8:log:1e6:1e10");
+  EXPECT_TRUE(p.log_space);
+  EXPECT_DOUBLE_EQ(p.upper, 1e10);
+  EXPECT_THROW(ParseTarget("period=abc"), InputError);
+  EXPECT_THROW(ParseParameter("k=-1:log"), InputError);
+  EXPECT_THROW(ParseTarget("period=1:color=red"), InputError);
+}
+
+}  // namespace
+}  // namespace owval::sgd
