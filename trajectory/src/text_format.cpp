@@ -1,4 +1,5 @@
 // Sibernetic position_buffer.txt: reading (layout detection from the counts) and writing.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -363,6 +364,12 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
                                const TextReadOptions& options, TextReadReport* report) {
   if (text.empty())
     throw InputError(name, 0, "empty file: expected an 11-line header and particle rows");
+  // Every row ends with a newline; a file cut mid-row can still look like whole numbers
+  // ("2.1" cut to "2"), so a missing final newline is how truncation shows.
+  if (text.back() != '\n') {
+    const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+    throw InputError(name, lines, "truncated file: the last line does not end with a newline");
+  }
   TextCursor in(text, name);
   const Header header = ParseHeader(in);
   Rows rows = ParseRows(in, header, text, options.layout, options.quiet);
@@ -433,12 +440,17 @@ std::string HeaderText(const Trajectory& t) {
     AppendNumber(out, v);
     out.push_back('\n');
   }
-  for (ParticleKind kind : {ParticleKind::kElastic, ParticleKind::kLiquid, ParticleKind::kBoundary})
-    out += std::to_string(t.count(kind)) + "\n";
+  for (ParticleKind kind :
+       {ParticleKind::kElastic, ParticleKind::kLiquid, ParticleKind::kBoundary}) {
+    out += std::to_string(t.count(kind));
+    out.push_back('\n');
+  }
   char dt[32];
   auto [end, ec] = std::to_chars(dt, dt + sizeof dt, t.time_step_s, std::chars_format::general, 6);
   out.append(dt, end);
-  out += "\n" + std::to_string(t.log_step) + "\n";
+  out.push_back('\n');
+  out += std::to_string(t.log_step);
+  out.push_back('\n');
   return out;
 }
 

@@ -113,6 +113,14 @@ TEST(TextFormat, RejectsTruncatedLastRowWithLineNumber) {
   EXPECT_NE(error.find("expected z"), std::string::npos) << error;
 }
 
+TEST(TextFormat, RejectsRowCutInsideItsLastNumber) {
+  // "1.1" cut to "1" still parses as a number: the missing newline gives it away.
+  const std::string text = std::string(kHeader) + kFrame0 + "2.5\t2.25\t3\t2.1\n4\t4.5\t6\t1";
+  const std::string error = ErrorOf(text);
+  EXPECT_NE(error.find("mem.txt:17:"), std::string::npos) << error;
+  EXPECT_NE(error.find("truncated"), std::string::npos) << error;
+}
+
 TEST(TextFormat, RejectsTruncatedHeader) {
   EXPECT_NE(ErrorOf("0\n10\n0\n20\n").find("truncated header"), std::string::npos);
 }

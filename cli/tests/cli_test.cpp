@@ -1,0 +1,120 @@
+// End-to-end behaviour of the owval executable: what a user meets on the command line.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+fs::path Scratch() {
+  fs::path dir = fs::temp_directory_path() / ("owval_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+Result Owval(const std::string& args) {
+  const fs::path out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
+  const std::string command =
+      std::string(OWVAL_EXE) + " --quiet " + args + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+}
+
+const std::string kOneSprig =
+    std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
+
+TEST(Cli, InspectJsonReportsTheOneSprigPeriod) {
+  const Result r = Owval("inspect " + kOneSprig + " --particle 0 --axis y --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["metrics"]["zero_crossing_period_s"].get<double>(), 0.7246e-3, 0.7246e-6);
+  EXPECT_NE(j["layout"].get<std::string>().find("opencl"), std::string::npos);
+}
+
+TEST(Cli, MissingFileIsOneLineExitTwo) {
+  const Result r = Owval("inspect /nonexistent/position_buffer.txt");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/position_buffer.txt"), std::string::npos);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Cli, TruncatedFileNamesFileAndLineAndLeavesNoOutput) {
+  const fs::path bad = Scratch() / "truncated.txt";
+  const std::string text = Slurp(kOneSprig);
+  std::ofstream(bad) << text.substr(0, text.size() / 2 - 7);  // cut mid-row
+  const fs::path out = Scratch() / "converted.h5";
+  fs::remove(out);
+  const Result r = Owval("convert " + bad.string() + " " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("truncated.txt:"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(Scratch()))
+    EXPECT_EQ(e.path().filename().string().find(".converted.h5.tmp"), std::string::npos);
+}
+
+TEST(Cli, NaNInTrajectoryIsRefused) {
+  const fs::path bad = Scratch() / "nan.txt";
+  std::string text = Slurp(kOneSprig);
+  const auto row = text.find("17.535\t20.04");
+  text.replace(row, 6, "nan");
+  std::ofstream(bad) << text;
+  const Result r = Owval("inspect " + bad.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nan.txt:12:"), std::string::npos) << r.err;
+}
+
+TEST(Cli, ConvertRoundTripThroughHdf5) {
+  const fs::path h5 = Scratch() / "one_sprig.h5", back = Scratch() / "back.txt";
+  ASSERT_EQ(Owval("convert " + kOneSprig + " " + h5.string()).exit_code, 0);
+  ASSERT_EQ(Owval("convert " + h5.string() + " " + back.string()).exit_code, 0);
+  EXPECT_EQ(Slurp(back), Slurp(kOneSprig));  // byte-identical at Sibernetic's 6 digits
+}
+
+TEST(Cli, CompareExitCodes) {
+  EXPECT_EQ(Owval("compare " + kOneSprig + " " + kOneSprig).exit_code, 0);
+  // A copy whose elastic particle's y is 6% higher fails the frame gate.
+  const fs::path h5 = Scratch() / "ref.h5";
+  ASSERT_EQ(Owval("convert " + kOneSprig + " " + h5.string()).exit_code, 0);
+  std::string text = Slurp(kOneSprig);
+  std::string scaled;
+  std::istringstream in(text);
+  int line = 0;
+  for (std::string row; std::getline(in, row); ++line) {
+    if (line >= 11 && row.find("\t2.1") != std::string::npos) {
+      std::istringstream fields(row);
+      double x, y, z;
+      std::string type;
+      fields >> x >> y >> z >> type;
+      char buffer[128];
+      std::snprintf(buffer, sizeof buffer, "%g\t%g\t%g\t%s", x, y * 1.06, z, type.c_str());
+      row = buffer;
+    }
+    scaled += row + "\n";
+  }
+  const fs::path cand = Scratch() / "scaled.txt";
+  std::ofstream(cand) << scaled;
+  const Result r = Owval("compare " + h5.string() + " " + cand.string() + " --frames 0,15,100,200");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("failing frames           0, 15, 100, 200"), std::string::npos) << r.out;
+}
+
+TEST(Cli, UnknownOptionIsBadUsage) { EXPECT_EQ(Owval("inspect --no-such-flag x").exit_code, 2); }
+
+}  // namespace
