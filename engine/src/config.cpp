@@ -1,0 +1,309 @@
+// Sibernetic's configuration format: reading (with Sibernetic's own parsing rules where they
+// matter, see sibernetic_physics.md §1-2) and writing.
+#include "owval/engine/config.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+
+namespace owval::engine {
+namespace {
+
+enum class Section {
+  kNone,
+  kPhysical,
+  kBox,
+  kPosition,
+  kVelocity,
+  kConnection,
+  kMembranes,
+  kMemIndex,
+  kEnd
+};
+
+Section SectionOf(const std::string& line) {
+  static const std::pair<const char*, Section> names[] = {
+      {"[physical parameters]", Section::kPhysical},
+      {"[simulation box]", Section::kBox},
+      {"[position]", Section::kPosition},
+      {"[velocity]", Section::kVelocity},
+      {"[connection]", Section::kConnection},
+      {"[membranes]", Section::kMembranes},
+      {"[particleMemIndex]", Section::kMemIndex},
+      {"[end]", Section::kEnd}};
+  for (const auto& [name, section] : names)
+    if (line == name) return section;
+  return Section::kNone;
+}
+
+class Reader {
+ public:
+  Reader(const std::string& name) : name_(name) {}
+
+  // Up to `count` numbers of a TAB/space separated row; a short row repeats its last field into
+  // the missing ones, as Sibernetic's loader does (owHelper.cpp).
+  std::array<float, 4> Row(const std::string& line, std::size_t count, const char* what) const {
+    std::array<float, 4> row{};
+    std::size_t n = 0;
+    const char* p = line.data();
+    const char* end = p + line.size();
+    while (p < end && n < 4) {
+      while (p < end && (*p == ' ' || *p == '\t')) ++p;
+      if (p >= end) break;
+      const char* start = p;
+      if (*p == '+') ++p;
+      auto [next, ec] = std::from_chars(p, end, row[n]);
+      if (ec != std::errc() || (next < end && *next != ' ' && *next != '\t')) {
+        const char* stop = start;
+        while (stop < end && *stop != ' ' && *stop != '\t') ++stop;
+        Fail(std::string("expected a number in the ") + what + " row, found '" +
+             std::string(start, stop) + "'");
+      }
+      if (!std::isfinite(row[n])) Fail(std::string("non-finite number in the ") + what + " row");
+      p = next;
+      ++n;
+    }
+    while (p < end && (*p == ' ' || *p == '\t')) ++p;
+    if (p < end)
+      Fail(std::string("too many fields in the ") + what + " row (expected " +
+           std::to_string(count) + ")");
+    if (n == 0) Fail(std::string("empty ") + what + " row");
+    for (std::size_t i = n; i < 4; ++i) row[i] = row[n - 1];
+    return row;
+  }
+
+  [[noreturn]] void Fail(const std::string& what) const { throw InputError(name_, line_, what); }
+  std::size_t line_ = 0;
+
+ private:
+  std::string name_;
+};
+
+// Sibernetic accepts "name: value" where value is an unsigned decimal that may carry an exponent
+// only after a decimal point, with an optional trailing // comment (owHelper.cpp:83-91).
+void ParsePhysicalParameter(const std::string& line, SiberneticConfig* config) {
+  static const std::regex rule(
+      R"(^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*([0-9]+(\.[0-9]*([eE][-+]?[0-9]+)?)?)\s*(//.*)?$)");
+  std::smatch m;
+  if (std::regex_match(line, m, rule))
+    config->physical_parameters.emplace(m[1].str(), std::stod(m[2].str()));
+}
+
+int ToIndex(float v) { return static_cast<int>(v); }  // C truncation, as the kernels do
+
+void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen, bool end_seen,
+              std::size_t lines) {
+  if (!box_seen)
+    throw InputError(name, 0,
+                     "missing [simulation box] section (6 lines: xmin xmax ymin ymax zmin zmax)");
+  if (!end_seen) throw InputError(name, lines, "truncated configuration: expected an [end] line");
+  if (c.position.empty()) throw InputError(name, 0, "no [position] rows");
+  if (c.velocity.size() != c.position.size())
+    throw InputError(name, 0,
+                     "wrong particle count: " + std::to_string(c.position.size()) +
+                         " [position] rows but " + std::to_string(c.velocity.size()) +
+                         " [velocity] rows");
+  const std::size_t elastic = c.elastic_count();
+  for (std::size_t i = 0; i < elastic; ++i)
+    if (KindOf(c.position[i][3]) != ParticleKind::kElastic)
+      throw InputError(name, 0,
+                       "elastic particles must come first: row " + std::to_string(i) +
+                           " of [position] has type " + std::to_string(c.position[i][3]) +
+                           " but there are " + std::to_string(elastic) + " elastic particles");
+  if (elastic > 0 && c.connection.size() != elastic * kConnectionSlots)
+    throw InputError(name, 0,
+                     "[connection] has " + std::to_string(c.connection.size()) +
+                         " rows, expected 32 per elastic particle (" +
+                         std::to_string(elastic * kConnectionSlots) + ")");
+  for (std::size_t r = 0; r < c.connection.size(); ++r) {
+    const float partner = c.connection[r][0];
+    if (partner >= 0 && static_cast<std::size_t>(ToIndex(partner)) >= c.particle_count())
+      throw InputError(name, 0,
+                       "connection row " + std::to_string(r) + " links to particle " +
+                           std::to_string(ToIndex(partner)) + ", which does not exist (" +
+                           std::to_string(c.particle_count()) + " particles)");
+  }
+  if (!c.particle_mem_index.empty() &&
+      c.particle_mem_index.size() != elastic * kMembraneSlotsPerParticle)
+    throw InputError(name, 0,
+                     "[particleMemIndex] has " + std::to_string(c.particle_mem_index.size()) +
+                         " rows, expected 7 per elastic particle (" + std::to_string(elastic * 7) +
+                         ")");
+  for (const auto& m : c.membranes)
+    for (int v : m)
+      if (v < 0 || static_cast<std::size_t>(v) >= elastic)
+        throw InputError(name, 0,
+                         "membrane vertex " + std::to_string(v) + " is not an elastic particle");
+}
+
+}  // namespace
+
+std::size_t SiberneticConfig::elastic_count() const {
+  std::size_t n = 0;
+  for (const Row4& p : position) n += KindOf(p[3]) == ParticleKind::kElastic;
+  return n;
+}
+std::size_t SiberneticConfig::liquid_count() const {
+  std::size_t n = 0;
+  for (const Row4& p : position) n += KindOf(p[3]) == ParticleKind::kLiquid;
+  return n;
+}
+std::size_t SiberneticConfig::boundary_count() const {
+  return position.size() - elastic_count() - liquid_count();
+}
+
+SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::string& name) {
+  SiberneticConfig c;
+  c.source = name;
+  Reader reader(name);
+  std::istringstream in(text);
+  Section section = Section::kNone;
+  std::vector<float> box;
+  bool box_seen = false, end_seen = false;
+  for (std::string line; std::getline(in, line);) {
+    ++reader.line_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    if (line[0] == '[') {
+      section = SectionOf(line);
+      if (section == Section::kNone) reader.Fail("unknown section '" + line + "'");
+      if (section == Section::kBox) box_seen = true;
+      if (section == Section::kEnd) end_seen = true;
+      continue;
+    }
+    switch (section) {
+      case Section::kNone:
+        reader.Fail("data before the first section header");
+        break;
+      case Section::kPhysical:
+        ParsePhysicalParameter(line, &c);
+        break;
+      case Section::kBox:
+        if (box.size() == 6) reader.Fail("[simulation box] holds 6 lines, found a 7th");
+        box.push_back(reader.Row(line, 1, "simulation box")[0]);
+        break;
+      case Section::kPosition:
+        c.position.push_back(reader.Row(line, 4, "position"));
+        break;
+      case Section::kVelocity:
+        c.velocity.push_back(reader.Row(line, 4, "velocity"));
+        break;
+      case Section::kConnection:
+        c.connection.push_back(reader.Row(line, 4, "connection"));
+        break;
+      case Section::kMembranes: {
+        const auto r = reader.Row(line, 3, "membrane");
+        c.membranes.push_back({ToIndex(r[0]), ToIndex(r[1]), ToIndex(r[2])});
+        break;
+      }
+      case Section::kMemIndex:
+        c.particle_mem_index.push_back(ToIndex(reader.Row(line, 1, "particleMemIndex")[0]));
+        break;
+      case Section::kEnd:
+        break;  // Sibernetic stops reading at [end]
+    }
+    if (section == Section::kEnd) break;
+  }
+  if (box_seen && box.size() != 6)
+    throw InputError(name, 0,
+                     "[simulation box] needs 6 numbers, found " + std::to_string(box.size()));
+  if (box_seen) c.box = {box[0], box[1], box[2], box[3], box[4], box[5]};
+  Validate(c, name, box_seen, end_seen, reader.line_);
+  return c;
+}
+
+SiberneticConfig ReadSiberneticConfig(const std::filesystem::path& path) {
+  return ParseSiberneticConfig(ReadWholeFile(path), path.string());
+}
+
+namespace {
+void AppendRow(std::ostringstream& out, const float* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    char buffer[32];
+    auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v[i]);  // shortest round-trip
+    out.write(buffer, end - buffer);
+    out << (i + 1 < n ? '\t' : '\n');
+  }
+}
+}  // namespace
+
+void WriteSiberneticConfig(const SiberneticConfig& c, const std::filesystem::path& path) {
+  std::ostringstream out;
+  if (!c.physical_parameters.empty()) {
+    out << "[physical parameters]\n";
+    for (const auto& [k, v] : c.physical_parameters) out << k << ": " << v << "\n";
+  }
+  out << "[simulation box]\n";
+  for (float v : {c.box.xmin, c.box.xmax, c.box.ymin, c.box.ymax, c.box.zmin, c.box.zmax})
+    AppendRow(out, &v, 1);
+  out << "[position]\n";
+  for (const Row4& r : c.position) AppendRow(out, r.data(), 4);
+  out << "[velocity]\n";
+  for (const Row4& r : c.velocity) AppendRow(out, r.data(), 4);
+  out << "[connection]\n";
+  for (const Row4& r : c.connection) AppendRow(out, r.data(), 4);
+  out << "[membranes]\n";
+  for (const auto& m : c.membranes) out << m[0] << '\t' << m[1] << '\t' << m[2] << '\n';
+  out << "[particleMemIndex]\n";
+  for (int i : c.particle_mem_index) out << i << '\n';
+  out << "[end]\n";
+  WriteFileAtomically(path, out.str());
+}
+
+std::string PhysicsConstants::DifferencesFromDefaults() const {
+  const PhysicsConstants d;
+  std::ostringstream s;
+  auto check = [&](const char* name, double a, double b) {
+    if (a != b) s << (s.tellp() > 0 ? ", " : "") << name << " = " << a << " (default " << b << ")";
+  };
+  check("mass_kg", mass_kg, d.mass_kg);
+  check("rest_density", rest_density, d.rest_density);
+  check("time_step_s", time_step_s, d.time_step_s);
+  check("simulation_scale", simulation_scale, d.simulation_scale);
+  check("h_cu", h_cu, d.h_cu);
+  check("r0_cu", r0_cu, d.r0_cu);
+  check("elasticity_coefficient", elasticity_coefficient, d.elasticity_coefficient);
+  check("max_muscle_force", max_muscle_force, d.max_muscle_force);
+  check("gravity_x", gravity[0], d.gravity[0]);
+  check("gravity_y", gravity[1], d.gravity[1]);
+  check("gravity_z", gravity[2], d.gravity[2]);
+  check("pcisph_iterations", pcisph_iterations, d.pcisph_iterations);
+  check("delta", delta, d.delta);
+  check("surface_tension_scale", surface_tension_scale, d.surface_tension_scale);
+  check("non_worm_body_spring_factor", non_worm_body_spring_factor, d.non_worm_body_spring_factor);
+  return s.str();
+}
+
+std::vector<std::string> ApplyPhysicalParameters(const SiberneticConfig& config,
+                                                 PhysicsConstants* c,
+                                                 std::vector<std::string>* ignored) {
+  std::vector<std::string> applied;
+  for (const auto& [name, value] : config.physical_parameters) {
+    double* field = name == "mass"                    ? &c->mass_kg
+                    : name == "rho0"                  ? &c->rest_density
+                    : name == "timeStep"              ? &c->time_step_s
+                    : name == "simulationScale"       ? &c->simulation_scale
+                    : name == "h"                     ? &c->h_cu
+                    : name == "r0"                    ? &c->r0_cu
+                    : name == "elasticityCoefficient" ? &c->elasticity_coefficient
+                    : name == "max_muscle_force"      ? &c->max_muscle_force
+                    : name == "gravity_x"             ? &c->gravity[0]
+                    : name == "gravity_y"             ? &c->gravity[1]
+                    : name == "gravity_z"             ? &c->gravity[2]
+                    : name == "viscosity"             ? &c->viscosity
+                                                      : nullptr;
+    if (field) {
+      *field = value;
+      applied.push_back(name);
+    } else if (ignored) {
+      ignored->push_back(name);
+    }
+  }
+  return applied;
+}
+
+}  // namespace owval::engine

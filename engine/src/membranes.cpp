@@ -1,0 +1,110 @@
+// Liquid-impermeable membranes (sphFluid.cl:1042-1322): after integration, each liquid particle
+// near elastic particles that belong to membrane triangles is pushed out along the averaged
+// triangle normals, with Ihmsen's wall weights. Velocities are untouched.
+#include <cmath>
+
+#include "pcisph.hpp"
+
+namespace owval::engine::internal {
+namespace {
+
+struct Vec3 {
+  float x, y, z;
+};
+
+float Determinant(const Vec3& c1, const Vec3& c2, const Vec3& c3) {
+  return c1.x * c2.y * c3.z + c1.y * c2.z * c3.x + c1.z * c2.x * c3.y - c1.z * c2.y * c3.x -
+         c1.x * c2.z * c3.y - c1.y * c2.x * c3.z;
+}
+
+// Projection of p onto the plane through a, b, c: the point m on the plane with (m − p)
+// orthogonal to b − a and c − a, solved by Cramer's rule. False when the system is singular.
+bool ProjectOntoPlane(const Float4& p, const Float4& a, const Float4& b, const Float4& c, Vec3* m) {
+  const Vec3 ab{b.x - a.x, b.y - a.y, b.z - a.z}, ac{c.x - a.x, c.y - a.y, c.z - a.z};
+  const Vec3 n{ab.y * ac.z - ab.z * ac.y, ab.z * ac.x - ab.x * ac.z, ab.x * ac.y - ab.y * ac.x};
+  // Rows: n·m = n·a (on the plane), ab·m = ab·p, ac·m = ac·p. Stored by columns.
+  const Vec3 col1{n.x, ab.x, ac.x}, col2{n.y, ab.y, ac.y}, col3{n.z, ab.z, ac.z};
+  const Vec3 rhs{a.x * n.x + a.y * n.y + a.z * n.z, p.x * ab.x + p.y * ab.y + p.z * ab.z,
+                 p.x * ac.x + p.y * ac.y + p.z * ac.z};
+  const float det = Determinant(col1, col2, col3);
+  if (det == 0.0f) return false;
+  *m = {Determinant(rhs, col2, col3) / det, Determinant(col1, rhs, col3) / det,
+        Determinant(col1, col2, rhs) / det};
+  return true;
+}
+
+}  // namespace
+
+void Pcisph::InteractWithMembranes() {
+  ParticleState& s = state_;
+  std::fill(membrane_correction_.begin(), membrane_correction_.end(), Float4{});
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t n = 0; n < s.moving.size(); ++n) {
+    const std::int32_t i = s.moving[n];
+    const Float4 xi = s.position[i];
+    if (!IsLiquid(xi.w)) continue;
+    Vec3 normals[kSlots];
+    float distances[kSlots];
+    int found = 0;
+    bool abandon = false;
+    const Neighbour* slots = s.slots(i);
+    for (int k = 0; k < kSlots && slots[k].index >= 0 && !abandon; ++k) {
+      const std::int32_t j = slots[k].index;
+      const Float4 xj = s.position[j];
+      if (!IsElastic(xj.w)) continue;
+      // Distance with z dropped and the type codes' difference kept (a slip in Sibernetic's
+      // port, commit 839ee75; gotcha 16).
+      const float dx = xi.x - xj.x, dy = xi.y - xj.y, dw = xi.w - xj.w;
+      const float distance = std::sqrt(dx * dx + dy * dy + dw * dw);
+      Vec3 sum{0, 0, 0};
+      int triangles = 0;
+      for (int t = 0; t < kMembraneSlotsPerParticle; ++t) {
+        const int m = membrane_index_[std::size_t(j) * kMembraneSlotsPerParticle + t];
+        if (m < 0) break;
+        const auto& tri = membranes_[std::size_t(m)];
+        Vec3 projection;
+        if (!ProjectOntoPlane(xi, s.position[tri[0]], s.position[tri[1]], s.position[tri[2]],
+                              &projection)) {
+          abandon = true;  // a degenerate triangle cancels the particle's whole correction
+          break;
+        }
+        const Vec3 normal{xi.x - projection.x, xi.y - projection.y, xi.z - projection.z};
+        const float length =
+            std::sqrt(normal.x * normal.x + normal.y * normal.y + normal.z * normal.z);
+        if (!(length > 0.0f)) {
+          abandon = true;  // on the plane: no direction to push
+          break;
+        }
+        sum = {sum.x + normal.x / length, sum.y + normal.y / length, sum.z + normal.z / length};
+        ++triangles;
+      }
+      if (abandon || triangles == 0) continue;
+      normals[found] = {sum.x / float(triangles), sum.y / float(triangles),
+                        sum.z / float(triangles)};
+      distances[found++] = distance;
+    }
+    if (abandon || found == 0) continue;
+    Vec3 normal{0, 0, 0};
+    float weight_sum = 0, weighted_depth = 0;
+    for (int m = 0; m < found; ++m) {
+      const float w = std::max(0.0f, (k_.r0_cu - distances[m]) / k_.r0_cu);
+      normal = {normal.x + normals[m].x * w, normal.y + normals[m].y * w,
+                normal.z + normals[m].z * w};
+      weight_sum += w;
+      weighted_depth += w * (k_.r0_cu - distances[m]);
+    }
+    float length = normal.x * normal.x + normal.y * normal.y + normal.z * normal.z;
+    if (length == 0.0f) continue;
+    length = std::sqrt(length);
+    membrane_correction_[i] = {normal.x / length * weighted_depth / weight_sum,
+                               normal.y / length * weighted_depth / weight_sum,
+                               normal.z / length * weighted_depth / weight_sum, 0};
+  }
+  for (std::int32_t i : s.moving) {
+    s.position[i].x += membrane_correction_[i].x;
+    s.position[i].y += membrane_correction_[i].y;
+    s.position[i].z += membrane_correction_[i].z;
+  }
+}
+
+}  // namespace owval::engine::internal

@@ -1,0 +1,130 @@
+#include "neighbour_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace owval::engine::internal {
+namespace {
+
+// Counting sort of particle indices into cells; indices stay ascending within a cell, as
+// Sibernetic's (stable, on glibc) sort by cell leaves them.
+void Bin(const std::vector<std::int32_t>& particles, const std::vector<int>& cell_of, int cells,
+         std::vector<std::int32_t>* start, std::vector<std::int32_t>* items) {
+  start->assign(cells + 1, 0);
+  for (std::size_t n = 0; n < particles.size(); ++n) ++(*start)[cell_of[n] + 1];
+  for (int c = 0; c < cells; ++c) (*start)[c + 1] += (*start)[c];
+  items->resize(particles.size());
+  std::vector<std::int32_t> fill(start->begin(), start->end() - 1);
+  for (std::size_t n = 0; n < particles.size(); ++n) (*items)[fill[cell_of[n]]++] = particles[n];
+}
+
+// Sibernetic's acceptance rule: a candidate no farther than the current target slot takes it;
+// the first 32 fill slots in order, after that the target is the (first) farthest slot.
+struct Selection {
+  float distance2[kSlots];
+  std::int32_t index[kSlots];
+  int found = 0, target = 0;
+
+  explicit Selection(float h2) {
+    std::fill(distance2, distance2 + kSlots, h2);
+    std::fill(index, index + kSlots, -1);
+  }
+  void Offer(std::int32_t j, float d2) {
+    if (!(d2 <= distance2[target])) return;
+    distance2[target] = d2;
+    index[target] = j;
+    if (found < kSlots - 1) {
+      target = ++found;
+    } else {
+      target = int(std::max_element(distance2, distance2 + kSlots) - distance2);
+    }
+  }
+};
+
+}  // namespace
+
+NeighbourGrid::NeighbourGrid(const Box& box, const SphConstants& k) : box_(box), k_(k) {
+  cell_size_ = 2 * k.h_cu;
+  cell_size_inverse_ = float(1.0 / (2.0 * double(k.h_cu)));
+  // Cell coordinates are (int)(x / 2h) without subtracting xmin (sphFluid.cl:142-156).
+  nx_ = std::max(1, int(std::max(box.xmax, 0.0f) * cell_size_inverse_) + 2);
+  ny_ = std::max(1, int(std::max(box.ymax, 0.0f) * cell_size_inverse_) + 2);
+  nz_ = std::max(1, int(std::max(box.zmax, 0.0f) * cell_size_inverse_) + 2);
+}
+
+int NeighbourGrid::CellCoordinate(float x, int axis) const {
+  const int n = axis == 0 ? nx_ : axis == 1 ? ny_ : nz_;
+  return std::clamp(int(x * cell_size_inverse_), 0, n - 1);
+}
+
+void NeighbourGrid::SetStatic(const ParticleState& s) {
+  std::vector<std::int32_t> boundary;
+  std::vector<int> cell_of;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!IsBoundary(s.position[i].w)) continue;
+    boundary.push_back(std::int32_t(i));
+    const Float4& p = s.position[i];
+    cell_of.push_back(
+        CellIndex(CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2)));
+  }
+  Bin(boundary, cell_of, nx_ * ny_ * nz_, &static_start_, &static_items_);
+}
+
+void NeighbourGrid::UpdateMoving(const ParticleState& s) {
+  std::vector<int> cell_of(s.moving.size());
+  for (std::size_t n = 0; n < s.moving.size(); ++n) {
+    const Float4& p = s.position[s.moving[n]];
+    cell_of[n] = CellIndex(CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2));
+  }
+  Bin(s.moving, cell_of, nx_ * ny_ * nz_, &moving_start_, &moving_items_);
+}
+
+void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
+  const Float4 p = s.position[i];
+  const int c[3] = {CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2)};
+  const float origin[3] = {box_.xmin, box_.ymin, box_.zmin};
+  const float x[3] = {p.x, p.y, p.z};
+  int delta[3];
+  for (int a = 0; a < 3; ++a) {
+    // Nearer half of the cell: search toward lower cells when in the low half.
+    const float corner = float(c[a]) * cell_size_;
+    delta[a] = (x[a] - origin[a]) - corner < k_.h_cu ? -1 : 1;
+  }
+  const int offsets[8][3] = {{0, 0, 0},
+                             {delta[0], 0, 0},
+                             {0, delta[1], 0},
+                             {0, 0, delta[2]},
+                             {delta[0], delta[1], 0},
+                             {delta[0], 0, delta[2]},
+                             {0, delta[1], delta[2]},
+                             {delta[0], delta[1], delta[2]}};
+  Selection selection(k_.h2_cu);
+  auto offer = [&](std::int32_t j) {
+    if (j == i) return;
+    const Float4& q = s.position[j];
+    const float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+    selection.Offer(j, dx * dx + dy * dy + dz * dz);
+  };
+  for (const auto& o : offsets) {
+    const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
+    if (cx < 0 || cy < 0 || cz < 0 || cx >= nx_ || cy >= ny_ || cz >= nz_) continue;
+    const int cell = CellIndex(cx, cy, cz);
+    // Merge the two ascending lists so candidates arrive in ascending index order.
+    std::int32_t a = moving_start_[cell], a_end = moving_start_[cell + 1];
+    std::int32_t b = static_start_[cell], b_end = static_start_[cell + 1];
+    while (a < a_end || b < b_end) {
+      if (b >= b_end || (a < a_end && moving_items_[a] < static_items_[b])) {
+        offer(moving_items_[a++]);
+      } else {
+        offer(static_items_[b++]);
+      }
+    }
+  }
+  for (int k = 0; k < kSlots; ++k) {
+    slots[k].index = selection.index[k];
+    slots[k].distance_m =
+        selection.index[k] >= 0 ? std::sqrt(selection.distance2[k]) * k_.scale : -1.0f;
+  }
+}
+
+}  // namespace owval::engine::internal
