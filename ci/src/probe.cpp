@@ -60,8 +60,14 @@ VideoInfo ProbeVideo(const std::filesystem::path& path) {
   std::unique_ptr<AVPacket, PacketFreer> packet(av_packet_alloc());
   std::unique_ptr<AVFrame, FrameFreer> frame(av_frame_alloc());
   while (av_read_frame(format.get(), packet.get()) >= 0) {
-    if (packet->stream_index == stream && avcodec_send_packet(codec.get(), packet.get()) == 0)
+    if (packet->stream_index == stream) {
+      int status = avcodec_send_packet(codec.get(), packet.get());
+      while (status == AVERROR(EAGAIN)) {  // decoder full: take frames out, then resend
+        info.decoded_frames += DrainFrames(codec.get(), frame.get());
+        status = avcodec_send_packet(codec.get(), packet.get());
+      }
       info.decoded_frames += DrainFrames(codec.get(), frame.get());
+    }
     av_packet_unref(packet.get());
   }
   avcodec_send_packet(codec.get(), nullptr);

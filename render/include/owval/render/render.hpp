@@ -1,0 +1,72 @@
+#pragma once
+// Headless rendering of trajectories (phases 6 and 7): OSMesa (Mesa's off-screen llvmpipe) draws
+// the particles, FreeType writes the labels, libavcodec/libavformat encode H.264 MP4 in process,
+// libpng writes frames. Both panels of a comparison share one camera, computed once from the
+// simulation box.
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval::render {
+
+enum class BoundaryMode { kHidden, kTranslucent, kShown };
+BoundaryMode ParseBoundaryMode(const std::string& name);  // hidden | translucent | shown
+
+struct Tracking {
+  std::size_t particle = 0;
+  int axis = 1;
+};
+
+struct RenderOptions {
+  int width = 1280, height = 720;  // whole output frame (both panels in side-by-side mode)
+  std::string view = "iso";        // iso | side | top | front
+  BoundaryMode boundary = BoundaryMode::kHidden;
+  float liquid_opacity = 1.0f;
+  float point_size_px = 0;  // 0: from the frame size and the particle spacing
+  int fps = 30;
+  std::size_t max_frames = 0;  // 0: every frame
+  std::string title;
+  std::optional<Tracking> tracking;  // print this particle's coordinate on each panel
+  bool quiet = false;
+};
+
+// A view of the simulation box, fixed for a whole video (both panels use the same one).
+struct Camera {
+  std::array<float, 16> projection, view;  // column-major, as OpenGL takes them
+  static Camera FromBox(const Box& box, const std::string& view, float aspect);
+  // Pixel (x from left, y from top) where a point lands in a panel of the given size.
+  std::array<float, 2> Project(const std::array<float, 3>& point, int width, int height) const;
+};
+
+struct VideoSummary {
+  std::size_t frames = 0;
+  int width = 0, height = 0, fps = 0;
+  double duration_s = 0;
+  std::vector<std::string> notes;  // e.g. a time-step or log-step mismatch between the panels
+};
+
+VideoSummary RenderVideo(const Trajectory& trajectory, const RenderOptions& options,
+                         const std::filesystem::path& out_mp4);
+// Reference left, candidate right, paired by simulation time.
+VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& candidate,
+                              const RenderOptions& options, const std::filesystem::path& out_mp4);
+
+// PNG side-by-side frames at the given reference frame indices, with each panel's tracked value
+// and their difference printed; returns (and writes to out_dir/frames.json) the same numbers.
+nlohmann::json RenderFrames(const Trajectory& reference, const Trajectory& candidate,
+                            const std::vector<std::size_t>& reference_frames,
+                            const RenderOptions& options, const std::filesystem::path& out_dir);
+
+// One frame as RGBA pixels (top row first), for tests and benchmarks.
+std::vector<unsigned char> RenderFrameRgba(const Trajectory& trajectory, std::size_t frame,
+                                           const RenderOptions& options);
+
+// The candidate frame at or just before each reference time (paired by time, not index).
+std::size_t FrameAtTime(const Trajectory& trajectory, double time_s);
+
+}  // namespace owval::render

@@ -1,0 +1,442 @@
+#include "owval/render/render.hpp"
+
+#include <GL/gl.h>
+#include <GL/osmesa.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "mp4_writer.hpp"
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
+#include "text.hpp"
+
+namespace owval::render {
+namespace {
+
+using Vec3 = std::array<float, 3>;
+
+Vec3 Sub(Vec3 a, Vec3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 Cross(Vec3 a, Vec3 b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+float Dot(Vec3 a, Vec3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 Normalize(Vec3 a) {
+  const float n = std::sqrt(Dot(a, a));
+  return {a[0] / n, a[1] / n, a[2] / n};
+}
+
+constexpr float kFieldOfViewDeg = 35.0f;
+const unsigned char kBackground[3] = {250, 250, 250};
+const unsigned char kTextColour[3] = {20, 20, 20};
+
+// Colours by particle kind: liquid blue, elastic green, boundary grey.
+void KindColour(ParticleKind kind, float out[3]) {
+  switch (kind) {
+    case ParticleKind::kLiquid:
+      out[0] = 0.15f, out[1] = 0.40f, out[2] = 0.95f;
+      break;
+    case ParticleKind::kElastic:
+      out[0] = 0.10f, out[1] = 0.70f, out[2] = 0.25f;
+      break;
+    case ParticleKind::kBoundary:
+      out[0] = 0.55f, out[1] = 0.55f, out[2] = 0.55f;
+      break;
+  }
+}
+
+// An off-screen OpenGL canvas. OSMesa renders into our own buffer, top row first.
+class Canvas {
+ public:
+  Canvas(int width, int height)
+      : width_(width), height_(height), pixels_(std::size_t(width) * height * 4) {
+    context_ = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+    if (!context_) throw InputError("OSMesa could not create an off-screen context");
+    if (!OSMesaMakeCurrent(context_, pixels_.data(), GL_UNSIGNED_BYTE, width, height))
+      throw InputError("OSMesa could not bind the frame buffer");
+    OSMesaPixelStore(OSMESA_Y_UP, 0);
+    MakeSphereSprite();
+  }
+  ~Canvas() { OSMesaDestroyContext(context_); }
+
+  void Clear() {
+    glViewport(0, 0, width_, height_);
+    glClearColor(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+
+  // Draws one frame of a trajectory into the panel whose left edge is at x0 (pixels).
+  void DrawPanel(const Trajectory& t, std::size_t frame, const Camera& camera, int x0,
+                 int panel_width, const RenderOptions& o, float point_size) {
+    glViewport(x0, 0, panel_width, height_);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(camera.projection.data());
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(camera.view.data());
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_TEXTURE_2D);
+    glEnable(GL_POINT_SPRITE);
+    glTexEnvi(GL_POINT_SPRITE, GL_COORD_REPLACE, GL_TRUE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    glEnable(GL_ALPHA_TEST);
+    glAlphaFunc(GL_GREATER, 0.5f);
+    glPointSize(point_size);
+    // Opaque particles first, then translucent ones without depth writes.
+    DrawKinds(t, frame, o, /*translucent=*/false);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    DrawKinds(t, frame, o, /*translucent=*/true);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
+
+  std::vector<unsigned char>& Pixels() {
+    glFinish();
+    return pixels_;
+  }
+
+ private:
+  void DrawKinds(const Trajectory& t, std::size_t frame, const RenderOptions& o, bool translucent) {
+    vertices_.clear();
+    colours_.clear();
+    for (std::size_t p = 0; p < t.particle_count(); ++p) {
+      const ParticleKind kind = KindOf(t.type[p]);
+      float alpha = 1.0f;
+      if (kind == ParticleKind::kBoundary) {
+        if (o.boundary == BoundaryMode::kHidden) continue;
+        if (o.boundary == BoundaryMode::kTranslucent) alpha = 0.15f;
+      } else if (kind == ParticleKind::kLiquid) {
+        alpha = o.liquid_opacity;
+      }
+      if ((alpha < 1.0f) != translucent) continue;
+      const float* x = t.position(frame, p);
+      vertices_.insert(vertices_.end(), {x[0], x[1], x[2]});
+      float c[3] = {0, 0, 0};
+      KindColour(kind, c);
+      colours_.insert(colours_.end(), {c[0], c[1], c[2], alpha});
+    }
+    if (vertices_.empty()) return;
+    glAlphaFunc(GL_GREATER, translucent ? 0.01f : 0.5f);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, vertices_.data());
+    glColorPointer(4, GL_FLOAT, 0, colours_.data());
+    glDrawArrays(GL_POINTS, 0, GLsizei(vertices_.size() / 3));
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+  }
+
+  // A 64x64 sprite of a lit sphere: alpha 0 outside the disc, Lambert shading inside.
+  void MakeSphereSprite() {
+    constexpr int n = 64;
+    std::vector<unsigned char> sprite(n * n * 4);
+    const Vec3 light = Normalize({-0.4f, 0.5f, 0.8f});
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        const float u = (x + 0.5f) / n * 2 - 1, v = (y + 0.5f) / n * 2 - 1, r2 = u * u + v * v;
+        unsigned char* p = &sprite[std::size_t(y * n + x) * 4];
+        const float shade =
+            r2 < 1
+                ? 0.35f +
+                      0.65f * std::max(0.0f, Dot({u, -v, std::sqrt(1 - std::min(r2, 1.0f))}, light))
+                : 0;
+        p[0] = p[1] = p[2] = static_cast<unsigned char>(255 * std::min(1.0f, shade));
+        p[3] = r2 < 1 ? 255 : 0;
+      }
+    }
+    glGenTextures(1, &texture_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, n, n, 0, GL_RGBA, GL_UNSIGNED_BYTE, sprite.data());
+  }
+
+  OSMesaContext context_ = nullptr;
+  int width_, height_;
+  std::vector<unsigned char> pixels_;
+  std::vector<float> vertices_, colours_;
+  GLuint texture_ = 0;
+};
+
+float PointSize(const Trajectory& t, const RenderOptions& o, int panel_height) {
+  if (o.point_size_px > 0) return o.point_size_px;
+  // A particle is about r0 = 1.67 cu across; the box spans its diagonal on screen.
+  const float diagonal =
+      std::sqrt(t.box.extent(0) * t.box.extent(0) + t.box.extent(1) * t.box.extent(1) +
+                t.box.extent(2) * t.box.extent(2));
+  return std::clamp(1.67f / diagonal * float(panel_height) * 1.1f, 2.0f, 24.0f);
+}
+
+std::string Format(const char* format, double value) {
+  char b[96];
+  std::snprintf(b, sizeof b, format, value);
+  return b;
+}
+
+const char* AxisName(int axis) { return axis == 0 ? "x" : axis == 1 ? "y" : "z"; }
+
+void Label(internal::TextPainter& text, std::vector<unsigned char>& rgba, const RenderOptions& o,
+           int x0, const std::string& panel, const Trajectory& t, std::size_t frame) {
+  const int w = o.width, h = o.height;
+  text.Draw(rgba, w, h, x0 + 12, 28, panel, 20, kTextColour);
+  text.Draw(rgba, w, h, x0 + 12, h - 16, Format("t = %.3f ms", t.time_s[frame] * 1e3), 18,
+            kTextColour);
+  if (o.tracking) {
+    const auto& k = *o.tracking;
+    const std::string label = std::string(AxisName(k.axis)) + "[" + std::to_string(k.particle) +
+                              "] = " + Format("%.4f cu", t.coordinate(frame, k.particle, k.axis));
+    text.Draw(rgba, w, h, x0 + 12, h - 42, label, 18, kTextColour);
+  }
+}
+
+void Title(internal::TextPainter& text, std::vector<unsigned char>& rgba, const RenderOptions& o) {
+  if (!o.title.empty())
+    text.Draw(rgba, o.width, o.height, o.width / 2 - int(o.title.size()) * 5, 56, o.title, 18,
+              kTextColour);
+}
+
+// Evenly spaced indices into [0, n), at most `cap` of them (0: all).
+std::vector<std::size_t> Sample(std::size_t n, std::size_t cap) {
+  std::vector<std::size_t> out;
+  const std::size_t count = cap == 0 || cap >= n ? n : cap;
+  for (std::size_t k = 0; k < count; ++k)
+    out.push_back(count == n ? k : k * (n - 1) / std::max<std::size_t>(1, count - 1));
+  return out;
+}
+
+void WritePng(const std::filesystem::path& path, const std::vector<unsigned char>& rgba, int width,
+              int height) {
+  AtomicOutput out(path);
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = png_uint_32(width);
+  image.height = png_uint_32(height);
+  image.format = PNG_FORMAT_RGBA;
+  if (!png_image_write_to_file(&image, out.temporary_path().c_str(), 0, rgba.data(), 0, nullptr))
+    throw InputError(path.string(), 0, std::string("cannot write PNG: ") + image.message);
+  out.Commit();
+}
+
+void CheckSize(const RenderOptions& o) {
+  if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
+    throw InputError("frame size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                     " is out of range");
+}
+
+}  // namespace
+
+BoundaryMode ParseBoundaryMode(const std::string& name) {
+  if (name == "hidden") return BoundaryMode::kHidden;
+  if (name == "translucent") return BoundaryMode::kTranslucent;
+  if (name == "shown") return BoundaryMode::kShown;
+  throw InputError("unknown boundary mode '" + name + "': expected hidden, translucent or shown");
+}
+
+Camera Camera::FromBox(const Box& box, const std::string& view, float aspect) {
+  const Vec3 centre = {(box.xmin + box.xmax) / 2, (box.ymin + box.ymax) / 2,
+                       (box.zmin + box.zmax) / 2};
+  const float radius =
+      0.5f * std::sqrt(box.extent(0) * box.extent(0) + box.extent(1) * box.extent(1) +
+                       box.extent(2) * box.extent(2));
+  Vec3 direction, up = {0, 1, 0};  // y is up: Sibernetic's gravity points along -y
+  if (view == "iso")
+    direction = Normalize({1.0f, 0.8f, 1.3f});
+  else if (view == "side")
+    direction = {1, 0, 0};
+  else if (view == "front")
+    direction = {0, 0, 1};
+  else if (view == "top")
+    direction = {0, 1, 0}, up = {0, 0, -1};
+  else
+    throw InputError("unknown view '" + view + "': expected iso, side, top or front");
+  const float fov = kFieldOfViewDeg * 3.14159265f / 180.0f;
+  const float distance = radius / std::sin(fov / 2) * 1.05f;
+  const Vec3 eye = {centre[0] + direction[0] * distance, centre[1] + direction[1] * distance,
+                    centre[2] + direction[2] * distance};
+  const Vec3 f = Normalize(Sub(centre, eye)), s = Normalize(Cross(f, up)), u = Cross(s, f);
+  Camera c;
+  c.view = {s[0], u[0], -f[0], 0, s[1],         u[1],         -f[1],       0,
+            s[2], u[2], -f[2], 0, -Dot(s, eye), -Dot(u, eye), Dot(f, eye), 1};
+  const float near = std::max(distance - radius * 1.5f, radius * 0.05f),
+              far = distance + radius * 1.5f;
+  const float top = near * std::tan(fov / 2), right = top * aspect;
+  c.projection = {near / right,
+                  0,
+                  0,
+                  0,
+                  0,
+                  near / top,
+                  0,
+                  0,
+                  0,
+                  0,
+                  -(far + near) / (far - near),
+                  -1,
+                  0,
+                  0,
+                  -2 * far * near / (far - near),
+                  0};
+  return c;
+}
+
+std::array<float, 2> Camera::Project(const std::array<float, 3>& p, int width, int height) const {
+  float eye[4], clip[4];
+  for (int r = 0; r < 4; ++r)
+    eye[r] = view[r] * p[0] + view[4 + r] * p[1] + view[8 + r] * p[2] + view[12 + r];
+  for (int r = 0; r < 4; ++r)
+    clip[r] = projection[r] * eye[0] + projection[4 + r] * eye[1] + projection[8 + r] * eye[2] +
+              projection[12 + r] * eye[3];
+  const float ndc_x = clip[0] / clip[3], ndc_y = clip[1] / clip[3];
+  return {(ndc_x + 1) / 2 * float(width), (1 - ndc_y) / 2 * float(height)};
+}
+
+std::size_t FrameAtTime(const Trajectory& t, double time_s) {
+  const auto it = std::upper_bound(t.time_s.begin(), t.time_s.end(), time_s + 1e-12);
+  return it == t.time_s.begin() ? 0 : std::size_t(it - t.time_s.begin()) - 1;
+}
+
+std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t frame,
+                                           const RenderOptions& o) {
+  CheckSize(o);
+  Canvas canvas(o.width, o.height);
+  canvas.Clear();
+  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / float(o.height));
+  canvas.DrawPanel(t, frame, camera, 0, o.width, o, PointSize(t, o, o.height));
+  return canvas.Pixels();
+}
+
+VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
+                         const std::filesystem::path& out_mp4) {
+  CheckSize(o);
+  if (t.frame_count() == 0) throw InputError("the trajectory has no frame to render");
+  AtomicOutput out(out_mp4);
+  Canvas canvas(o.width, o.height);
+  internal::TextPainter text;
+  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / float(o.height));
+  const float size = PointSize(t, o, o.height);
+  internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
+  const auto frames = Sample(t.frame_count(), o.max_frames);
+  Progress progress("render", frames.size(), o.quiet);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    canvas.Clear();
+    canvas.DrawPanel(t, frames[k], camera, 0, o.width, o, size);
+    auto& rgba = canvas.Pixels();
+    Label(text, rgba, o, 0,
+          t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory", t,
+          frames[k]);
+    Title(text, rgba, o);
+    video.AddFrame(rgba);
+    progress.Update(k + 1);
+  }
+  video.Finish();
+  out.Commit();
+  return {video.frames(), o.width, o.height, o.fps, double(video.frames()) / o.fps, {}};
+}
+
+VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, const RenderOptions& o,
+                              const std::filesystem::path& out_mp4) {
+  CheckSize(o);
+  if (ref.frame_count() == 0 || cand.frame_count() == 0)
+    throw InputError("a trajectory has no frame to render");
+  VideoSummary summary{0, o.width, o.height, o.fps, 0, {}};
+  if (ref.time_step_s != cand.time_step_s || ref.log_step != cand.log_step)
+    summary.notes.push_back("time step or log step differ (reference " +
+                            Format("%g s", ref.time_step_s) + " x " + std::to_string(ref.log_step) +
+                            ", candidate " + Format("%g s", cand.time_step_s) + " x " +
+                            std::to_string(cand.log_step) + "): panels paired by simulation time");
+  // Output frames follow the trajectory with more frames, within the time both cover.
+  const Trajectory& driver = ref.frame_count() >= cand.frame_count() ? ref : cand;
+  const double end_s = std::min(ref.time_s.back(), cand.time_s.back());
+  std::vector<double> times;
+  for (double t : driver.time_s)
+    if (t <= end_s + 1e-12) times.push_back(t);
+  std::vector<double> sampled;
+  for (std::size_t k : Sample(times.size(), o.max_frames)) sampled.push_back(times[k]);
+  AtomicOutput out(out_mp4);
+  Canvas canvas(o.width, o.height);
+  internal::TextPainter text;
+  const int panel = o.width / 2;
+  // One camera for both panels, from the reference's box.
+  const Camera camera = Camera::FromBox(ref.box, o.view, float(panel) / float(o.height));
+  const float size = PointSize(ref, o, o.height);
+  internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
+  Progress progress("render sxs", sampled.size(), o.quiet);
+  for (std::size_t k = 0; k < sampled.size(); ++k) {
+    const std::size_t fr = FrameAtTime(ref, sampled[k]), fc = FrameAtTime(cand, sampled[k]);
+    canvas.Clear();
+    canvas.DrawPanel(ref, fr, camera, 0, panel, o, size);
+    canvas.DrawPanel(cand, fc, camera, panel, o.width - panel, o, size);
+    auto& rgba = canvas.Pixels();
+    Label(text, rgba, o, 0, "reference", ref, fr);
+    Label(text, rgba, o, panel, "candidate", cand, fc);
+    Title(text, rgba, o);
+    video.AddFrame(rgba);
+    progress.Update(k + 1);
+  }
+  video.Finish();
+  out.Commit();
+  summary.frames = video.frames();
+  summary.duration_s = double(video.frames()) / o.fps;
+  return summary;
+}
+
+nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
+                            const std::vector<std::size_t>& frames, const RenderOptions& o,
+                            const std::filesystem::path& out_dir) {
+  CheckSize(o);
+  const Tracking tracking = o.tracking.value_or(Tracking{});
+  const std::vector<double> ref_series = ParticleSeries(ref, tracking.particle, tracking.axis);
+  const auto [lo, hi] = std::minmax_element(ref_series.begin(), ref_series.end());
+  const double scale = *hi - *lo > 0 ? *hi - *lo : 1.0;
+  RenderOptions options = o;
+  options.tracking = tracking;
+  Canvas canvas(o.width, o.height);
+  internal::TextPainter text;
+  const int panel = o.width / 2;
+  const Camera camera = Camera::FromBox(ref.box, o.view, float(panel) / float(o.height));
+  const float size = PointSize(ref, o, o.height);
+  nlohmann::json entries = nlohmann::json::array();
+  std::filesystem::create_directories(out_dir);
+  for (std::size_t fr : frames) {
+    if (fr >= ref.frame_count())
+      throw InputError("frame " + std::to_string(fr) + " does not exist (the reference has " +
+                       std::to_string(ref.frame_count()) + " frames)");
+    const std::size_t fc = FrameAtTime(cand, ref.time_s[fr]);
+    const double vr = ref.coordinate(fr, tracking.particle, tracking.axis);
+    const double vc = cand.coordinate(fc, tracking.particle, tracking.axis);
+    canvas.Clear();
+    canvas.DrawPanel(ref, fr, camera, 0, panel, options, size);
+    canvas.DrawPanel(cand, fc, camera, panel, o.width - panel, options, size);
+    auto& rgba = canvas.Pixels();
+    Label(text, rgba, options, 0, "reference", ref, fr);
+    Label(text, rgba, options, panel, "candidate", cand, fc);
+    const std::string diff =
+        Format("difference = %+.4f cu", vc - vr) +
+        Format(" (%.3f%% of the reference range)", 100 * std::abs(vc - vr) / scale);
+    text.Draw(rgba, o.width, o.height, panel - 220, 60, diff, 18, kTextColour);
+    const std::string name = "frame_" + std::to_string(fr) + ".png";
+    WritePng(out_dir / name, rgba, o.width, o.height);
+    entries.push_back({{"image", name},
+                       {"reference_frame", fr},
+                       {"candidate_frame", fc},
+                       {"time_s", ref.time_s[fr]},
+                       {"reference_value", vr},
+                       {"candidate_value", vc},
+                       {"difference", vc - vr},
+                       {"relative_difference", std::abs(vc - vr) / scale}});
+  }
+  const nlohmann::json result = {
+      {"track",
+       {{"particle", tracking.particle}, {"group", ""}, {"axis", AxisName(tracking.axis)}}},
+      {"reference_range_cu", scale},
+      {"frames", entries}};
+  WriteFileAtomically(out_dir / "frames.json", result.dump(2) + "\n");
+  return result;
+}
+
+}  // namespace owval::render

@@ -1,0 +1,96 @@
+#include "owval/render/render.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "owval/ci/checklist.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::render {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path Scratch() {
+  fs::path dir = fs::temp_directory_path() / ("owval_render_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+Trajectory OneParticle(float x, float y, float z, std::size_t frames = 1) {
+  Trajectory t;
+  t.box = {0, 30, 0, 30, 0, 30};
+  t.time_step_s = 1e-3;
+  t.type = {2.1f};
+  for (std::size_t f = 0; f < frames; ++f) {
+    const float p[3] = {x, y + 0.1f * float(f), z};
+    t.AppendFrame(double(f) * 1e-3, p);
+  }
+  return t;
+}
+
+TEST(Render, ParticleAppearsWhereTheCameraProjectsIt) {
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.point_size_px = 12;
+  const Trajectory t = OneParticle(8, 20, 12);
+  const auto rgba = RenderFrameRgba(t, 0, o);
+  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / o.height);
+  const auto at = camera.Project({8, 20, 12}, o.width, o.height);
+  auto pixel = [&](int x, int y) { return &rgba[(std::size_t(y) * o.width + x) * 4]; };
+  const unsigned char* hit = pixel(int(at[0]), int(at[1]));
+  EXPECT_GT(hit[1], hit[0] + 40) << "elastic particles are green";
+  EXPECT_GT(hit[1], hit[2] + 40);
+  const unsigned char* corner = pixel(5, 5);
+  EXPECT_EQ(corner[0], 250);  // background
+  EXPECT_EQ(corner[1], 250);
+  // The far side of the box, where nothing is drawn, is background too.
+  const auto empty = camera.Project({25, 5, 25}, o.width, o.height);
+  EXPECT_EQ(pixel(int(empty[0]), int(empty[1]))[1], 250);
+}
+
+TEST(Render, SideBySideMp4ReadsBackAsH264WithTheExpectedShape) {
+  const Trajectory ref = OneParticle(15, 10, 15, 40), cand = OneParticle(15, 11, 15, 40);
+  RenderOptions o;
+  o.width = 640;
+  o.height = 360;
+  o.fps = 20;
+  o.quiet = true;
+  const fs::path mp4 = Scratch() / "sxs.mp4";
+  const VideoSummary s = RenderSideBySide(ref, cand, o, mp4);
+  EXPECT_EQ(s.frames, 40u);
+  const ci::VideoInfo v = ci::ProbeVideo(mp4);
+  EXPECT_EQ(v.codec, "h264");
+  EXPECT_EQ(v.width, 640);
+  EXPECT_EQ(v.height, 360);
+  EXPECT_EQ(v.decoded_frames, 40u);
+  EXPECT_NEAR(v.duration_s, 2.0, 0.1);
+}
+
+TEST(Render, PanelsArePairedByTimeNotIndex) {
+  Trajectory coarse = OneParticle(15, 10, 15, 10);
+  for (std::size_t f = 0; f < coarse.frame_count(); ++f)
+    coarse.time_s[f] = double(f) * 4e-3;  // log step 4x
+  const Trajectory fine = OneParticle(15, 10, 15, 40);
+  EXPECT_EQ(FrameAtTime(coarse, fine.time_s[13]), 3u);  // 13 ms falls in the 12 ms frame
+  EXPECT_EQ(FrameAtTime(fine, coarse.time_s[3]), 12u);
+}
+
+TEST(Render, FramesPrintTheTrajectoryValues) {
+  const fs::path one_sprig =
+      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  const Trajectory t = ReadTrajectory(one_sprig);
+  RenderOptions o;
+  o.width = 640;
+  o.height = 360;
+  o.tracking = Tracking{0, 1};
+  const auto json = RenderFrames(t, t, {0, 15, 100}, o, Scratch() / "frames");
+  ASSERT_EQ(json["frames"].size(), 3u);
+  EXPECT_FLOAT_EQ(json["frames"][1]["reference_value"].get<float>(), t.coordinate(15, 0, 1));
+  EXPECT_EQ(json["frames"][1]["difference"].get<double>(), 0.0);
+  EXPECT_EQ(ci::ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
+}
+
+}  // namespace
+}  // namespace owval::render
