@@ -83,6 +83,8 @@ void Mp4Writer::Drain(bool flushing) {
     const int status = avcodec_receive_packet(codec_, packet_);
     if (status == AVERROR(EAGAIN) || (flushing && status == AVERROR_EOF)) return;
     Check(status, path_, "encoding failed");
+    // Every frame lasts one tick; without a duration the muxer's edit list cuts the last frame.
+    if (packet_->duration == 0) packet_->duration = 1;
     av_packet_rescale_ts(packet_, codec_->time_base, stream_->time_base);
     packet_->stream_index = stream_->index;
     Check(av_interleaved_write_frame(format_, packet_), path_, "cannot write a packet");
