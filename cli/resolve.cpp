@@ -4,13 +4,13 @@
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/scenarios/scenario.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 
 namespace owval::cli {
 
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path) {
-  if (std::filesystem::exists(name_or_path)) return engine::ReadSiberneticConfig(name_or_path);
-  throw InputError(name_or_path, 0, "no such configuration file or scenario");
+  return scenarios::ResolveConfig(name_or_path, DataDir());
 }
 
 void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstants* constants) {

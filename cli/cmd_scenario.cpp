@@ -1,0 +1,63 @@
+// owval scenario list|show|generate: the built-in scenario library.
+#include <iostream>
+#include <map>
+
+#include "command.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/scenarios/scenario.hpp"
+
+namespace owval::cli {
+namespace {
+
+struct ScenarioArgs {
+  std::string name, out;
+  std::vector<std::string> params;
+};
+
+std::map<std::string, double> Overrides(const std::vector<std::string>& params) {
+  std::map<std::string, double> out;
+  for (const std::string& p : params) {
+    const auto eq = p.find('=');
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument(p);
+      out[p.substr(0, eq)] = std::stod(p.substr(eq + 1));
+    } catch (const std::exception&) {
+      throw InputError("--param " + p + ": expected NAME=NUMBER");
+    }
+  }
+  return out;
+}
+
+void SetUp(CLI::App& app) {
+  auto a = std::make_shared<ScenarioArgs>();
+  CLI::App* cmd = app.add_subcommand("scenario", "Built-in scenarios: list, show, generate");
+  cmd->require_subcommand(1);
+  cmd->add_subcommand("list", "List built-in scenarios")->callback([] {
+    for (const std::string& name : scenarios::ListScenarios(DataDir())) {
+      const scenarios::Scenario s = scenarios::LoadScenario(name, DataDir());
+      std::cout << name << "\t" << s.description << "\n";
+    }
+  });
+  CLI::App* show = cmd->add_subcommand("show", "Print a scenario's manifest");
+  show->add_option("name", a->name)->required();
+  show->callback(
+      [a] { std::cout << scenarios::LoadScenario(a->name, DataDir()).manifest.dump(2) << "\n"; });
+  CLI::App* generate =
+      cmd->add_subcommand("generate", "Write a scenario's configuration in Sibernetic's format");
+  generate->add_option("name", a->name)->required();
+  generate->add_option("-o,--out", a->out, "Configuration file to write")->required();
+  generate->add_option("--param", a->params, "Override a generator parameter, NAME=NUMBER");
+  generate->callback([a] {
+    const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),
+                                                  Overrides(a->params));
+    engine::WriteSiberneticConfig(config, a->out);
+    std::cout << "wrote " << a->out << ": " << config.elastic_count() << " elastic, "
+              << config.liquid_count() << " liquid, " << config.boundary_count()
+              << " boundary particles\n";
+  });
+}
+
+const bool registered = RegisterCommand(&SetUp);
+
+}  // namespace
+}  // namespace owval::cli

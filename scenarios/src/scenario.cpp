@@ -1,0 +1,74 @@
+#include "owval/scenarios/scenario.hpp"
+
+#include <algorithm>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+
+namespace owval::scenarios {
+namespace fs = std::filesystem;
+
+Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
+  const fs::path path = data_dir / "scenarios" / "manifests" / (name + ".json");
+  if (!fs::exists(path)) {
+    std::string known;
+    for (const auto& n : ListScenarios(data_dir)) known += (known.empty() ? "" : ", ") + n;
+    throw InputError(name, 0, "no such scenario (built-in: " + known + ") or configuration file");
+  }
+  nlohmann::json m;
+  try {
+    m = nlohmann::json::parse(ReadWholeFile(path));
+    Scenario s;
+    s.name = m.at("name").get<std::string>();
+    s.description = m.value("description", "");
+    s.generator = m.at("generator").get<std::string>();
+    const nlohmann::json parameters = m.value("parameters", nlohmann::json::object());
+    for (const auto& [k, v] : parameters.items()) s.parameters[k] = v.get<double>();
+    const auto track = m.value("track", nlohmann::json::object());
+    s.track_particle = track.value("particle", std::size_t{0});
+    s.track_axis = track.value("axis", std::string("y"));
+    s.predictor = m.value("predictor", "");
+    s.duration_s = m.value("duration_s", 0.05);
+    s.log_step = m.value("log_step", 1);
+    if (m.contains("reference")) s.reference = data_dir / m["reference"].get<std::string>();
+    s.gates = m.value("gates", nlohmann::json::object());
+    s.manifest = m;
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path.string(), 0, std::string("bad scenario manifest: ") + e.what());
+  }
+}
+
+std::vector<std::string> ListScenarios(const fs::path& data_dir) {
+  std::vector<std::string> names;
+  const fs::path dir = data_dir / "scenarios" / "manifests";
+  if (fs::is_directory(dir))
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+engine::SiberneticConfig GenerateConfig(const Scenario& s,
+                                        const std::map<std::string, double>& overrides) {
+  std::map<std::string, double> p = s.parameters;
+  for (const auto& [k, v] : overrides) p[k] = v;
+  engine::SiberneticConfig c;
+  if (s.generator == "one_sprig") {
+    c = OneSprig(p);
+  } else if (s.generator == "free_fall") {
+    c = FreeFall(p);
+  } else {
+    throw InputError("scenario " + s.name + ": unknown generator '" + s.generator + "'");
+  }
+  c.source = "scenario " + s.name;
+  return c;
+}
+
+engine::SiberneticConfig ResolveConfig(const std::string& name_or_path, const fs::path& data_dir) {
+  if (fs::exists(name_or_path) && !fs::is_directory(name_or_path))
+    return engine::ReadSiberneticConfig(name_or_path);
+  return GenerateConfig(LoadScenario(name_or_path, data_dir));
+}
+
+}  // namespace owval::scenarios
