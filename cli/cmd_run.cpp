@@ -26,6 +26,7 @@ struct RunArgs {
   bool apply_physical_parameters = false;
   int threads = 0;
   bool json = false;
+  bool no_fields = false;
 };
 
 void RunEngine(const RunArgs& a) {
@@ -37,6 +38,7 @@ void RunEngine(const RunArgs& a) {
                                                   : engine::Integrator::kSemiImplicitEuler;
   options.apply_physical_parameters = a.apply_physical_parameters;
   options.threads = a.threads;
+  options.record_fields = !a.no_fields;
   for (const std::string& assignment : a.set) SetConstantAssignment(assignment, &options.constants);
   Progress progress("run", 0, Flags().quiet);
   options.on_step = [&](std::size_t done, std::size_t total) {
@@ -86,6 +88,8 @@ void SetUp(CLI::App& app) {
   cmd->add_flag("--apply-physical-parameters", a->apply_physical_parameters,
                 "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
   cmd->add_option("--threads", a->threads, "OpenMP threads (default: all)");
+  cmd->add_flag("--no-fields", a->no_fields,
+                "Record positions only (no velocity, density, pressure): faster");
   cmd->add_flag("--json", a->json, "Print a JSON summary");
   cmd->callback([a] { RunEngine(*a); });
 }

@@ -118,3 +118,55 @@ TEST(Cli, CompareExitCodes) {
 TEST(Cli, UnknownOptionIsBadUsage) { EXPECT_EQ(Owval("inspect --no-such-flag x").exit_code, 2); }
 
 }  // namespace
+
+namespace {
+
+TEST(CliPipeline, OneSprigProducesAReadyDirectoryAndMissingVideoMakesItNotReady) {
+  const fs::path dir = Scratch() / "pipeline";
+  const Result run = Owval("pipeline one_sprig -o " + dir.string() + " --max-video-frames 60");
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  for (const char* f :
+       {"prediction.json", "reference.h5", "candidate.h5", "sxs.mp4", "frames/frames.json",
+        "fit/history.json", "fd_tests.json", "parameters.json", "changes.md", "reconcile.json",
+        "index.html", "index.md", "parity.json"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const Result ready = Owval("checklist " + dir.string() + " --json");
+  EXPECT_EQ(ready.exit_code, 0);
+  const auto verdict = nlohmann::json::parse(ready.out);
+  EXPECT_EQ(verdict["verdict"], "ready");
+  for (const auto& item : verdict["items"]) EXPECT_TRUE(item["pass"].get<bool>()) << item.dump();
+  fs::remove(dir / "sxs.mp4");
+  const Result missing = Owval("checklist " + dir.string());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.out.find("not ready"), std::string::npos) << missing.out;
+}
+
+TEST(CliPredict, ReconcileNamesTheQuarterFactor) {
+  const fs::path p = Scratch() / "p.json", p4 = Scratch() / "p4.json";
+  ASSERT_EQ(Owval("predict one_sprig -o " + p.string()).exit_code, 0);
+  EXPECT_EQ(Owval("reconcile " + p.string() + " " + kOneSprig).exit_code, 0);
+  ASSERT_EQ(Owval("predict one_sprig --no-quarter-factor -o " + p4.string()).exit_code, 0);
+  const Result r = Owval("reconcile " + p4.string() + " " + kOneSprig);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("0.25 factor"), std::string::npos) << r.out;
+}
+
+TEST(CliFit, ExternalCommandModeFitsOneSprigThroughOwvalRun) {
+  const fs::path dir = Scratch() / "fit_external";
+  const std::string command =
+      std::string(OWVAL_EXE) +
+      " --quiet run one_sprig --time 0.05 --log-step 1 --no-fields --out {out} --set "
+      "elasticity_coefficient={elasticity_coefficient}";
+  const Result r = Owval(
+      "fit one_sprig --param elasticity_coefficient=1.62e8:log --target "
+      "period=0.7246e-3:scale=0.725e-3 --target half_amplitude=1.694:scale=1.694:weight=0.25 "
+      "--command '" +
+      command + "' -o " + dir.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto h = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(h["converged"].get<bool>());
+  EXPECT_LE(h["iterations"].size(), 7u);
+  EXPECT_NEAR(h["final"]["parameters"]["elasticity_coefficient"].get<double>(), 3e8, 3e8 * 0.01);
+}
+
+}  // namespace
