@@ -1,0 +1,165 @@
+// The engine against hand-computed values and against Sibernetic's own runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "neighbour_grid.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/compare/signal_metrics.hpp"
+#include "owval/engine/run.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "sph_constants.hpp"
+
+namespace owval::engine {
+namespace {
+namespace fs = std::filesystem;
+using internal::SphConstants;
+
+const fs::path kShared = OWVAL_SHARED_DIR;
+
+TEST(Kernels, ConstantsMatchSiberneticsHostValues) {
+  const SphConstants k = SphConstants::From(PhysicsConstants{});
+  EXPECT_NEAR(k.mass_wpoly6, 9.10348116e+29f, 9.1e29 * 1e-6);
+  EXPECT_NEAR(k.mass_grad_wspiky, -1.25667754e+17f, 1.26e17 * 1e-6);
+  EXPECT_NEAR(k.inverse_scale, 135135.156f, 0.01);
+  // Density floor = an isolated particle's density: m·Wpoly6·hS⁶ = 207.53 kg/m³.
+  EXPECT_NEAR(k.mass_wpoly6 * k.hs6, 207.53, 0.01);
+}
+
+TEST(Kernels, Poly6IsNormalisedAndSpikyGradientIsAntisymmetric) {
+  // ∫ Wpoly6 dV over the ball of radius hS = 1 (numerically, in units of hS).
+  const double kPi = 3.14159265358979;
+  double integral = 0;
+  const int n = 2000;
+  for (int i = 0; i < n; ++i) {
+    const double r = (i + 0.5) / n;
+    integral += 315.0 / (64 * kPi) * std::pow(1 - r * r, 3) * 4 * kPi * r * r / n;
+  }
+  EXPECT_NEAR(integral, 1.0, 1e-4);
+  // ∇W_spiky(x_i − x_j) = −∇W_spiky(x_j − x_i): pairwise pressure forces cancel.
+  const double r[3] = {0.3, -0.2, 0.5}, len = std::sqrt(0.38);
+  for (int a = 0; a < 3; ++a) {
+    const double g_ij = -45 / kPi * std::pow(1 - len, 2) * r[a] / len;
+    const double g_ji = -45 / kPi * std::pow(1 - len, 2) * -r[a] / len;
+    EXPECT_DOUBLE_EQ(g_ij, -g_ji);
+  }
+}
+
+TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(1.0f, 29.0f);
+  internal::ParticleState s;
+  const std::size_t n = 400;
+  s.Resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.position[i] = {u(rng), u(rng), u(rng), i % 2 ? 1.1f : 3.0f};
+    if (i % 2) s.moving.push_back(std::int32_t(i));
+  }
+  const SphConstants k = SphConstants::From(PhysicsConstants{});
+  internal::NeighbourGrid grid({0, 30, 0, 30, 0, 30}, k);
+  grid.SetStatic(s);
+  grid.UpdateMoving(s);
+  for (std::size_t i = 0; i < n; ++i) {
+    internal::Neighbour slots[internal::kSlots];
+    grid.FindNeighbours(s, std::int32_t(i), slots);
+    std::vector<int> found, expected;
+    for (const auto& slot : slots)
+      if (slot.index >= 0) found.push_back(slot.index);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      const float dx = s.position[i].x - s.position[j].x, dy = s.position[i].y - s.position[j].y,
+                  dz = s.position[i].z - s.position[j].z;
+      if (dx * dx + dy * dy + dz * dz <= k.h2_cu) expected.push_back(int(j));
+    }
+    ASSERT_LE(expected.size(), 32u) << "the sparse test cloud stays under the 32 cap";
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << "particle " << i;
+  }
+}
+
+SiberneticConfig SingleParticle(float y0) {
+  SiberneticConfig c;
+  c.source = "test";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, y0, 50, 1.1f}};
+  c.velocity = {{0, 0, 0, 0}};
+  return c;
+}
+
+TEST(Step, FreeFallMatchesSemiImplicitEulerExactly) {
+  // y_n = y_0 − g·dt²·n(n+1)/2/s after n integrations; frame k holds k integrations.
+  RunOptions o;
+  o.duration_s = 200 * 2e-5;
+  o.log_step = 1;
+  const Trajectory t = engine::Run(SingleParticle(90), o);
+  ASSERT_EQ(t.frame_count(), 200u);
+  const double dt = 2e-5, s = 7.39999905e-06, g = 9.8;
+  for (std::size_t n : {0u, 1u, 10u, 199u})
+    EXPECT_NEAR(t.coordinate(n, 0, 1), 90 - g * dt * dt * double(n) * double(n + 1) / 2 / s, 2e-4)
+        << n;
+}
+
+TEST(Step, NothingMovesAtStepZero) {
+  RunOptions o;
+  o.duration_s = 2e-5;
+  const Trajectory t = engine::Run(SingleParticle(90), o);
+  EXPECT_EQ(t.coordinate(0, 0, 1), 90.0f);
+}
+
+TEST(Run, RefusesParticleOutsideTheBox) {
+  EXPECT_THROW(engine::Run(SingleParticle(150), {}), InputError);
+}
+
+TEST(Parity, OneSprigMatchesSibernetic) {
+  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  RunOptions o;
+  o.duration_s = 0.05;
+  o.log_step = 1;
+  o.record_fields = false;
+  const Trajectory t =
+      engine::Run(ReadSiberneticConfig(kShared / "reference/one_sprig/configuration"), o);
+  const auto m = compare::MeasureSignal(t.time_s, ParticleSeries(t, 0, 1));
+  EXPECT_NEAR(*m.period_s, 0.7246e-3, 0.7246e-3 * 0.002);
+  EXPECT_NEAR(*m.half_amplitude, 1.694, 1.694 * 0.005);
+  EXPECT_NEAR(m.equilibrium, 18.352, 0.01);
+  const Trajectory ref = ReadTrajectory(kShared / "reference/one_sprig/position_buffer.txt");
+  ASSERT_EQ(ref.frame_count(), t.frame_count());
+  for (std::size_t f = 0; f < ref.frame_count(); ++f)
+    ASSERT_NEAR(t.coordinate(f, 0, 1), ref.coordinate(f, 0, 1), 2e-4) << "frame " << f;
+}
+
+TEST(Parity, Demo1CentroidsAndExtentsFollowSibernetic) {
+  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  RunOptions o;
+  o.duration_s = 0.2;
+  o.log_step = 20;
+  o.record_fields = false;
+  const Trajectory t =
+      engine::Run(ReadSiberneticConfig(kShared / "reference/demo1/configuration"), o);
+  const Trajectory ref = ReadTrajectory(kShared / "reference/demo1/position_buffer.txt");
+  ASSERT_EQ(t.frame_count(), ref.frame_count());
+  for (const char* group : {"elastic", "liquid"}) {
+    const auto members = GroupIndices(ref, group);
+    for (std::size_t f = 0; f < ref.frame_count(); ++f)
+      ASSERT_NEAR(Centroid(t, f, members)[1], Centroid(ref, f, members)[1], 1.5)
+          << group << " frame " << f;
+  }
+  const auto elastic = GroupIndices(ref, "elastic");
+  for (std::size_t f : {0u, 122u, 244u, 488u}) {
+    for (int a = 0; a < 3; ++a) {
+      float lo_t = 1e9f, hi_t = -1e9f, lo_r = 1e9f, hi_r = -1e9f;
+      for (std::size_t p : elastic) {
+        lo_t = std::min(lo_t, t.coordinate(f, p, a)), hi_t = std::max(hi_t, t.coordinate(f, p, a));
+        lo_r = std::min(lo_r, ref.coordinate(f, p, a)),
+        hi_r = std::max(hi_r, ref.coordinate(f, p, a));
+      }
+      EXPECT_NEAR(hi_t - lo_t, hi_r - lo_r, 0.05 * (hi_r - lo_r)) << "frame " << f << " axis " << a;
+    }
+  }
+  for (float x : t.positions) ASSERT_TRUE(std::isfinite(x));
+}
+
+}  // namespace
+}  // namespace owval::engine
