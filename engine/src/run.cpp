@@ -109,7 +109,10 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
   const bool equivalent = constants.DifferencesFromDefaults().empty() &&
                           options.integrator == Integrator::kSemiImplicitEuler;
   sum.reference_equivalent = equivalent;
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // A few hundred moving particles do not pay for a second thread's fork/join and barrier costs
+  // (and a busy machine makes those barriers stall): one thread unless there is real work.
+  const std::size_t moving = config.elastic_count() + config.liquid_count();
+  const int threads = options.threads > 0 ? options.threads : moving < 4096 ? 1 : omp_get_max_threads();
   Pcisph solver(config, constants, options.integrator, threads);
   Trajectory t;
   t.box = config.box;
