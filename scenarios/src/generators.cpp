@@ -1,84 +1,195 @@
+// owval's scenario generators (see generators.hpp for the parameters and their defaults).
 #include <cmath>
+#include <initializer_list>
+#include <string>
+#include <utility>
 
 #include "owval/base/errors.hpp"
-#include "owval/scenarios/scenario.hpp"
+#include "owval/scenarios/generators.hpp"
 
 namespace owval::scenarios {
 namespace {
 
-double Get(const std::map<std::string, double>& p, const std::string& key, double fallback) {
-  const auto it = p.find(key);
-  return it == p.end() ? fallback : it->second;
-}
+using Defaults = std::initializer_list<std::pair<const char*, double>>;
 
-void CheckKnown(const std::map<std::string, double>& p, std::initializer_list<const char*> known,
-                const char* generator) {
-  for (const auto& [key, value] : p) {
-    bool ok = false;
-    for (const char* k : known) ok = ok || key == k;
-    if (!ok) throw InputError(std::string(generator) + ": unknown parameter '" + key + "'");
+// The parameters with defaults filled in; InputError for a name the generator does not know.
+Parameters WithDefaults(const Parameters& given, Defaults defaults, const char* generator) {
+  Parameters p;
+  for (const auto& [name, value] : defaults) p[name] = value;
+  for (const auto& [name, value] : given) {
+    if (!p.count(name)) {
+      std::string known;
+      for (const auto& d : defaults) known += (known.empty() ? "" : ", ") + std::string(d.first);
+      throw InputError(std::string(generator) + ": unknown parameter '" + name +
+                       "' (known: " + known + ")");
+    }
+    p[name] = value;
   }
+  return p;
 }
 
-// Inward normal component on one axis for a lattice index at the low or high face.
-float Inward(int index, int last) { return index == 0 ? 1.0f : index == last ? -1.0f : 0.0f; }
+int Count(const Parameters& p, const char* name, int minimum, const char* generator) {
+  const double v = p.at(name);
+  if (v != std::floor(v) || v < minimum || v > 100000)
+    throw InputError(std::string(generator) + ": parameter '" + name +
+                     "' must be a whole number >= " + std::to_string(minimum));
+  return static_cast<int>(v);
+}
 
+float Positive(const Parameters& p, const char* name, const char* generator) {
+  const double v = p.at(name);
+  if (!(v > 0)) throw InputError(std::string(generator) + ": parameter '" + name + "' must be > 0");
+  return static_cast<float>(v);
+}
+
+WallOptions CubicWalls(const Parameters& p, const char* generator) {
+  WallOptions w;
+  w.sites_x = w.sites_y = w.sites_z = Count(p, "box_sites", 3, generator);
+  w.r0_cu = p.at("r0_cu");
+  Positive(p, "r0_cu", generator);
+  w.reference_edge_normals = p.at("reference_edge_normals") != 0;
+  return w;
+}
+
+// Lattice coordinate of the site column at the middle of an axis of `sites` sites.
+float Middle(const WallOptions& w, int sites) { return float(w.r0_cu / 2 + w.r0_cu * (sites / 2)); }
+float TopWallY(const WallOptions& w) { return float(w.r0_cu / 2 + w.r0_cu * (w.sites_y - 1)); }
+
+// Empty connection and membrane-index rows for `elastic` particles (partner -1 = empty slot).
 void EmptyConnections(std::size_t elastic, engine::SiberneticConfig* c) {
   c->connection.assign(elastic * engine::kConnectionSlots, {-1, 0, 0, 0});
   c->particle_mem_index.assign(elastic * engine::kMembraneSlotsPerParticle, -1);
 }
 
+// Sibernetic stores the partner index as a float; the reference writes id + 0.1 so that
+// truncation recovers the id whatever the float rounding.
+float Partner(std::size_t index) { return float(index) + 0.1f; }
+
+void AddParticle(engine::SiberneticConfig* c, float x, float y, float z, float type) {
+  c->position.push_back({x, y, z, type});
+  c->velocity.push_back({0, 0, 0, 0});
+}
+
+void CheckElasticType(float type, const char* generator) {
+  if (KindOf(type) != ParticleKind::kElastic)
+    throw InputError(std::string(generator) + ": elastic_type must be in [2, 3)");
+}
+
 }  // namespace
 
-void AddBoxWalls(float box_cu, float r0_cu, float normal_w, engine::SiberneticConfig* c) {
-  const int n = static_cast<int>(std::lround(box_cu / r0_cu));
-  if (n < 3) throw InputError("box walls: the box must be at least 3 particle spacings wide");
-  c->box = {0, box_cu, 0, box_cu, 0, box_cu};
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) {
-        const float nx = Inward(i, n - 1), ny = Inward(j, n - 1), nz = Inward(k, n - 1);
-        if (nx == 0 && ny == 0 && nz == 0) continue;  // interior: not a wall
-        const float length = std::sqrt(nx * nx + ny * ny + nz * nz);
-        const float h = r0_cu / 2;
-        c->position.push_back(
-            {h + r0_cu * float(i), h + r0_cu * float(j), h + r0_cu * float(k), 3.0f});
-        c->velocity.push_back({nx / length, ny / length, nz / length, normal_w});
-      }
-}
-
-engine::SiberneticConfig OneSprig(const std::map<std::string, double>& p) {
-  CheckKnown(p, {"box_cu", "rest_length_cu", "start_y_cu", "r0_cu"}, "one_sprig");
-  const float box = float(Get(p, "box_cu", 33.4)), r0 = float(Get(p, "r0_cu", 1.67));
+engine::SiberneticConfig OneSprig(const Parameters& given) {
+  const Parameters p = WithDefaults(given,
+                                    {{"box_sites", 20},
+                                     {"r0_cu", 1.67},
+                                     {"rest_length_cu", 14.195},
+                                     {"start_y_cu", 20.04},
+                                     {"elastic_type", 2.1},
+                                     {"reference_edge_normals", 1}},
+                                    "one_sprig");
+  const WallOptions w = CubicWalls(p, "one_sprig");
+  const float type = float(p.at("elastic_type"));
+  CheckElasticType(type, "one_sprig");
   engine::SiberneticConfig c;
   c.source = "owval generator one_sprig";
-  const float centre = r0 / 2 + r0 * std::floor(box / r0 / 2);  // a lattice column at the middle
-  c.position.push_back({centre, float(Get(p, "start_y_cu", 20.04)), centre, 2.1f});
-  c.velocity.push_back({0, 0, 0, 0});
-  AddBoxWalls(box, r0, 3.0f, &c);
-  // The anchor: the top wall's particle above the elastic one.
-  const float top = r0 / 2 + r0 * float(std::lround(box / r0) - 1);
-  std::size_t anchor = 0;
-  for (std::size_t i = 1; i < c.position.size(); ++i)
-    if (std::abs(c.position[i][0] - centre) < 1e-3f && std::abs(c.position[i][1] - top) < 1e-3f &&
-        std::abs(c.position[i][2] - centre) < 1e-3f)
-      anchor = i;
-  if (anchor == 0) throw InputError("one_sprig: no wall particle above the box centre");
+  const float centre = Middle(w, w.sites_x);
+  AddParticle(&c, centre, float(p.at("start_y_cu")), centre, type);
+  AddBoxWalls(w, &c);
+  const std::size_t anchor = FindWallParticle(c, centre, TopWallY(w), centre);
   EmptyConnections(1, &c);
-  c.connection[0] = {float(anchor) + 0.1f, float(Get(p, "rest_length_cu", 14.195)), 0, 0};
+  c.connection[0] = {Partner(anchor), Positive(p, "rest_length_cu", "one_sprig"), 0, 0};
   return c;
 }
 
-engine::SiberneticConfig FreeFall(const std::map<std::string, double>& p) {
-  CheckKnown(p, {"box_cu", "start_y_cu", "r0_cu"}, "free_fall");
-  const float box = float(Get(p, "box_cu", 33.4)), r0 = float(Get(p, "r0_cu", 1.67));
+engine::SiberneticConfig FreeFall(const Parameters& given) {
+  const Parameters p = WithDefaults(
+      given,
+      {{"box_sites", 20}, {"r0_cu", 1.67}, {"start_y_cu", 25}, {"reference_edge_normals", 0}},
+      "free_fall");
+  const WallOptions w = CubicWalls(p, "free_fall");
   engine::SiberneticConfig c;
   c.source = "owval generator free_fall";
-  const float centre = r0 / 2 + r0 * std::floor(box / r0 / 2);
-  c.position.push_back({centre, float(Get(p, "start_y_cu", 25.0)), centre, 1.1f});
-  c.velocity.push_back({0, 0, 0, 0});
-  AddBoxWalls(box, r0, 3.0f, &c);
+  const float centre = Middle(w, w.sites_x);
+  AddParticle(&c, centre, float(p.at("start_y_cu")), centre, 1.1f);
+  AddBoxWalls(w, &c);
   return c;
+}
+
+engine::SiberneticConfig HangingChain(const Parameters& given) {
+  const Parameters p = WithDefaults(given,
+                                    {{"box_sites", 20},
+                                     {"r0_cu", 1.67},
+                                     {"beads", 5},
+                                     {"spacing_cu", 4},
+                                     {"anchor_rest_length_cu", 4},
+                                     {"elastic_type", 2.1},
+                                     {"reference_edge_normals", 0}},
+                                    "hanging_chain");
+  const WallOptions w = CubicWalls(p, "hanging_chain");
+  const int beads = Count(p, "beads", 1, "hanging_chain");
+  const float spacing = Positive(p, "spacing_cu", "hanging_chain");
+  const float anchor_length = Positive(p, "anchor_rest_length_cu", "hanging_chain");
+  const float type = float(p.at("elastic_type"));
+  CheckElasticType(type, "hanging_chain");
+  const float centre = Middle(w, w.sites_x), top = TopWallY(w);
+  const float lowest = top - anchor_length - spacing * float(beads - 1);
+  if (lowest <= float(w.r0_cu * 1.5))
+    throw InputError("hanging_chain: the chain (lowest bead at y = " + std::to_string(lowest) +
+                     " cu) does not fit above the floor; use fewer beads or a shorter spacing");
+  engine::SiberneticConfig c;
+  c.source = "owval generator hanging_chain";
+  for (int b = 0; b < beads; ++b)
+    AddParticle(&c, centre, top - anchor_length - spacing * float(b), centre, type);
+  AddBoxWalls(w, &c);
+  const std::size_t anchor = FindWallParticle(c, centre, top, centre);
+  EmptyConnections(std::size_t(beads), &c);
+  for (int b = 0; b < beads; ++b) {
+    engine::Row4* rows = &c.connection[std::size_t(b) * engine::kConnectionSlots];
+    int slot = 0;
+    if (b == 0) rows[slot++] = {Partner(anchor), anchor_length, 0, 0};
+    if (b > 0) rows[slot++] = {Partner(std::size_t(b - 1)), spacing, 0, 0};
+    if (b + 1 < beads) rows[slot++] = {Partner(std::size_t(b + 1)), spacing, 0, 0};
+  }
+  return c;
+}
+
+engine::SiberneticConfig LiquidColumn(const Parameters& given) {
+  const Parameters p = WithDefaults(given,
+                                    {{"sites_xz", 10},
+                                     {"sites_y", 16},
+                                     {"r0_cu", 1.67},
+                                     {"layers", 8},
+                                     {"reference_edge_normals", 0}},
+                                    "liquid_column");
+  WallOptions w;
+  w.sites_x = w.sites_z = Count(p, "sites_xz", 3, "liquid_column");
+  w.sites_y = Count(p, "sites_y", 3, "liquid_column");
+  w.r0_cu = p.at("r0_cu");
+  Positive(p, "r0_cu", "liquid_column");
+  w.reference_edge_normals = p.at("reference_edge_normals") != 0;
+  const int layers = Count(p, "layers", 1, "liquid_column");
+  if (layers > w.sites_y - 2)
+    throw InputError("liquid_column: at most sites_y - 2 = " + std::to_string(w.sites_y - 2) +
+                     " layers fit between floor and ceiling");
+  engine::SiberneticConfig c;
+  c.source = "owval generator liquid_column";
+  const double half = w.r0_cu / 2;
+  // Liquid on every interior site one spacing away from the walls: no gap for it to fall into.
+  for (int j = 1; j <= layers; ++j)
+    for (int i = 1; i < w.sites_x - 1; ++i)
+      for (int k = 1; k < w.sites_z - 1; ++k)
+        AddParticle(&c, float(half + w.r0_cu * i), float(half + w.r0_cu * j),
+                    float(half + w.r0_cu * k), 1.1f);
+  AddBoxWalls(w, &c);
+  return c;
+}
+
+engine::SiberneticConfig Generate(const std::string& generator, const Parameters& parameters) {
+  if (generator == "one_sprig") return OneSprig(parameters);
+  if (generator == "free_fall") return FreeFall(parameters);
+  if (generator == "hanging_chain") return HangingChain(parameters);
+  if (generator == "liquid_column") return LiquidColumn(parameters);
+  throw InputError("unknown generator '" + generator +
+                   "' (known: one_sprig, free_fall, hanging_chain, liquid_column)");
 }
 
 }  // namespace owval::scenarios

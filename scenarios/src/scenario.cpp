@@ -27,6 +27,7 @@ Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
     const auto track = m.value("track", nlohmann::json::object());
     s.track_particle = track.value("particle", std::size_t{0});
     s.track_axis = track.value("axis", std::string("y"));
+    s.track_group = track.value("group", std::string());
     s.predictor = m.value("predictor", "");
     s.duration_s = m.value("duration_s", 0.05);
     s.log_step = m.value("log_step", 1);
@@ -53,14 +54,7 @@ engine::SiberneticConfig GenerateConfig(const Scenario& s,
                                         const std::map<std::string, double>& overrides) {
   std::map<std::string, double> p = s.parameters;
   for (const auto& [k, v] : overrides) p[k] = v;
-  engine::SiberneticConfig c;
-  if (s.generator == "one_sprig") {
-    c = OneSprig(p);
-  } else if (s.generator == "free_fall") {
-    c = FreeFall(p);
-  } else {
-    throw InputError("scenario " + s.name + ": unknown generator '" + s.generator + "'");
-  }
+  engine::SiberneticConfig c = Generate(s.generator, p);
   c.source = "scenario " + s.name;
   return c;
 }

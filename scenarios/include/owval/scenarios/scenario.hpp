@@ -9,17 +9,19 @@
 #include <vector>
 
 #include "owval/engine/config.hpp"
+#include "owval/scenarios/generators.hpp"
 
 namespace owval::scenarios {
 
 struct Scenario {
   std::string name;
   std::string description;
-  std::string generator;                     // one_sprig | free_fall
+  std::string generator;  // one_sprig | free_fall | hanging_chain | liquid_column
   std::map<std::string, double> parameters;  // generator parameters (defaults filled in)
-  std::size_t track_particle = 0;
+  std::size_t track_particle = 0;            // tracked particle (ignored when track_group is set)
+  std::string track_group;  // "elastic" | "liquid" | "all": track the group centroid
   std::string track_axis = "y";
-  std::string predictor;  // harmonic_spring | free_fall
+  std::string predictor;  // harmonic_spring | free_fall | hanging_chain | hydrostatic_column
   double duration_s = 0.05;
   int log_step = 1;
   std::filesystem::path reference;  // bundled reference trajectory ("" if none)
@@ -38,14 +40,5 @@ engine::SiberneticConfig GenerateConfig(const Scenario& scenario,
 // A scenario name or a configuration file path → configuration.
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path,
                                        const std::filesystem::path& data_dir);
-
-// Generators (owval's own code):
-// A box of side `box_cu` walled by the shell of a lattice of spacing r0 (inward unit normals in
-// the velocity slot, 4th component `normal_w`).
-void AddBoxWalls(float box_cu, float r0_cu, float normal_w, engine::SiberneticConfig* config);
-// One elastic particle (type 2.1) hanging from the top wall's centre particle by one spring.
-engine::SiberneticConfig OneSprig(const std::map<std::string, double>& parameters);
-// One liquid particle falling from rest in the walled box.
-engine::SiberneticConfig FreeFall(const std::map<std::string, double>& parameters);
 
 }  // namespace owval::scenarios

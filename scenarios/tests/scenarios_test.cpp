@@ -1,0 +1,173 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "owval/base/errors.hpp"
+#include "owval/engine/config.hpp"
+#include "owval/scenarios/generators.hpp"
+#include "owval/scenarios/scenario.hpp"
+
+namespace owval::scenarios {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kShared = OWVAL_SHARED_DIR;
+const fs::path kSource = OWVAL_SOURCE_DIR;
+
+// Writes through Sibernetic's format and reads back: what the engine and Sibernetic would load.
+engine::SiberneticConfig RoundTrip(const engine::SiberneticConfig& c, const std::string& name) {
+  const fs::path path = fs::path(testing::TempDir()) / ("owval_" + name + ".config");
+  engine::WriteSiberneticConfig(c, path);
+  engine::SiberneticConfig back = engine::ReadSiberneticConfig(path);
+  fs::remove(path);
+  return back;
+}
+
+void ExpectRowsNear(const std::vector<engine::Row4>& a, const std::vector<engine::Row4>& b,
+                    float tolerance, const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  int mismatches = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(a[i][c] - b[i][c]) > tolerance && ++mismatches <= 5)
+        ADD_FAILURE() << what << " row " << i << " column " << c << ": " << a[i][c] << " vs "
+                      << b[i][c];
+  EXPECT_EQ(mismatches, 0) << what;
+}
+
+TEST(OneSprig, DefaultReproducesTheReferenceConfiguration) {
+  const fs::path reference = kShared / "reference/one_sprig/configuration";
+  if (!fs::exists(reference)) GTEST_SKIP() << "no " << reference;
+  const engine::SiberneticConfig want = engine::ReadSiberneticConfig(reference);
+  const engine::SiberneticConfig got = RoundTrip(OneSprig({}), "one_sprig");
+  EXPECT_EQ(got.box.xmax, want.box.xmax);
+  EXPECT_EQ(got.box.ymax, want.box.ymax);
+  EXPECT_EQ(got.box.zmax, want.box.zmax);
+  // The reference prints 6 significant digits (e.g. 0.707107, 30.895).
+  ExpectRowsNear(got.position, want.position, 2e-5f, "position");
+  ExpectRowsNear(got.velocity, want.velocity, 2e-6f, "velocity");
+  ASSERT_EQ(got.connection.size(), want.connection.size());
+  for (std::size_t r = 0; r < got.connection.size(); ++r) {
+    EXPECT_EQ(std::trunc(got.connection[r][0]), std::trunc(want.connection[r][0])) << r;
+    EXPECT_NEAR(got.connection[r][1], want.connection[r][1], 1e-5f) << r;
+  }
+  EXPECT_EQ(got.particle_mem_index, want.particle_mem_index);
+  EXPECT_TRUE(got.membranes.empty());
+}
+
+TEST(OneSprig, AnchorIsTheTopWallParticleAboveTheCentre) {
+  const engine::SiberneticConfig c = OneSprig({});
+  EXPECT_EQ(c.particle_count(), 2169u);
+  EXPECT_EQ(c.boundary_count(), 2168u);
+  EXPECT_EQ(static_cast<std::size_t>(c.connection[0][0]), 1180u);
+  const engine::Row4 anchor = c.position[1180];
+  EXPECT_NEAR(anchor[0], 17.535f, 1e-4f);
+  EXPECT_NEAR(anchor[1], 32.565f, 1e-4f);
+  EXPECT_NEAR(anchor[2], 17.535f, 1e-4f);
+  EXPECT_NEAR(c.connection[0][1], 14.195f, 1e-6f);
+  EXPECT_EQ(c.connection.size(), 32u);
+  EXPECT_EQ(c.connection[1][0], -1.0f);
+}
+
+TEST(Walls, ProperNormalsAreUnitAndPointInward) {
+  WallOptions o;
+  o.sites_x = 4;
+  o.sites_y = 5;
+  o.sites_z = 6;
+  engine::SiberneticConfig c;
+  // A shell of 4x5x6 sites: 120 - 2*3*4 interior.
+  EXPECT_EQ(AddBoxWalls(o, &c), 96u);
+  for (std::size_t i = 0; i < c.position.size(); ++i) {
+    const auto& n = c.velocity[i];
+    EXPECT_NEAR(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 1.0f, 1e-6f) << i;
+    for (int a = 0; a < 3; ++a) {
+      const float centre = c.box.lower(a) + c.box.extent(a) / 2;
+      EXPECT_GE(n[a] * (centre - c.position[i][a]), 0.0f) << "row " << i << " axis " << a;
+    }
+  }
+  EXPECT_NEAR(c.box.ymax, 5 * 1.67f, 1e-5f);
+}
+
+TEST(Walls, ReferenceEdgeNormalsDropOnlyTheXComponentOfYWallEdges) {
+  WallOptions o;
+  o.reference_edge_normals = true;
+  engine::SiberneticConfig c;
+  AddBoxWalls(o, &c);
+  int quirky = 0;
+  for (const auto& n : c.velocity)
+    quirky += std::abs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) > 1e-3f;
+  EXPECT_EQ(quirky, 72);  // 2 x-faces * 2 y-faces * 18 interior z
+}
+
+TEST(Generators, EveryGeneratorLoadsInTheConfigReader) {
+  for (const char* g : {"one_sprig", "free_fall", "hanging_chain", "liquid_column"}) {
+    const engine::SiberneticConfig c = Generate(g, {});
+    const engine::SiberneticConfig back = RoundTrip(c, g);
+    EXPECT_EQ(back.particle_count(), c.particle_count()) << g;
+    EXPECT_EQ(back.elastic_count(), c.elastic_count()) << g;
+    EXPECT_EQ(back.liquid_count(), c.liquid_count()) << g;
+    for (const auto& p : back.position)
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_GT(p[a], back.box.lower(a)) << g;
+        EXPECT_LT(p[a], back.box.upper(a)) << g;
+      }
+  }
+}
+
+TEST(Generators, HangingChainListsEverySpringFromBothEnds) {
+  const engine::SiberneticConfig c = HangingChain({{"beads", 3}});
+  ASSERT_EQ(c.elastic_count(), 3u);
+  auto partner = [&](int bead, int slot) {
+    return static_cast<int>(c.connection[bead * engine::kConnectionSlots + slot][0]);
+  };
+  EXPECT_EQ(KindOf(c.position[partner(0, 0)][3]), ParticleKind::kBoundary);
+  EXPECT_EQ(partner(0, 1), 1);
+  EXPECT_EQ(partner(1, 0), 0);
+  EXPECT_EQ(partner(1, 1), 2);
+  EXPECT_EQ(partner(2, 0), 1);
+  EXPECT_EQ(partner(2, 1), -1);
+  EXPECT_NEAR(c.position[0][1] - c.position[2][1], 8.0f, 1e-4f);
+}
+
+TEST(Generators, LiquidColumnFillsTheFloorLayers) {
+  const engine::SiberneticConfig c = LiquidColumn({{"layers", 3}});
+  EXPECT_EQ(c.liquid_count(), 3u * 8 * 8);
+  EXPECT_EQ(c.boundary_count(), 10u * 16 * 10 - 8u * 14 * 8);
+}
+
+TEST(Generators, RefuseUnknownParametersAndImpossibleGeometry) {
+  EXPECT_THROW(OneSprig({{"stiffness", 1}}), InputError);
+  EXPECT_THROW(HangingChain({{"beads", 2.5}}), InputError);
+  EXPECT_THROW(HangingChain({{"beads", 40}}), InputError);  // below the floor
+  EXPECT_THROW(LiquidColumn({{"layers", 15}}), InputError);
+  EXPECT_THROW(Generate("tornado", {}), InputError);
+}
+
+TEST(Manifests, EveryBuiltInScenarioLoadsAndGenerates) {
+  const std::vector<std::string> names = ListScenarios(kSource);
+  EXPECT_GE(names.size(), 4u);
+  for (const std::string& name : names) {
+    const Scenario s = LoadScenario(name, kSource);
+    EXPECT_EQ(s.name, name);
+    EXPECT_FALSE(s.predictor.empty()) << name;
+    const engine::SiberneticConfig c = GenerateConfig(s);
+    EXPECT_GT(c.particle_count(), 0u) << name;
+    if (!s.reference.empty()) {
+      EXPECT_TRUE(fs::exists(s.reference)) << name;
+    }
+  }
+  EXPECT_THROW(LoadScenario("no_such_scenario", kSource), InputError);
+}
+
+TEST(Manifests, ResolveTakesANameOrAConfigurationFile) {
+  const engine::SiberneticConfig by_name = ResolveConfig("one_sprig", kSource);
+  const fs::path path = fs::path(testing::TempDir()) / "owval_resolve.config";
+  engine::WriteSiberneticConfig(by_name, path);
+  EXPECT_EQ(ResolveConfig(path.string(), kSource).particle_count(), by_name.particle_count());
+  fs::remove(path);
+  EXPECT_THROW(ResolveConfig("nonexistent/config", kSource), InputError);
+}
+
+}  // namespace
+}  // namespace owval::scenarios
