@@ -40,7 +40,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, int fps)
   codec_->pix_fmt = AV_PIX_FMT_YUV420P;
   codec_->gop_size = fps;
   av_opt_set(codec_->priv_data, "crf", "18", 0);
-  av_opt_set(codec_->priv_data, "preset", "veryfast", 0);
+  av_opt_set(codec_->priv_data, "preset", "superfast", 0);
   if (format_->oformat->flags & AVFMT_GLOBALHEADER) codec_->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   Check(avcodec_open2(codec_, encoder, nullptr), path, "cannot open the H.264 encoder");
   Check(avcodec_parameters_from_context(stream_->codecpar, codec_), path, "codec parameters");
