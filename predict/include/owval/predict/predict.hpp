@@ -3,7 +3,9 @@
 // with a measured trajectory. Every prediction states its formula, its inputs with their source
 // (a configuration line or a default constant) and its result in configuration units and SI.
 // JSON schema: docs/prediction.md.
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "owval/engine/config.hpp"
@@ -13,21 +15,36 @@ namespace owval::predict {
 
 struct PredictOptions {
   std::string scenario;  // recorded in the prediction
+  // harmonic_spring | free_fall | hanging_chain | hydrostatic_column; "" = chosen from the
+  // configuration's shape (see Predict).
+  std::string predictor;
   // Omit Sibernetic's 0.25 factor on springs that are not between two worm-body particles (for
-  // teaching: the prediction is then off by 2x in period).
+  // teaching: the spring prediction is then off by 2x in period).
   bool omit_quarter_factor = false;
 };
 
-// Chooses the predictor from the configuration: one elastic particle on one spring → harmonic
-// spring; one liquid particle and no elastic → free fall. InputError otherwise.
+// The predictor a configuration calls for: one elastic particle on one spring → harmonic_spring;
+// elastic particles on springs and no liquid → hanging_chain; one liquid particle →
+// free_fall; several liquid particles and no elastic → hydrostatic_column. InputError otherwise.
+std::string ChoosePredictor(const engine::SiberneticConfig& config);
+
+// Sibernetic ignores [physical parameters] (physics sheet §1), so pass PhysicsConstants{} to
+// predict what the original computes.
 nlohmann::json Predict(const engine::SiberneticConfig& config,
                        const engine::PhysicsConstants& constants, const PredictOptions& options);
 
 std::string PredictionMarkdown(const nlohmann::json& prediction);
 
-// Measures each predicted quantity on the tracked signal of `trajectory` and compares.
-// The result has per-quantity gaps, pass flags, diagnosis hints and a top-level "pass".
-nlohmann::json Reconcile(const nlohmann::json& prediction, const Trajectory& trajectory);
+struct ReconcileOptions {
+  std::optional<double> tolerance;           // replaces every gated quantity's tolerance
+  std::map<std::string, double> tolerances;  // per quantity name (wins over `tolerance`)
+};
+
+// Measures each predicted quantity on the tracked signal of `trajectory` (the particle or group
+// centroid and axis recorded in the prediction) and compares. The result has per-quantity gaps,
+// pass flags, diagnosis hints and a top-level "pass".
+nlohmann::json Reconcile(const nlohmann::json& prediction, const Trajectory& trajectory,
+                         const ReconcileOptions& options = {});
 std::string ReconcileMarkdown(const nlohmann::json& reconciliation);
 
 }  // namespace owval::predict

@@ -1,0 +1,51 @@
+// One liquid particle falling from rest: y_n = y0 - g*dt²*n(n+1)/2/s under semi-implicit Euler
+// (checked against Sibernetic's test_gravity run). Contact is where Ihmsen's wall weight starts:
+// within r0 of the floor's wall particles (physics sheet §3.8).
+#include <algorithm>
+#include <cmath>
+
+#include "owval/base/errors.hpp"
+#include "prediction_parts.hpp"
+
+namespace owval::predict::internal {
+
+nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k) {
+  std::size_t floor_row = 0;
+  float floor_y = 1e30f;
+  for (std::size_t i = 0; i < c.position.size(); ++i)
+    if (KindOf(c.position[i][3]) == ParticleKind::kBoundary && c.position[i][1] < floor_y) {
+      floor_y = c.position[i][1];
+      floor_row = i;
+    }
+  if (floor_y == 1e30f) throw InputError(c.source, 0, "free_fall: no wall particles (no floor)");
+  const double y0 = c.position[0][1], contact_y = floor_y + k.r0_cu, g = -k.gravity[1];
+  const double dt = k.time_step_s, s = k.simulation_scale;
+  const double drop_m = (y0 - contact_y) * s;
+  if (drop_m <= 0 || g <= 0)
+    throw InputError(c.source, 0, "free_fall: the particle does not start above the floor");
+  const double t_continuous = std::sqrt(2 * drop_m / g);
+  // Steps n with g*dt²*n(n+1)/2 = drop (the discrete trajectory), as a real number.
+  const double steps = (-1 + std::sqrt(1 + 8 * drop_m / (g * dt * dt))) / 2;
+  const double t = steps * dt;
+  nlohmann::json p;
+  p["predictor"] = "free_fall";
+  p["inputs"] = {Input("start_y", y0, "cu", ConfigSource(c, Section::kPosition, 0)),
+                 Input("floor_wall_y", floor_y, "cu",
+                       ConfigSource(c, Section::kPosition, floor_row) + ", lowest wall particle"),
+                 Input("r0", k.r0_cu, "cu", DefaultSource("r0 = h/2")),
+                 Input("time_step", dt, "s", DefaultSource("timeStep")),
+                 Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
+                 Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
+  p["predictions"] = {
+      Quantity("contact_time", t, "s", t, "s",
+               "t = n*dt with g*dt^2*n(n+1)/2 = (y0 - y_wall - r0)*s (semi-implicit Euler)", 0.02,
+               kRelative),
+      Quantity("contact_time_continuous", t_continuous, "s", t_continuous, "s",
+               "t = sqrt(2*(y0 - y_wall - r0)*s/g)", 0, kInformative),
+      Quantity("contact_height", contact_y, "cu", contact_y * s, "m", "y_wall + r0", 0,
+               kInformative)};
+  p["track"] = {{"particle", 0}, {"axis", "y"}};
+  return p;
+}
+
+}  // namespace owval::predict::internal

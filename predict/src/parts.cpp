@@ -1,0 +1,58 @@
+#include <cmath>
+#include <string>
+
+#include "prediction_parts.hpp"
+
+namespace owval::predict::internal {
+
+nlohmann::json Input(const std::string& name, double value, const std::string& unit,
+                     const std::string& source) {
+  return {{"name", name}, {"value", value}, {"unit", unit}, {"source", source}};
+}
+
+nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
+                        double si_value, const std::string& si_unit, const std::string& formula,
+                        double tolerance, const std::string& tolerance_kind) {
+  return {{"quantity", name},       {"value", value},
+          {"unit", unit},           {"value_si", si_value},
+          {"unit_si", si_unit},     {"formula", formula},
+          {"tolerance", tolerance}, {"tolerance_kind", tolerance_kind}};
+}
+
+std::string ConfigSource(const engine::SiberneticConfig& c, Section section, std::size_t row) {
+  // Layout: [physical parameters] block (if any), "[simulation box]" + 6 lines, "[position]" +
+  // N rows, "[velocity]" + N rows, "[connection]" + rows.
+  const std::size_t params = c.physical_parameters.empty() ? 0 : 1 + c.physical_parameters.size();
+  const std::size_t n = c.particle_count();
+  std::size_t line = params + 9 + row;
+  const char* name = "[position]";
+  if (section == Section::kVelocity) {
+    line = params + 10 + n + row;
+    name = "[velocity]";
+  } else if (section == Section::kConnection) {
+    line = params + 11 + 2 * n + row;
+    name = "[connection]";
+  }
+  return "configuration line " + std::to_string(line) + " (" + name + " row " +
+         std::to_string(row) + ")";
+}
+
+std::string DefaultSource(const std::string& what) {
+  return "Sibernetic default constant (inc/owPhysicsConstant.h): " + what;
+}
+
+bool WormBody(float type) { return type > 2.05f && type < 2.25f; }
+
+double SpringFactor(float type_a, float type_b, const engine::PhysicsConstants& k,
+                    const PredictOptions& o) {
+  if (o.omit_quarter_factor || (WormBody(type_a) && WormBody(type_b))) return 1.0;
+  return k.non_worm_body_spring_factor;
+}
+
+double SymplecticEulerPeriod(double omega, double dt_s) {
+  // Semi-implicit Euler rotates phase space by 2*asin(omega*dt/2) per step (stable for
+  // omega*dt < 2), so the discrete angular frequency is (2/dt)*asin(omega*dt/2).
+  return 2 * kPi / ((2 / dt_s) * std::asin(omega * dt_s / 2));
+}
+
+}  // namespace owval::predict::internal

@@ -1,0 +1,49 @@
+#pragma once
+// Internal: the pieces every predictor assembles (inputs with their source, quantities with
+// formula, units and tolerance) and the predictors themselves.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "owval/engine/config.hpp"
+#include "owval/predict/predict.hpp"
+
+namespace owval::predict::internal {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Tolerance kinds: relative (|measured/predicted - 1|), absolute_cu (|measured - predicted| in
+// cu) and informative (reported, never gated).
+inline constexpr const char* kRelative = "relative";
+inline constexpr const char* kAbsoluteCu = "absolute_cu";
+inline constexpr const char* kInformative = "informative";
+
+nlohmann::json Input(const std::string& name, double value, const std::string& unit,
+                     const std::string& source);
+nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
+                        double si_value, const std::string& si_unit, const std::string& formula,
+                        double tolerance, const std::string& tolerance_kind);
+
+enum class Section { kPosition, kVelocity, kConnection };
+// "configuration line L ([position] row i)" for a file laid out one value per line, as
+// Sibernetic's files and WriteSiberneticConfig are.
+std::string ConfigSource(const engine::SiberneticConfig& config, Section section, std::size_t row);
+std::string DefaultSource(const std::string& what);
+
+// Sibernetic's worm-body range: springs get full stiffness only when both ends are inside it.
+bool WormBody(float type);
+// The factor sphFluid.cl applies to a spring between particles of these types.
+double SpringFactor(float type_a, float type_b, const engine::PhysicsConstants& k,
+                    const PredictOptions& o);
+// Period of a harmonic mode of angular frequency omega (rad/s) under semi-implicit Euler.
+double SymplecticEulerPeriod(double omega, double dt_s);
+
+nlohmann::json HarmonicSpring(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                              const PredictOptions& o);
+nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
+nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                            const PredictOptions& o);
+nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
+                                 const engine::PhysicsConstants& k);
+
+}  // namespace owval::predict::internal

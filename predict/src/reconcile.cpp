@@ -1,0 +1,245 @@
+// Phase 3: each predicted quantity measured on the tracked signal (compare::MeasureSignal), the
+// gap, and the likely cause of a gap that is too large.
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+#include "owval/compare/signal_metrics.hpp"
+#include "owval/predict/predict.hpp"
+#include "prediction_parts.hpp"
+
+namespace owval::predict {
+namespace {
+
+struct Signal {
+  std::string description;
+  std::vector<double> values;
+  compare::SignalMetrics metrics;
+};
+
+Signal TrackedSignal(const nlohmann::json& p, const Trajectory& t) {
+  Signal s;
+  try {
+    const nlohmann::json& track = p.at("track");
+    const int axis = ParseAxis(track.at("axis").get<std::string>());
+    if (track.contains("group")) {
+      const std::string group = track["group"];
+      s.values = CentroidSeries(t, GroupIndices(t, group), axis);
+      s.description = group + " centroid " + track["axis"].get<std::string>();
+    } else {
+      const std::size_t particle = track.at("particle").get<std::size_t>();
+      if (particle >= t.particle_count())
+        throw InputError("prediction tracks particle " + std::to_string(particle) +
+                         " but the trajectory has " + std::to_string(t.particle_count()));
+      s.values = ParticleSeries(t, particle, axis);
+      s.description =
+          "particle " + std::to_string(particle) + " " + track["axis"].get<std::string>();
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("prediction: expected \"track\" with an axis and a particle or "
+                                 "group: ") +
+                     e.what());
+  }
+  s.metrics = compare::MeasureSignal(t.time_s, s.values);
+  return s;
+}
+
+double PredictedValue(const nlohmann::json& p, const std::string& quantity) {
+  for (const auto& q : p["predictions"])
+    if (q["quantity"] == quantity) return q["value"];
+  return std::nan("");
+}
+
+// Mean over the last 10% of frames (at least one): the settled value of a resting system.
+double FinalMean(const std::vector<double>& v) {
+  const std::size_t n = std::max<std::size_t>(1, v.size() / 10);
+  double sum = 0;
+  for (std::size_t i = v.size() - n; i < v.size(); ++i) sum += v[i];
+  return sum / double(n);
+}
+
+std::optional<double> CrossingTime(const std::vector<double>& t, const std::vector<double>& y,
+                                   double level) {
+  for (std::size_t i = 1; i < y.size(); ++i)
+    if (y[i] < level && y[i - 1] >= level)
+      return t[i - 1] + (t[i] - t[i - 1]) * (y[i - 1] - level) / (y[i - 1] - y[i]);
+  return std::nullopt;
+}
+
+// Mean pressure of the liquid particles that start in the bottom layer, over the last 10% of
+// frames; empty when the trajectory carries no pressure.
+std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
+  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
+  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  if (liquid.empty()) return std::nullopt;
+  double bottom = 1e30;
+  for (std::size_t i : liquid) bottom = std::min(bottom, double(t.coordinate(0, i, 1)));
+  std::vector<double> series;
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i : liquid)
+      if (t.coordinate(0, i, 1) < bottom + r0_cu / 2) {
+        sum += t.pressure[f * t.particle_count() + i];
+        ++n;
+      }
+    series.push_back(sum / double(n));
+  }
+  return FinalMean(series);
+}
+
+std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
+                              const nlohmann::json& p) {
+  const compare::SignalMetrics& m = s.metrics;
+  if (q == "zero_crossing_period" || q == "period_continuous" || q == "fundamental_period")
+    return m.period_s;
+  if (q == "half_amplitude") return m.half_amplitude;
+  if (q == "equilibrium") return m.equilibrium;
+  if (q == "tip_sag") return m.initial_value - m.equilibrium;
+  if (q == "contact_time" || q == "contact_time_continuous")
+    return CrossingTime(t.time_s, s.values, PredictedValue(p, "contact_height"));
+  if (q == "centroid_equilibrium") return FinalMean(s.values);
+  if (q == "bottom_pressure") return BottomPressure(t, engine::PhysicsConstants{}.r0_cu);
+  return std::nullopt;
+}
+
+bool Near(double a, double b, double relative) { return std::abs(a / b - 1) < relative; }
+
+std::string QuantityHint(const std::string& q, double measured, double predicted,
+                         const nlohmann::json& p) {
+  const double ratio = measured / predicted;
+  if (q == "zero_crossing_period") {
+    if (Near(ratio, 2, 0.05) || Near(ratio, 0.5, 0.05))
+      return "period off by 2x: the 0.25 factor Sibernetic applies (sphFluid.cl) to springs not "
+             "between two worm-body particles (2.05 < type < 2.25) quarters the stiffness";
+    if (Near(measured, PredictedValue(p, "period_continuous"), 2e-4))
+      return "the measurement follows the continuous-time period: not semi-implicit Euler, or "
+             "a much smaller time step";
+    return "stiffness or time step differ from the prediction's: check elasticityCoefficient, "
+           "the spring's types and dt";
+  }
+  if (q == "equilibrium") {
+    const double sag = PredictedValue(p, "gravity_sag");
+    if (std::isfinite(sag) && Near(std::abs(measured - predicted), sag, 0.2))
+      return "equilibrium shifted by one gravity sag: gravity missing or counted twice";
+  }
+  if (q == "contact_time")
+    return ratio < 1 ? "faster than free fall: missing buoyancy or an extra downward force"
+                     : "slower than free fall: drag (viscous coupling with neighbours or walls) "
+                       "or weaker gravity";
+  if (q == "centroid_equilibrium")
+    return measured < predicted
+               ? "the column compresses: density errors above 1% (few PCISPH iterations; "
+                 "particle deficiency lets the free-surface layers sink)"
+               : "the column expands: particles start closer than the rest spacing "
+                 "(m/rho0)^(1/3), or the pressure overshoots";
+  return "";
+}
+
+std::string SignalHint(const compare::SignalMetrics& m) {
+  if (m.log_decrement && *m.log_decrement > 0.01)
+    return "extra damping (log decrement " + std::to_string(*m.log_decrement) +
+           "): viscous coupling with neighbours or walls removes energy";
+  if (m.drift_per_s && std::abs(*m.drift_per_s) * (m.window_end_s - m.window_start_s) > 0.01)
+    return "steady drift of the cycle means: look for epsilon guards (r != 0, density floors) "
+           "or a biased force";
+  return "";
+}
+
+double Tolerance(const nlohmann::json& q, const ReconcileOptions& o) {
+  const auto it = o.tolerances.find(q["quantity"].get<std::string>());
+  if (it != o.tolerances.end()) return it->second;
+  return o.tolerance ? *o.tolerance : q.value("tolerance", 0.0);
+}
+
+nlohmann::json Row(const nlohmann::json& q, const std::optional<double>& measured,
+                   const ReconcileOptions& o) {
+  const std::string kind = q.value("tolerance_kind", internal::kRelative);
+  const bool gated = kind != internal::kInformative;
+  const double predicted = q.at("value"), tolerance = gated ? Tolerance(q, o) : 0.0;
+  nlohmann::json row = {{"quantity", q.at("quantity")},
+                        {"predicted", predicted},
+                        {"unit", q.value("unit", "")},
+                        {"tolerance", tolerance},
+                        {"tolerance_kind", kind},
+                        {"measured", nullptr},
+                        {"gap", nullptr},
+                        {"pass", nullptr},
+                        {"hint", ""}};
+  if (measured) {
+    row["measured"] = *measured;
+    row["gap"] =
+        kind == internal::kAbsoluteCu ? *measured - predicted : (*measured - predicted) / predicted;
+  }
+  if (gated) row["pass"] = measured && std::abs(row["gap"].get<double>()) <= tolerance;
+  if (gated && !measured)
+    row["hint"] = "could not be measured on this trajectory (too short, or no crossing)";
+  return row;
+}
+
+}  // namespace
+
+nlohmann::json Reconcile(const nlohmann::json& p, const Trajectory& t, const ReconcileOptions& o) {
+  if (!p.contains("predictions") || !p["predictions"].is_array())
+    throw InputError("prediction: expected a \"predictions\" list (owval predict -o FILE)");
+  const Signal s = TrackedSignal(p, t);
+  nlohmann::json rows = nlohmann::json::array();
+  bool pass = true;
+  try {
+    for (const auto& q : p["predictions"]) {
+      const std::string name = q.at("quantity");
+      nlohmann::json row = Row(q, Measure(name, s, t, p), o);
+      if (row["pass"] == false) {
+        pass = false;
+        if (!row["measured"].is_null())
+          row["hint"] = QuantityHint(name, row["measured"], row["predicted"], p);
+        if (row["hint"] == "") row["hint"] = SignalHint(s.metrics);
+      }
+      rows.push_back(row);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("prediction: malformed quantity: ") + e.what());
+  }
+  return {{"schema", "owval.reconcile/1"},
+          {"predictor", p.value("predictor", "")},
+          {"scenario", p.value("scenario", "")},
+          {"signal", s.description},
+          {"frames", t.frame_count()},
+          {"rows", rows},
+          {"pass", pass}};
+}
+
+std::string ReconcileMarkdown(const nlohmann::json& r) {
+  auto number = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.7g", v);
+    return std::string(b);
+  };
+  std::ostringstream s;
+  s << "## Reconciliation (" << r.value("predictor", "") << ", " << r.value("signal", "")
+    << "): " << (r["pass"].get<bool>() ? "PASS" : "FAIL") << "\n\n";
+  s << "| quantity | predicted | measured | gap | tolerance | pass |\n|---|---|---|---|---|---|\n";
+  for (const auto& row : r["rows"]) {
+    const std::string kind = row["tolerance_kind"];
+    const bool relative = row.value("gap_kind", "relative") == "relative";
+    auto gap = [&](double g) { return relative ? number(g * 100) + "%" : number(g) + " cu"; };
+    s << "| " << row["quantity"].get<std::string>() << " | " << number(row["predicted"]) << " "
+      << row["unit"].get<std::string>() << " | "
+      << (row["measured"].is_null() ? "n/a" : number(row["measured"])) << " | "
+      << (row["gap"].is_null() ? "n/a" : gap(row["gap"])) << " | "
+      << (kind == internal::kInformative ? "-" : gap(row["tolerance"])) << " | "
+      << (row["pass"].is_null()     ? "info"
+          : row["pass"].get<bool>() ? "yes"
+                                    : "NO")
+      << " |\n";
+  }
+  for (const auto& row : r["rows"])
+    if (!row["hint"].get<std::string>().empty())
+      s << "\n- likely cause for " << row["quantity"].get<std::string>() << ": "
+        << row["hint"].get<std::string>() << "\n";
+  return s.str();
+}
+
+}  // namespace owval::predict
