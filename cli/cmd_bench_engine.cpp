@@ -23,8 +23,10 @@ struct BenchEngineArgs {
 };
 
 engine::SiberneticConfig Load(const std::string& name) {
-  const std::filesystem::path shared = std::filesystem::path(OWVAL_SHARED_DIR) / "reference" / name / "configuration";
-  if ((name == "demo1" || name == "one_sprig") && std::filesystem::exists(shared)) return engine::ReadSiberneticConfig(shared);
+  const std::filesystem::path shared =
+      std::filesystem::path(OWVAL_SHARED_DIR) / "reference" / name / "configuration";
+  if ((name == "demo1" || name == "one_sprig") && std::filesystem::exists(shared))
+    return engine::ReadSiberneticConfig(shared);
   return ResolveConfig(name);
 }
 
@@ -70,8 +72,10 @@ void RunBench(const BenchEngineArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<BenchEngineArgs>();
-  CLI::App* cmd = Bench(app).add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
-  cmd->add_option("config", a->config, "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
+  CLI::App* cmd = Bench(app).add_subcommand(
+      "engine", "PCISPH engine speed (steps/s), one thread and all threads");
+  cmd->add_option("config", a->config,
+                  "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
   cmd->add_option("--steps", a->steps, "Steps to time");
   cmd->add_option("--json-out", a->json_out, "Also write the JSON result here");
   cmd->callback([a] { RunBench(*a); });

@@ -8,6 +8,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -23,22 +24,6 @@ struct CompareArgs {
   std::string markdown;
   bool json = false;
 };
-
-std::vector<std::size_t> ParseFrameList(const std::string& list) {
-  std::vector<std::size_t> frames;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      std::size_t used = 0;
-      frames.push_back(std::stoul(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw InputError("--frames: expected comma-separated frame indices, found '" + item + "'");
-    }
-  }
-  return frames;
-}
 
 // Scenario manifests may carry gate thresholds: {"gates": {"frame_threshold": 0.05,
 // "period_gap_threshold": 0.02, "amplitude_gap_threshold": 0.05}, "track": {"particle": 0,
@@ -67,7 +52,7 @@ void RunCompare(const CompareArgs& a) {
   if (a.particle) options.particle = *a.particle;
   if (!a.group.empty()) options.group = a.group;
   options.axis = ParseAxis(a.axis);
-  if (!a.frames.empty()) options.sample_frames = ParseFrameList(a.frames);
+  if (!a.frames.empty()) options.sample_frames = ParseIndexList(a.frames, "--frames");
   options.scale = a.scale;
   if (a.threshold) options.frame_threshold = *a.threshold;
   TextReadOptions read;

@@ -39,20 +39,6 @@ struct FitArgs {
   bool json = false;
 };
 
-std::string ConvergencePlot(const sgd::FitSummary& summary) {
-  reports::Series loss{"loss L", {}, {}};
-  for (const sgd::Iteration& it : summary.iterations) {
-    loss.x.push_back(it.iteration);
-    loss.y.push_back(it.loss);
-  }
-  reports::PlotOptions o;
-  o.title = "fit convergence";
-  o.x_label = "iteration";
-  o.y_label = "loss (log scale)";
-  o.log_y = true;
-  return reports::SvgLinePlot({loss}, o);
-}
-
 void RunFit(const FitArgs& a) {
   std::vector<sgd::Parameter> parameters;
   for (const std::string& p : a.params) parameters.push_back(sgd::ParseParameter(p));

@@ -23,6 +23,7 @@
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/targets.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -141,6 +142,7 @@ void Phase5Fit(Context& c) {
            &c.fit);
   const nlohmann::json history = sgd::ToJson(options, c.fit_parameters, c.fit, targets_json);
   WriteJson(fit_dir / "history.json", history);
+  WriteFileAtomically(fit_dir / "convergence.svg", ConvergencePlot(c.fit));
   WriteJson(c.dir / "parameters.json", {{"parameters", history["final"]["parameters"]},
                                         {"loss", c.fit.final_loss},
                                         {"simulations", c.fit.evaluations}});
@@ -238,20 +240,6 @@ std::string TrackedPlot(const Context& c) {
                               o);
 }
 
-std::string ConvergencePlot(const Context& c) {
-  reports::Series s{"loss", {}, {}};
-  for (const auto& it : c.fit.iterations) {
-    s.x.push_back(it.iteration);
-    s.y.push_back(it.loss);
-  }
-  reports::PlotOptions o;
-  o.title = "fit convergence";
-  o.x_label = "iteration";
-  o.y_label = "loss";
-  o.log_y = true;
-  return reports::SvgLinePlot({s}, o);
-}
-
 void WriteIndex(const Context& c) {
   reports::Document d("owval pipeline: " + c.scenario.name);
   d.Paragraph(c.scenario.description);
@@ -272,7 +260,7 @@ void WriteIndex(const Context& c) {
   d.Plot(TrackedPlot(c), "tracked coordinate, reference and candidate");
   d.Heading("5. Fit");
   d.Paragraph(c.fit.BriefReport());
-  d.Plot(ConvergencePlot(c), "loss per iteration (fit/history.json)");
+  d.Plot(ConvergencePlot(c.fit), "loss per iteration (fit/history.json)");
   d.Heading("6. Side-by-side video");
   d.Video("sxs.mp4", "reference left, candidate right, one camera");
   d.Heading("7. Frame check");

@@ -6,6 +6,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/render/render.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -54,19 +55,6 @@ void Print(const render::VideoSummary& s, const std::string& out, bool json) {
   for (const auto& note : s.notes) std::cerr << "owval: note: " << note << "\n";
   std::cout << "wrote " << out << ": " << s.frames << " frames " << s.width << "x" << s.height
             << " at " << s.fps << " fps\n";
-}
-
-std::vector<std::size_t> FrameList(const std::string& text) {
-  std::vector<std::size_t> frames;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    try {
-      frames.push_back(std::stoul(item));
-    } catch (const std::exception&) {
-      throw InputError("--at: expected comma-separated frame indices, found '" + item + "'");
-    }
-  }
-  return frames;
 }
 
 void AddCommon(CLI::App* cmd, RenderArgs* a) {
@@ -120,7 +108,7 @@ void SetUp(CLI::App& app) {
     RenderArgs args = *a;
     if (!args.track_particle) args.track_particle = 0;
     const auto result = render::RenderFrames(Read(a->reference), Read(a->candidate),
-                                             FrameList(a->at), Options(args), a->out);
+                                             ParseIndexList(a->at, "--at"), Options(args), a->out);
     std::cout << (a->json
                       ? result.dump(2)
                       : "wrote " + std::to_string(result["frames"].size()) + " frames to " + a->out)

@@ -1,9 +1,11 @@
 #include "resolve.hpp"
 
 #include <filesystem>
+#include <sstream>
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/reports/svg_plot.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 
@@ -25,6 +27,35 @@ void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstan
     throw InputError("--set " + assignment + ": expected a number after '='");
   }
   sgd::SetConstant(constants, assignment.substr(0, eq), value);
+}
+
+std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag) {
+  std::vector<std::size_t> indices;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    try {
+      std::size_t used = 0;
+      indices.push_back(std::stoul(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError(flag + ": expected comma-separated frame indices, found '" + item + "'");
+    }
+  }
+  return indices;
+}
+
+std::string ConvergencePlot(const sgd::FitSummary& summary) {
+  reports::Series loss{"loss L", {}, {}};
+  for (const sgd::Iteration& it : summary.iterations) {
+    loss.x.push_back(it.iteration);
+    loss.y.push_back(it.loss);
+  }
+  reports::PlotOptions o;
+  o.title = "fit convergence";
+  o.x_label = "iteration";
+  o.y_label = "loss (log scale)";
+  o.log_y = true;
+  return reports::SvgLinePlot({loss}, o);
 }
 
 }  // namespace owval::cli

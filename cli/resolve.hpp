@@ -1,8 +1,10 @@
 #pragma once
 // Shared argument handling of the commands that run simulations.
 #include <string>
+#include <vector>
 
 #include "owval/engine/config.hpp"
+#include "owval/sgd/fit.hpp"
 
 namespace owval::cli {
 
@@ -11,5 +13,11 @@ engine::SiberneticConfig ResolveConfig(const std::string& name_or_path);
 
 // "NAME=VALUE" onto a PhysicsConstants field (elasticity_coefficient, time_step_s, ...).
 void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstants* constants);
+
+// "0,15,100,200" → indices; InputError naming `flag` on anything else.
+std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag);
+
+// The loss-per-iteration plot of a fit (SVG, log scale), as owval fit and the pipeline save it.
+std::string ConvergencePlot(const sgd::FitSummary& summary);
 
 }  // namespace owval::cli
