@@ -1,29 +1,61 @@
 // owval predict / owval reconcile: phase 1 and phase 3.
+#include <filesystem>
 #include <iostream>
 
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/predict/predict.hpp"
+#include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
-#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
 
 struct PredictArgs {
   std::string config, out, prediction, trajectory;
+  std::vector<std::string> tolerances;
   bool json = false, no_quarter = false;
 };
 
 void RunPredict(const PredictArgs& a) {
   predict::PredictOptions options;
-  options.scenario = a.config;
   options.omit_quarter_factor = a.no_quarter;
-  const nlohmann::json p =
-      predict::Predict(ResolveConfig(a.config), engine::PhysicsConstants{}, options);
+  engine::SiberneticConfig config;
+  if (std::filesystem::is_regular_file(a.config)) {
+    config = engine::ReadSiberneticConfig(a.config);
+    options.scenario = std::filesystem::path(a.config).filename().string();
+  } else {
+    const scenarios::Scenario s = scenarios::LoadScenario(a.config, DataDir());
+    config = scenarios::GenerateConfig(s);
+    options.scenario = s.name;
+    options.predictor = s.predictor;
+  }
+  const nlohmann::json p = predict::Predict(config, engine::PhysicsConstants{}, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, p.dump(2) + "\n");
   std::cout << (a.json ? p.dump(2) + "\n" : predict::PredictionMarkdown(p));
+}
+
+// "--tolerance 0.01" (every gated quantity) or "--tolerance NAME=0.01".
+predict::ReconcileOptions ParseTolerances(const std::vector<std::string>& given) {
+  predict::ReconcileOptions o;
+  for (const std::string& t : given) {
+    const auto eq = t.find('=');
+    const std::string number = eq == std::string::npos ? t : t.substr(eq + 1);
+    double value = 0;
+    try {
+      std::size_t used = 0;
+      value = std::stod(number, &used);
+      if (used != number.size() || !(value >= 0)) throw std::invalid_argument(t);
+    } catch (const std::exception&) {
+      throw InputError("--tolerance " + t + ": expected a number >= 0 or QUANTITY=NUMBER");
+    }
+    if (eq == std::string::npos)
+      o.tolerance = value;
+    else
+      o.tolerances[t.substr(0, eq)] = value;
+  }
+  return o;
 }
 
 void RunReconcile(const PredictArgs& a) {
@@ -33,9 +65,10 @@ void RunReconcile(const PredictArgs& a) {
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(a.prediction, 0, std::string("not valid JSON: ") + e.what());
   }
+  const predict::ReconcileOptions options = ParseTolerances(a.tolerances);
   TextReadOptions read;
   read.quiet = Flags().quiet;
-  const nlohmann::json r = predict::Reconcile(p, ReadTrajectory(a.trajectory, read));
+  const nlohmann::json r = predict::Reconcile(p, ReadTrajectory(a.trajectory, read), options);
   if (!a.out.empty()) WriteFileAtomically(a.out, r.dump(2) + "\n");
   std::cout << (a.json ? r.dump(2) + "\n" : predict::ReconcileMarkdown(r));
   if (!r["pass"].get<bool>()) SetExitCode(kExitGateFailed);
@@ -45,7 +78,8 @@ void SetUp(CLI::App& app) {
   auto a = std::make_shared<PredictArgs>();
   CLI::App* predict =
       app.add_subcommand("predict", "Phase 1: analytic prediction from the configuration alone");
-  predict->add_option("config", a->config, "Scenario name or Sibernetic configuration")->required();
+  predict->add_option("config", a->config, "Scenario name (owval scenario list) or configuration")
+      ->required();
   predict->add_option("-o,--out", a->out, "Also write the prediction JSON here");
   predict->add_flag("--json", a->json, "Print JSON instead of Markdown");
   predict->add_flag("--no-quarter-factor", a->no_quarter,
@@ -56,6 +90,9 @@ void SetUp(CLI::App& app) {
   reconcile->add_option("prediction", a->prediction, "prediction.json from owval predict")
       ->required();
   reconcile->add_option("trajectory", a->trajectory, "Measured trajectory")->required();
+  reconcile->add_option("--tolerance", a->tolerances,
+                        "Gate tolerance for every gated quantity (VALUE) or one (QUANTITY=VALUE); "
+                        "relative for periods and amplitudes, cu for positions");
   reconcile->add_option("-o,--out", a->out, "Also write the reconciliation JSON here");
   reconcile->add_flag("--json", a->json, "Print JSON instead of Markdown");
   reconcile->callback([a] { RunReconcile(*a); });

@@ -124,6 +124,9 @@ std::string QuantityHint(const std::string& q, double measured, double predicted
     const double sag = PredictedValue(p, "gravity_sag");
     if (std::isfinite(sag) && Near(std::abs(measured - predicted), sag, 0.2))
       return "equilibrium shifted by one gravity sag: gravity missing or counted twice";
+    if (std::isfinite(sag))
+      return "the gravity sag g/(k*f)/s scales with 1/stiffness: a stiffness error (see the "
+             "period) moves the equilibrium";
   }
   if (q == "contact_time")
     return ratio < 1 ? "faster than free fall: missing buoyancy or an extra downward force"
@@ -168,10 +171,13 @@ nlohmann::json Row(const nlohmann::json& q, const std::optional<double>& measure
                         {"gap", nullptr},
                         {"pass", nullptr},
                         {"hint", ""}};
+  // Positions gap in cu, everything else relative to the prediction.
+  const bool absolute =
+      kind == internal::kAbsoluteCu || (kind == internal::kInformative && row["unit"] == "cu");
+  row["gap_kind"] = absolute ? "absolute_cu" : "relative";
   if (measured) {
     row["measured"] = *measured;
-    row["gap"] =
-        kind == internal::kAbsoluteCu ? *measured - predicted : (*measured - predicted) / predicted;
+    row["gap"] = absolute ? *measured - predicted : (*measured - predicted) / predicted;
   }
   if (gated) row["pass"] = measured && std::abs(row["gap"].get<double>()) <= tolerance;
   if (gated && !measured)
