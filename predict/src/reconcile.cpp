@@ -52,6 +52,12 @@ double PredictedValue(const nlohmann::json& p, const std::string& quantity) {
   return std::nan("");
 }
 
+double InputValue(const nlohmann::json& p, const std::string& name) {
+  for (const auto& i : p.value("inputs", nlohmann::json::array()))
+    if (i.value("name", "") == name) return i["value"];
+  return std::nan("");
+}
+
 // Mean over the last 10% of frames (at least one): the settled value of a resting system.
 double FinalMean(const std::vector<double>& v) {
   const std::size_t n = std::max<std::size_t>(1, v.size() / 10);
@@ -132,6 +138,13 @@ std::string QuantityHint(const std::string& q, double measured, double predicted
     return ratio < 1 ? "faster than free fall: missing buoyancy or an extra downward force"
                      : "slower than free fall: drag (viscous coupling with neighbours or walls) "
                        "or weaker gravity";
+  if (q == "centroid_equilibrium" && measured < predicted &&
+      PredictedValue(p, "initial_bulk_density") < 0.99 * InputValue(p, "rest_density"))
+    return "the liquid starts under-dense (" +
+           std::to_string(PredictedValue(p, "initial_bulk_density")) +
+           " kg/m^3 < rho0): Sibernetic clamps pressure increments at >= 0, so nothing holds "
+           "the column up until it compacts; start the lattice at the rest spacing " +
+           std::to_string(PredictedValue(p, "rest_lattice_spacing")) + " cu";
   if (q == "centroid_equilibrium")
     return measured < predicted
                ? "the column compresses: density errors above 1% (few PCISPH iterations; "
