@@ -50,7 +50,8 @@ void WriteSiberneticText(const Trajectory& trajectory, const std::filesystem::pa
 
 struct Hdf5WriteOptions {
   int compression_level = 4;         // deflate level 0..9
-  std::size_t frames_per_chunk = 4;  // chunking along the frame axis
+  std::size_t frames_per_chunk = 16;      // chunking along the frame axis
+  std::size_t particles_per_chunk = 1024;  // and along the particle axis
 };
 void WriteHdf5(const Trajectory& trajectory, const std::filesystem::path& path,
                const Hdf5WriteOptions& options = {});
