@@ -38,7 +38,7 @@ nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::Physics
                  Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
   p["predictions"] = {
       Quantity("contact_time", t, "s", t, "s",
-               "t = n*dt with g*dt^2*n(n+1)/2 = (y0 - y_wall - r0)*s (semi-implicit Euler)", 0.02,
+               "t = n*dt with g*dt^2*n(n+1)/2 = (y0 - y_wall - r0)*s (semi-implicit Euler)", 0.005,
                kRelative),
       Quantity("contact_time_continuous", t_continuous, "s", t_continuous, "s",
                "t = sqrt(2*(y0 - y_wall - r0)*s/g)", 0, kInformative),

@@ -11,10 +11,10 @@ nlohmann::json Input(const std::string& name, double value, const std::string& u
 }
 
 nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
-                        double si_value, const std::string& si_unit, const std::string& formula,
+                        double value_in_si, const std::string& si_unit, const std::string& formula,
                         double tolerance, const std::string& tolerance_kind) {
   return {{"quantity", name},       {"value", value},
-          {"unit", unit},           {"value_si", si_value},
+          {"unit", unit},           {"value_si", value_in_si},
           {"unit_si", si_unit},     {"formula", formula},
           {"tolerance", tolerance}, {"tolerance_kind", tolerance_kind}};
 }

@@ -21,7 +21,7 @@ inline constexpr const char* kInformative = "informative";
 nlohmann::json Input(const std::string& name, double value, const std::string& unit,
                      const std::string& source);
 nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
-                        double si_value, const std::string& si_unit, const std::string& formula,
+                        double value_in_si, const std::string& si_unit, const std::string& formula,
                         double tolerance, const std::string& tolerance_kind);
 
 enum class Section { kPosition, kVelocity, kConnection };
