@@ -8,13 +8,14 @@
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
 
 struct PredictArgs {
   std::string config, out, prediction, trajectory;
-  std::vector<std::string> tolerances;
+  std::vector<std::string> tolerances, params, constants;
   bool json = false, no_quarter = false;
 };
 
@@ -27,11 +28,17 @@ void RunPredict(const PredictArgs& a) {
     options.scenario = std::filesystem::path(a.config).filename().string();
   } else {
     const scenarios::Scenario s = scenarios::LoadScenario(a.config, DataDir());
-    config = scenarios::GenerateConfig(s);
+    config = scenarios::GenerateConfig(s, scenarios::ParseOverrides(a.params));
     options.scenario = s.name;
     options.predictor = s.predictor;
   }
-  const nlohmann::json p = predict::Predict(config, engine::PhysicsConstants{}, options);
+  if (!a.params.empty() && std::filesystem::is_regular_file(a.config))
+    throw InputError("--param applies to a scenario's generator, not to a configuration file");
+  // Sibernetic ignores [physical parameters]; --set changes a constant explicitly, and the
+  // prediction then notes that it is no longer about Sibernetic's defaults.
+  engine::PhysicsConstants constants;
+  for (const std::string& c : a.constants) SetConstantAssignment(c, &constants);
+  const nlohmann::json p = predict::Predict(config, constants, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, p.dump(2) + "\n");
   std::cout << (a.json ? p.dump(2) + "\n" : predict::PredictionMarkdown(p));
 }
@@ -82,6 +89,9 @@ void SetUp(CLI::App& app) {
       ->required();
   predict->add_option("-o,--out", a->out, "Also write the prediction JSON here");
   predict->add_flag("--json", a->json, "Print JSON instead of Markdown");
+  predict->add_option("--param", a->params, "Override a scenario generator parameter, NAME=NUMBER");
+  predict->add_option("--set", a->constants,
+                      "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=5.55e8)");
   predict->add_flag("--no-quarter-factor", a->no_quarter,
                     "Omit Sibernetic's 0.25 spring factor (teaching, tests)");
   predict->callback([a] { RunPredict(*a); });

@@ -1,6 +1,5 @@
 // owval scenario list|show|generate: the built-in scenario library.
 #include <iostream>
-#include <map>
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
@@ -13,20 +12,6 @@ struct ScenarioArgs {
   std::string name, out;
   std::vector<std::string> params;
 };
-
-std::map<std::string, double> Overrides(const std::vector<std::string>& params) {
-  std::map<std::string, double> out;
-  for (const std::string& p : params) {
-    const auto eq = p.find('=');
-    try {
-      if (eq == std::string::npos) throw std::invalid_argument(p);
-      out[p.substr(0, eq)] = std::stod(p.substr(eq + 1));
-    } catch (const std::exception&) {
-      throw InputError("--param " + p + ": expected NAME=NUMBER");
-    }
-  }
-  return out;
-}
 
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<ScenarioArgs>();
@@ -49,7 +34,7 @@ void SetUp(CLI::App& app) {
   generate->add_option("--param", a->params, "Override a generator parameter, NAME=NUMBER");
   generate->callback([a] {
     const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),
-                                                  Overrides(a->params));
+                                                  scenarios::ParseOverrides(a->params));
     engine::WriteSiberneticConfig(config, a->out);
     std::cout << "wrote " << a->out << ": " << config.elastic_count() << " elastic, "
               << config.liquid_count() << " liquid, " << config.boundary_count()

@@ -1,6 +1,7 @@
 #include "owval/scenarios/scenario.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -57,6 +58,23 @@ engine::SiberneticConfig GenerateConfig(const Scenario& s,
   engine::SiberneticConfig c = Generate(s.generator, p);
   c.source = "scenario " + s.name;
   return c;
+}
+
+std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
+  std::map<std::string, double> out;
+  for (const std::string& a : assignments) {
+    const auto eq = a.find('=');
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument(a);
+      std::size_t used = 0;
+      const std::string number = a.substr(eq + 1);
+      out[a.substr(0, eq)] = std::stod(number, &used);
+      if (used != number.size()) throw std::invalid_argument(a);
+    } catch (const std::exception&) {
+      throw InputError("--param " + a + ": expected NAME=NUMBER");
+    }
+  }
+  return out;
 }
 
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path, const fs::path& data_dir) {

@@ -37,6 +37,10 @@ std::vector<std::string> ListScenarios(const std::filesystem::path& data_dir);
 engine::SiberneticConfig GenerateConfig(const Scenario& scenario,
                                         const std::map<std::string, double>& overrides = {});
 
+// "NAME=NUMBER" strings (the --param options) → generator parameter overrides; InputError on
+// anything else.
+std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments);
+
 // A scenario name or a configuration file path → configuration.
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path,
                                        const std::filesystem::path& data_dir);
