@@ -1,6 +1,7 @@
 #include "owval/predict/predict.hpp"
 
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "owval/base/errors.hpp"
@@ -19,6 +20,28 @@ std::string Number(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.7g", v);
   return b;
+}
+
+// Inputs drawn from constants that the caller changed (owval predict --set) are not Sibernetic's
+// defaults any more: their source must say so, or the prediction would misreport where they came
+// from.
+void MarkChangedConstants(const engine::PhysicsConstants& k, nlohmann::json* inputs) {
+  const engine::PhysicsConstants d;
+  const std::map<std::string, std::pair<double, double>> constants = {
+      {"elasticity_coefficient", {k.elasticity_coefficient, d.elasticity_coefficient}},
+      {"time_step", {k.time_step_s, d.time_step_s}},
+      {"simulation_scale", {k.simulation_scale, d.simulation_scale}},
+      {"gravity_y", {k.gravity[1], d.gravity[1]}},
+      {"r0", {k.r0_cu, d.r0_cu}},
+      {"h", {k.h_cu, d.h_cu}},
+      {"mass", {k.mass_kg, d.mass_kg}},
+      {"rest_density", {k.rest_density, d.rest_density}}};
+  for (auto& input : *inputs) {
+    const auto it = constants.find(input.value("name", ""));
+    if (it != constants.end() && it->second.first != it->second.second)
+      input["source"] =
+          "set by the caller (Sibernetic's default: " + Number(it->second.second) + ")";
+  }
 }
 
 }  // namespace
@@ -55,6 +78,7 @@ nlohmann::json Predict(const engine::SiberneticConfig& c, const engine::PhysicsC
                      "predictor '" + predictor + "' does not fit this configuration (" +
                          "it calls for " + ChoosePredictor(c) + ")");
   }
+  MarkChangedConstants(k, &p["inputs"]);
   p["schema"] = "owval.prediction/1";
   p["scenario"] = o.scenario;
   p["configuration"] = c.source;

@@ -137,3 +137,24 @@ TEST(HydrostaticDensity, SinkingUnderDenseColumnIsExplained) {
 
 }  // namespace
 }  // namespace owval::predict
+
+namespace owval::predict {
+namespace {
+
+TEST(ChangedConstants, SourceAndPeriodFollowTheCallersValue) {
+  engine::PhysicsConstants k;
+  k.elasticity_coefficient = 5.55e8;
+  const nlohmann::json p = Predict(OneSprig(), k, {});
+  // omega = sqrt(5.55e8 * 0.25) = 11779.22 rad/s, omega*dt/2 = 0.1177922;
+  // T = 2*pi / (1e5 * asin(0.1177922)) = 0.5321743 ms.
+  EXPECT_NEAR(Value(p, "zero_crossing_period"), 0.5321743e-3, 1e-10);
+  std::string source;
+  for (const auto& input : p["inputs"])
+    if (input["name"] == "elasticity_coefficient") source = input["source"];
+  EXPECT_NE(source.find("set by the caller"), std::string::npos) << source;
+  ASSERT_FALSE(p["notes"].empty());
+  EXPECT_NE(p["notes"].back().get<std::string>().find("elasticity_coefficient"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace owval::predict
