@@ -77,15 +77,15 @@ TEST(HarmonicSpring, OnlyTwoWormBodyEndsGetFullStiffness) {
   EXPECT_EQ(internal::SpringFactor(2.0f, 2.0f, k, o), 0.25);
 }
 
-// Start 25 cu, floor wall 0.835, contact at 0.835 + 1.67 = 2.505: drop 22.495 cu = 1.664629e-4 m.
-// Continuous t = sqrt(2*1.664629e-4/9.8) = 5.828548 ms; discrete n(n+1) = 2*drop/(g*dt^2) =
-// 84929.0 -> n = 290.928, t = 5.818566 ms.
+// Start 25 cu, floor wall 0.835, contact where the wall enters the kernel support: 0.835 + 3.34 =
+// 4.175; drop 20.825 cu = 1.541050e-4 m. Continuous t = sqrt(2*1.541050e-4/9.8) = 5.608030 ms;
+// discrete n(n+1) = 2*drop/(g*dt^2) = 78624.99 -> n = 279.9019, t = 5.598039 ms.
 TEST(FreeFall, ContactTimeMatchesHandComputedValues) {
   const nlohmann::json p = PredictFor(scenarios::FreeFall({}));
   EXPECT_EQ(p["predictor"], "free_fall");
-  EXPECT_NEAR(V(p, "contact_height"), 2.505, 1e-5);
-  EXPECT_NEAR(V(p, "contact_time_continuous"), 5.828548e-3, 2e-8);
-  EXPECT_NEAR(V(p, "contact_time"), 5.818566e-3, 2e-8);
+  EXPECT_NEAR(V(p, "contact_height"), 4.175, 1e-5);
+  EXPECT_NEAR(V(p, "contact_time_continuous"), 5.608030e-3, 2e-8);
+  EXPECT_NEAR(V(p, "contact_time"), 5.598039e-3, 2e-8);
 }
 
 // Five 2.1 beads: the anchor spring (to a type-3 wall) carries all five beads at 0.25*k, bead
