@@ -69,6 +69,7 @@ engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator
 void Phase1Predict(Context& c) {
   predict::PredictOptions o;
   o.scenario = c.scenario.name;
+  o.predictor = c.scenario.predictor;
   c.prediction = predict::Predict(c.config, engine::PhysicsConstants{}, o);
   WriteJson(c.dir / "prediction.json", c.prediction);
   Say("1 predict: prediction.json");
@@ -250,10 +251,16 @@ void WriteIndex(const Context& c) {
   d.Heading("1-3. Prediction and reconciliation (reference)");
   std::vector<std::vector<std::string>> rows = {
       {"quantity", "predicted", "measured (reference)", "gap", "pass"}};
+  auto cell = [](const nlohmann::json& v) {
+    return v.is_number() ? Num(v.get<double>()) : std::string("n/a");
+  };
   for (const auto& r : c.reconcile["rows"])
-    rows.push_back(
-        {r["quantity"], Num(r["predicted"]), r["measured"].is_null() ? "n/a" : Num(r["measured"]),
-         r.contains("gap") ? Num(r["gap"]) : "n/a", r["pass"].get<bool>() ? "yes" : "no"});
+    rows.push_back({r["quantity"], cell(r.value("predicted", nlohmann::json())),
+                    cell(r.value("measured", nlohmann::json())),
+                    cell(r.value("gap", nlohmann::json())),
+                    !r.value("pass", nlohmann::json()).is_boolean() ? "informative"
+                    : r["pass"].get<bool>()                         ? "yes"
+                                                                    : "no"});
   d.Table(rows);
   d.Heading("4. Candidate");
   d.Paragraph("Reference: " + c.reference_source + ". Candidate: " + c.candidate_source + ".");
