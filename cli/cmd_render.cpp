@@ -19,6 +19,7 @@ struct RenderArgs {
   float liquid_opacity = 1.0f;
   std::optional<std::size_t> track_particle;
   std::string track_axis = "y";
+  std::string connections;  // configuration whose [connection] block is drawn
   bool json = false;
 };
 
@@ -34,6 +35,13 @@ render::RenderOptions Options(const RenderArgs& a) {
   o.liquid_opacity = a.liquid_opacity;
   o.title = a.title;
   o.quiet = Flags().quiet;
+  if (!a.connections.empty()) {
+    const engine::SiberneticConfig config = ResolveConfig(a.connections);
+    for (std::size_t row = 0; row < config.connection.size(); ++row)
+      if (config.connection[row][0] >= 0)
+        o.connections.emplace_back(std::uint32_t(row / engine::kConnectionSlots),
+                                   std::uint32_t(config.connection[row][0]));
+  }
   if (a.track_particle) o.tracking = render::Tracking{*a.track_particle, ParseAxis(a.track_axis)};
   return o;
 }
@@ -70,6 +78,8 @@ void AddCommon(CLI::App* cmd, RenderArgs* a) {
   cmd->add_option("--track-axis", a->track_axis, "x, y or z")
       ->check(CLI::IsMember({"x", "y", "z"}));
   cmd->add_option("--title", a->title, "Title line");
+  cmd->add_option("--connections", a->connections,
+                  "Draw the elastic connections of this configuration (file or scenario) as lines");
   cmd->add_flag("--json", a->json, "Machine-readable summary");
 }
 

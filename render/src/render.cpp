@@ -87,6 +87,7 @@ class Canvas {
     glPointSize(point_size);
     // Opaque particles first, then translucent ones without depth writes.
     DrawKinds(t, frame, o, /*translucent=*/false);
+    DrawConnections(t, frame, o);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
@@ -129,6 +130,27 @@ class Canvas {
     glDrawArrays(GL_POINTS, 0, GLsizei(vertices_.size() / 3));
     glDisableClientState(GL_COLOR_ARRAY);
     glDisableClientState(GL_VERTEX_ARRAY);
+  }
+
+  void DrawConnections(const Trajectory& t, std::size_t frame, const RenderOptions& o) {
+    if (o.connections.empty()) return;
+    vertices_.clear();
+    for (const auto& [a, b] : o.connections) {
+      if (a >= t.particle_count() || b >= t.particle_count()) continue;
+      const float* x = t.position(frame, a);
+      const float* y = t.position(frame, b);
+      vertices_.insert(vertices_.end(), {x[0], x[1], x[2], y[0], y[1], y[2]});
+    }
+    glDisable(GL_TEXTURE_2D);
+    glDisable(GL_ALPHA_TEST);
+    glColor4f(0.05f, 0.35f, 0.1f, 1.0f);
+    glLineWidth(1.0f);
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, vertices_.data());
+    glDrawArrays(GL_LINES, 0, GLsizei(vertices_.size() / 3));
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glEnable(GL_TEXTURE_2D);
+    glEnable(GL_ALPHA_TEST);
   }
 
   // A 64x64 sprite of a lit sphere: alpha 0 outside the disc, Lambert shading inside.

@@ -94,3 +94,30 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
 
 }  // namespace
 }  // namespace owval::render
+
+namespace owval::render {
+namespace {
+
+TEST(Render, ConnectionsAreDrawnAsLinesWhenAsked) {
+  Trajectory t;
+  t.box = {0, 30, 0, 30, 0, 30};
+  t.type = {2.1f, 2.1f};
+  const float p[6] = {5, 15, 15, 25, 15, 15};
+  t.AppendFrame(0, p);
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.view = "front";
+  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / o.height);
+  const auto mid = camera.Project({15, 15, 15}, o.width, o.height);
+  auto green_at_mid = [&](const std::vector<unsigned char>& rgba) {
+    const unsigned char* px = &rgba[(std::size_t(mid[1]) * o.width + std::size_t(mid[0])) * 4];
+    return px[1] > px[0] + 40;
+  };
+  EXPECT_FALSE(green_at_mid(RenderFrameRgba(t, 0, o)));  // nothing between the two particles
+  o.connections = {{0, 1}};
+  EXPECT_TRUE(green_at_mid(RenderFrameRgba(t, 0, o)));
+}
+
+}  // namespace
+}  // namespace owval::render

@@ -4,6 +4,7 @@
 // libpng writes frames. Both panels of a comparison share one camera, computed once from the
 // simulation box.
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -32,6 +33,9 @@ struct RenderOptions {
   std::size_t max_frames = 0;  // 0: every frame
   std::string title;
   std::optional<Tracking> tracking;  // print this particle's coordinate on each panel
+  // Elastic connections drawn as lines (particle index pairs, e.g. from a configuration's
+  // [connection] block); empty: none.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> connections;
   bool quiet = false;
 };
 
