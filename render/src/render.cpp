@@ -250,6 +250,38 @@ void CheckSize(const RenderOptions& o) {
                      " is out of range");
 }
 
+// Reference left, candidate right, one camera from the reference's box, labelled.
+class SideBySideFrame {
+ public:
+  SideBySideFrame(const Trajectory& ref, const RenderOptions& o)
+      : options_(o),
+        canvas_(o.width, o.height),
+        panel_(o.width / 2),
+        camera_(Camera::FromBox(ref.box, o.view, float(panel_) / float(o.height))),
+        point_size_(PointSize(ref, o, o.height)) {}
+
+  std::vector<unsigned char>& Compose(const Trajectory& ref, std::size_t fr, const Trajectory& cand,
+                                      std::size_t fc) {
+    canvas_.Clear();
+    canvas_.DrawPanel(ref, fr, camera_, 0, panel_, options_, point_size_);
+    canvas_.DrawPanel(cand, fc, camera_, panel_, options_.width - panel_, options_, point_size_);
+    auto& rgba = canvas_.Pixels();
+    Label(text_, rgba, options_, 0, "reference", ref, fr);
+    Label(text_, rgba, options_, panel_, "candidate", cand, fc);
+    return rgba;
+  }
+  internal::TextPainter& text() { return text_; }
+  int panel() const { return panel_; }
+
+ private:
+  RenderOptions options_;
+  Canvas canvas_;
+  internal::TextPainter text_;
+  int panel_;
+  Camera camera_;
+  float point_size_;
+};
+
 }  // namespace
 
 BoundaryMode ParseBoundaryMode(const std::string& name) {
@@ -380,23 +412,13 @@ VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, con
   std::vector<double> sampled;
   for (std::size_t k : Sample(times.size(), o.max_frames)) sampled.push_back(times[k]);
   AtomicOutput out(out_mp4);
-  Canvas canvas(o.width, o.height);
-  internal::TextPainter text;
-  const int panel = o.width / 2;
-  // One camera for both panels, from the reference's box.
-  const Camera camera = Camera::FromBox(ref.box, o.view, float(panel) / float(o.height));
-  const float size = PointSize(ref, o, o.height);
+  SideBySideFrame compose(ref, o);
   internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
   Progress progress("render sxs", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
-    const std::size_t fr = FrameAtTime(ref, sampled[k]), fc = FrameAtTime(cand, sampled[k]);
-    canvas.Clear();
-    canvas.DrawPanel(ref, fr, camera, 0, panel, o, size);
-    canvas.DrawPanel(cand, fc, camera, panel, o.width - panel, o, size);
-    auto& rgba = canvas.Pixels();
-    Label(text, rgba, o, 0, "reference", ref, fr);
-    Label(text, rgba, o, panel, "candidate", cand, fc);
-    Title(text, rgba, o);
+    auto& rgba =
+        compose.Compose(ref, FrameAtTime(ref, sampled[k]), cand, FrameAtTime(cand, sampled[k]));
+    Title(compose.text(), rgba, o);
     video.AddFrame(rgba);
     progress.Update(k + 1);
   }
@@ -417,11 +439,7 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
   const double scale = *hi - *lo > 0 ? *hi - *lo : 1.0;
   RenderOptions options = o;
   options.tracking = tracking;
-  Canvas canvas(o.width, o.height);
-  internal::TextPainter text;
-  const int panel = o.width / 2;
-  const Camera camera = Camera::FromBox(ref.box, o.view, float(panel) / float(o.height));
-  const float size = PointSize(ref, o, o.height);
+  SideBySideFrame compose(ref, options);
   nlohmann::json entries = nlohmann::json::array();
   std::filesystem::create_directories(out_dir);
   for (std::size_t fr : frames) {
@@ -431,16 +449,11 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
     const std::size_t fc = FrameAtTime(cand, ref.time_s[fr]);
     const double vr = ref.coordinate(fr, tracking.particle, tracking.axis);
     const double vc = cand.coordinate(fc, tracking.particle, tracking.axis);
-    canvas.Clear();
-    canvas.DrawPanel(ref, fr, camera, 0, panel, options, size);
-    canvas.DrawPanel(cand, fc, camera, panel, o.width - panel, options, size);
-    auto& rgba = canvas.Pixels();
-    Label(text, rgba, options, 0, "reference", ref, fr);
-    Label(text, rgba, options, panel, "candidate", cand, fc);
+    auto& rgba = compose.Compose(ref, fr, cand, fc);
     const std::string diff =
         Format("difference = %+.4f cu", vc - vr) +
         Format(" (%.3f%% of the reference range)", 100 * std::abs(vc - vr) / scale);
-    text.Draw(rgba, o.width, o.height, panel - 220, 60, diff, 18, kTextColour);
+    compose.text().Draw(rgba, o.width, o.height, compose.panel() - 220, 60, diff, 18, kTextColour);
     const std::string name = "frame_" + std::to_string(fr) + ".png";
     WritePng(out_dir / name, rgba, o.width, o.height);
     entries.push_back({{"image", name},
