@@ -84,7 +84,9 @@ TEST(Config, RefusesMissingBox) {
 
 TEST(Config, RefusesNonNumericFieldWithLine) {
   std::string text = Minimal(Connections("1.1\t2\t0\t0\n")) + "[end]\n";
-  text.replace(text.find("5\t5\t5"), 1, "x");
+  const std::size_t row = text.find("5\t5\t5");
+  ASSERT_NE(row, std::string::npos);
+  text[row] = 'x';
   const std::string e = ErrorOf(text);
   EXPECT_NE(e.find("cfg:9:"), std::string::npos) << e;
   EXPECT_NE(e.find("found 'x'"), std::string::npos) << e;
