@@ -5,6 +5,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -16,20 +17,15 @@ struct CheckArgs {
   compare::IncompressibilityOptions incompressibility;
 };
 
-Trajectory Read(const std::string& path) {
-  TextReadOptions read;
-  read.quiet = Flags().quiet;
-  return ReadTrajectory(path, read);
-}
-
 void RunStability(const CheckArgs& a) {
-  const compare::StabilityReport r = compare::CheckStability(Read(a.path), a.stability);
+  const compare::StabilityReport r =
+      compare::CheckStability(ReadTrajectoryArgument(a.path), a.stability);
   std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
   if (!r.pass()) SetExitCode(kExitGateFailed);
 }
 
 void RunIncompressibility(const CheckArgs& a) {
-  const Trajectory t = Read(a.path);
+  const Trajectory t = ReadTrajectoryArgument(a.path);
   compare::IncompressibilityReport r;
   try {
     r = compare::CheckIncompressibility(t, a.incompressibility);

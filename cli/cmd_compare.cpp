@@ -55,10 +55,8 @@ void RunCompare(const CompareArgs& a) {
   if (!a.frames.empty()) options.sample_frames = ParseIndexList(a.frames, "--frames");
   options.scale = a.scale;
   if (a.threshold) options.frame_threshold = *a.threshold;
-  TextReadOptions read;
-  read.quiet = Flags().quiet;
-  const Trajectory reference = ReadTrajectory(a.reference, read);
-  const Trajectory candidate = ReadTrajectory(a.candidate, read);
+  const Trajectory reference = ReadTrajectoryArgument(a.reference);
+  const Trajectory candidate = ReadTrajectoryArgument(a.candidate);
   const compare::ParityReport report = compare::CompareTrajectories(reference, candidate, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
   if (a.json) {

@@ -3,6 +3,7 @@
 
 #include "command.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -14,11 +15,8 @@ struct ConvertArgs {
 };
 
 void RunConvert(const ConvertArgs& a) {
-  TextReadOptions options;
-  options.layout = ParseLayout(a.layout);
-  options.quiet = Flags().quiet;
   TextReadReport read;
-  const Trajectory t = ReadTrajectory(a.in, options, &read);
+  const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
   WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
   if (!Flags().quiet)
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),

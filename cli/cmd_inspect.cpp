@@ -6,6 +6,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/metrics_json.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -54,11 +55,8 @@ void PrintTable(const compare::SignalMetrics& m, const std::string& subject,
 }
 
 void RunInspect(const InspectArgs& a) {
-  TextReadOptions read_options;
-  read_options.layout = ParseLayout(a.layout);
-  read_options.quiet = Flags().quiet;
   TextReadReport read;
-  const Trajectory t = ReadTrajectory(a.path, read_options, &read);
+  const Trajectory t = ReadTrajectoryArgument(a.path, a.layout, &read);
   const int axis = ParseAxis(a.axis);
   std::vector<double> series;
   std::string subject;

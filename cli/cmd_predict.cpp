@@ -73,9 +73,7 @@ void RunReconcile(const PredictArgs& a) {
     throw InputError(a.prediction, 0, std::string("not valid JSON: ") + e.what());
   }
   const predict::ReconcileOptions options = ParseTolerances(a.tolerances);
-  TextReadOptions read;
-  read.quiet = Flags().quiet;
-  const nlohmann::json r = predict::Reconcile(p, ReadTrajectory(a.trajectory, read), options);
+  const nlohmann::json r = predict::Reconcile(p, ReadTrajectoryArgument(a.trajectory), options);
   if (!a.out.empty()) WriteFileAtomically(a.out, r.dump(2) + "\n");
   std::cout << (a.json ? r.dump(2) + "\n" : predict::ReconcileMarkdown(r));
   if (!r["pass"].get<bool>()) SetExitCode(kExitGateFailed);

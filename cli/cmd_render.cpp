@@ -46,12 +46,6 @@ render::RenderOptions Options(const RenderArgs& a) {
   return o;
 }
 
-Trajectory Read(const std::string& path) {
-  TextReadOptions options;
-  options.quiet = Flags().quiet;
-  return ReadTrajectory(path, options);
-}
-
 void Print(const render::VideoSummary& s, const std::string& out, bool json) {
   nlohmann::json j = {{"output", out},      {"frames", s.frames}, {"width", s.width},
                       {"height", s.height}, {"fps", s.fps},       {"duration_s", s.duration_s},
@@ -99,14 +93,16 @@ void SetUp(CLI::App& app) {
   sxs->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
   sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)");
   sxs->callback([a] {
-    Print(render::RenderSideBySide(Read(a->reference), Read(a->candidate), Options(*a), a->out),
+    Print(render::RenderSideBySide(ReadTrajectoryArgument(a->reference),
+                                   ReadTrajectoryArgument(a->candidate), Options(*a), a->out),
           a->out, a->json);
   });
   cmd->callback([a, cmd] {
     if (cmd->got_subcommand("sxs")) return;
     if (a->trajectory.empty())
       throw InputError("owval render: expected a trajectory (or: owval render sxs REF CAND)");
-    Print(render::RenderVideo(Read(a->trajectory), Options(*a), a->out), a->out, a->json);
+    Print(render::RenderVideo(ReadTrajectoryArgument(a->trajectory), Options(*a), a->out), a->out,
+          a->json);
   });
   CLI::App* frames =
       app.add_subcommand("frames", "Phase 7: labelled side-by-side PNG frames and frames.json");
@@ -117,7 +113,8 @@ void SetUp(CLI::App& app) {
   frames->callback([a] {
     RenderArgs args = *a;
     if (!args.track_particle) args.track_particle = 0;
-    const auto result = render::RenderFrames(Read(a->reference), Read(a->candidate),
+    const auto result = render::RenderFrames(ReadTrajectoryArgument(a->reference),
+                                             ReadTrajectoryArgument(a->candidate),
                                              ParseIndexList(a->at, "--at"), Options(args), a->out);
     std::cout << (a->json
                       ? result.dump(2)

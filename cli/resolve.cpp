@@ -29,6 +29,14 @@ void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstan
   sgd::SetConstant(constants, assignment.substr(0, eq), value);
 }
 
+Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& layout,
+                                  TextReadReport* report) {
+  TextReadOptions options;
+  options.layout = ParseLayout(layout);
+  options.quiet = Flags().quiet;
+  return ReadTrajectory(path, options, report);
+}
+
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag) {
   std::vector<std::size_t> indices;
   std::stringstream in(text);

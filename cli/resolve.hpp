@@ -5,6 +5,7 @@
 
 #include "owval/engine/config.hpp"
 #include "owval/sgd/fit.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::cli {
 
@@ -13,6 +14,11 @@ engine::SiberneticConfig ResolveConfig(const std::string& name_or_path);
 
 // "NAME=VALUE" onto a PhysicsConstants field (elasticity_coefficient, time_step_s, ...).
 void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstants* constants);
+
+// A trajectory named on the command line: any format, the text layout detected unless `layout`
+// (auto | opencl | native) says otherwise, the progress line following --quiet.
+Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& layout = "auto",
+                                  TextReadReport* report = nullptr);
 
 // "0,15,100,200" → indices; InputError naming `flag` on anything else.
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag);
