@@ -12,20 +12,32 @@ struct Vec3 {
   float x, y, z;
 };
 
+// a·b − c·d with the first product fused, as clang contracts it (sphFluid.cl:1074-1085).
+float FusedDifference(float a, float b, float c, float d) { return Fma(a, b, -(c * d)); }
+
+// Sum of the six triple products, each added or subtracted with one rounding
+// (sphFluid.cl:1059-1060).
 float Determinant(const Vec3& c1, const Vec3& c2, const Vec3& c3) {
-  return c1.x * c2.y * c3.z + c1.y * c2.z * c3.x + c1.z * c2.x * c3.y - c1.z * c2.y * c3.x -
-         c1.x * c2.z * c3.y - c1.y * c2.x * c3.z;
+  float d = Fma(c1.x * c2.y, c3.z, c1.y * c2.z * c3.x);
+  d = Fma(c1.z * c2.x, c3.y, d);
+  d = Fma(-(c1.z * c2.y), c3.x, d);
+  d = Fma(-(c1.x * c2.z), c3.y, d);
+  return Fma(-(c1.y * c2.x), c3.z, d);
 }
+
+// p·e in Sibernetic's order: (x + y) then + z, both additions fused.
+float Dot3(const Vec3& p, const Vec3& e) { return Fma(p.z, e.z, Fma(p.x, e.x, p.y * e.y)); }
 
 // Projection of p onto the plane through a, b, c: the point m on the plane with (m − p)
 // orthogonal to b − a and c − a, solved by Cramer's rule. False when the system is singular.
 bool ProjectOntoPlane(const Float4& p, const Float4& a, const Float4& b, const Float4& c, Vec3* m) {
   const Vec3 ab{b.x - a.x, b.y - a.y, b.z - a.z}, ac{c.x - a.x, c.y - a.y, c.z - a.z};
-  const Vec3 n{ab.y * ac.z - ab.z * ac.y, ab.z * ac.x - ab.x * ac.z, ab.x * ac.y - ab.y * ac.x};
+  const Vec3 n{FusedDifference(ab.y, ac.z, ab.z, ac.y), FusedDifference(ab.z, ac.x, ab.x, ac.z),
+               FusedDifference(ab.x, ac.y, ab.y, ac.x)};
   // Rows: n·m = n·a (on the plane), ab·m = ab·p, ac·m = ac·p. Stored by columns.
   const Vec3 col1{n.x, ab.x, ac.x}, col2{n.y, ab.y, ac.y}, col3{n.z, ab.z, ac.z};
-  const Vec3 rhs{a.x * n.x + a.y * n.y + a.z * n.z, p.x * ab.x + p.y * ab.y + p.z * ab.z,
-                 p.x * ac.x + p.y * ac.y + p.z * ac.z};
+  const Vec3 pa{a.x, a.y, a.z}, pp{p.x, p.y, p.z};
+  const Vec3 rhs{Dot3(pa, n), Dot3(pp, ab), Dot3(pp, ac)};
   const float det = Determinant(col1, col2, col3);
   if (det == 0.0f) return false;
   *m = {Determinant(rhs, col2, col3) / det, Determinant(col1, rhs, col3) / det,
@@ -69,8 +81,7 @@ void Pcisph::InteractWithMembranes() {
           break;
         }
         const Vec3 normal{xi.x - projection.x, xi.y - projection.y, xi.z - projection.z};
-        const float length =
-            std::sqrt(normal.x * normal.x + normal.y * normal.y + normal.z * normal.z);
+        const float length = std::sqrt(Dot3(normal, normal));  // sphFluid.cl:1204-1206
         if (!(length > 0.0f)) {
           abandon = true;  // on the plane: no direction to push
           break;
@@ -88,12 +99,13 @@ void Pcisph::InteractWithMembranes() {
     float weight_sum = 0, weighted_depth = 0;
     for (int m = 0; m < found; ++m) {
       const float w = std::max(0.0f, (k_.r0_cu - distances[m]) / k_.r0_cu);
-      normal = {normal.x + normals[m].x * w, normal.y + normals[m].y * w,
-                normal.z + normals[m].z * w};
+      normal = {Fma(normals[m].x, w, normal.x), Fma(normals[m].y, w, normal.y),
+                Fma(normals[m].z, w, normal.z)};  // sphFluid.cl:1265-1267
       weight_sum += w;
-      weighted_depth += w * (k_.r0_cu - distances[m]);
+      weighted_depth = Fma(w, k_.r0_cu - distances[m], weighted_depth);
     }
-    float length = normal.x * normal.x + normal.y * normal.y + normal.z * normal.z;
+    // OpenCL dot() with w = 0, unfused as PoCL's library computes it.
+    float length = (normal.x * normal.x + normal.y * normal.y) + normal.z * normal.z;
     if (length == 0.0f) continue;
     length = std::sqrt(length);
     membrane_correction_[i] = {normal.x / length * weighted_depth / weight_sum,

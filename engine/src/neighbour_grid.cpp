@@ -44,8 +44,8 @@ struct Selection {
 }  // namespace
 
 NeighbourGrid::NeighbourGrid(const Box& box, const SphConstants& k) : box_(box), k_(k) {
-  cell_size_ = 2 * k.h_cu;
-  cell_size_inverse_ = float(1.0 / (2.0 * double(k.h_cu)));
+  cell_size_ = k.cell_size_cu;
+  cell_size_inverse_ = k.cell_size_inverse;
   // Cell coordinates are (int)(x / 2h) without subtracting xmin (sphFluid.cl:142-156).
   nx_ = std::max(1, int(std::max(box.xmax, 0.0f) * cell_size_inverse_) + 2);
   ny_ = std::max(1, int(std::max(box.ymax, 0.0f) * cell_size_inverse_) + 2);
@@ -103,7 +103,7 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
     if (j == i) return;
     const Float4& q = s.position[j];
     const float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-    selection.Offer(j, dx * dx + dy * dy + dz * dz);
+    selection.Offer(j, Fma(dz, dz, Fma(dx, dx, dy * dy)));  // sphFluid.cl:311, contracted
   };
   for (const auto& o : offsets) {
     const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];

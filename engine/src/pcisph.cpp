@@ -89,10 +89,10 @@ void Pcisph::FindNeighbours() {
 float Pcisph::DensitySum(const Neighbour* slots) const {
   float sum = 0;
   for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
-    const float r = slots[k].distance_m;
-    if (r < k_.hs_m) {
-      const float q = k_.hs2_m2 - r * r;
-      sum += q * q * q;
+    const float r2 = slots[k].distance_m * slots[k].distance_m;
+    if (r2 < k_.hs2_m2) {
+      const float q = k_.hs2_m2 - r2;
+      sum = Fma(q * q, q, sum);  // sphFluid.cl:499
     }
   }
   return sum;
@@ -120,7 +120,7 @@ void Pcisph::ComputeForces() {
       continue;
     }
     const Float4 xi = s.position[i], vi = s.velocity[i];
-    float viscosity[3] = {0, 0, 0}, cohesion[3] = {0, 0, 0};
+    float viscosity[3] = {0, 0, 0}, surface_tension[3] = {0, 0, 0};
     const Neighbour* slots = s.slots(i);
     for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
       const float r = slots[k].distance_m;
@@ -135,15 +135,16 @@ void Pcisph::ComputeForces() {
       const float dv[3] = {vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
       for (int a = 0; a < 3; ++a) viscosity[a] += ((c * dv[a]) * (k_.hs_m - r)) / 1000.0f;
       // Cohesion with every neighbour, walls included, on cu differences (sphFluid.cl:645-655).
-      const float q = k_.hs2_m2 - r * r;
-      const float w = q * q * q;
+      const float r2 = r * r;
+      const float q = k_.hs2_m2 - r2;
+      const float coefficient = k_.surface_tension * (q * q * q);
       const float dx[3] = {xi.x - xj.x, xi.y - xj.y, xi.z - xj.z};
-      for (int a = 0; a < 3; ++a) cohesion[a] += w * dx[a];
+      for (int a = 0; a < 3; ++a) surface_tension[a] = Fma(coefficient, dx[a], surface_tension[a]);
     }
     const float viscosity_scale = (1.5f * k_.mass_lap_wviscosity) / s.density[i];
     float a[3];
     for (int d = 0; d < 3; ++d)
-      a[d] = viscosity[d] * viscosity_scale + k_.gravity[d] + cohesion[d] * k_.surface_tension;
+      a[d] = viscosity[d] * viscosity_scale + k_.gravity[d] + surface_tension[d] / k_.mass_kg;
     s.acceleration[i] = {a[0], a[1], a[2], 0};
   }
 }
@@ -153,7 +154,9 @@ void Pcisph::ComputeElasticForces() {
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t e = 0; e < elastic_count_; ++e) {
     const Float4 xe = s.position[e];
-    float a[3] = {0, 0, 0};
+    // Each spring adds straight into the particle's acceleration, in slot order
+    // (sphFluid.cl:726-739): the order of the float additions is part of the result.
+    float a[3] = {s.acceleration[e].x, s.acceleration[e].y, s.acceleration[e].z};
     for (int slot = 0; slot < 32; ++slot) {
       const Float4& c = connections_[e * 32 + slot];
       if (c.x < 0) break;  // the first empty partner ends the list
@@ -163,22 +166,29 @@ void Pcisph::ComputeElasticForces() {
                           (xe.z - xj.z) * k_.scale};
       const float r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       if (r == 0) continue;
+      const float stretch = r - c.y;
+      float inward[3];  // −r̂
+      for (int k = 0; k < 3; ++k) inward[k] = -(d[k] / r);
       // Full stiffness only between two worm-body particles; every other spring is four times
       // softer (sphFluid.cl:723-731).
-      const float factor =
-          IsWormBody(xe.w) && IsWormBody(xj.w) ? 1.0f : k_.non_worm_body_spring_factor;
-      const float spring = (r - c.y) * k_.elasticity_coefficient * factor;
-      for (int k = 0; k < 3; ++k) a[k] -= d[k] / r * spring;
+      if (IsWormBody(xe.w) && IsWormBody(xj.w)) {
+        for (int k = 0; k < 3; ++k)
+          a[k] = Fma(inward[k] * stretch, k_.elasticity_coefficient, a[k]);
+      } else {
+        for (int k = 0; k < 3; ++k)
+          a[k] = Fma(inward[k] * stretch * k_.elasticity_coefficient,
+                     k_.non_worm_body_spring_factor, a[k]);
+      }
       // Muscles pull along the spring with signal·F, already an acceleration (sphFluid.cl:734-741).
       const int muscle = static_cast<int>(c.z);
       if (muscle >= 1 && muscle <= kMuscles && muscle_activation_[muscle - 1] > 0) {
-        const float pull = muscle_activation_[muscle - 1] * k_.max_muscle_force;
-        for (int k = 0; k < 3; ++k) a[k] -= d[k] / r * pull;
+        const float signal = muscle_activation_[muscle - 1];
+        for (int k = 0; k < 3; ++k) a[k] = Fma(inward[k] * signal, k_.max_muscle_force, a[k]);
       }
     }
-    s.acceleration[e].x += a[0];
-    s.acceleration[e].y += a[1];
-    s.acceleration[e].z += a[2];
+    s.acceleration[e].x = a[0];
+    s.acceleration[e].y = a[1];
+    s.acceleration[e].z = a[2];
   }
 }
 
@@ -191,19 +201,20 @@ void Pcisph::CorrectAtWalls(std::int32_t i, Float4* x, Float4* v) const {
     const std::int32_t b = slots[k].index;
     if (b < 0 || !IsBoundary(s.position[b].w)) continue;
     const Float4& xb = s.position[b];
-    const float dist = std::sqrt((x->x - xb.x) * (x->x - xb.x) + (x->y - xb.y) * (x->y - xb.y) +
-                                 (x->z - xb.z) * (x->z - xb.z));
-    const float w = std::max(0.0f, (k_.r0_cu - dist) / k_.r0_cu);  // [IAGT10] eq. 10
+    const float dx = x->x - xb.x, dy = x->y - xb.y, dz = x->z - xb.z;
+    const float dist = std::sqrt(Fma(dz, dz, Fma(dy, dy, dx * dx)));  // sphFluid.cl:786-789
+    const float w = std::max(0.0f, (k_.r0_cu - dist) / k_.r0_cu);     // [IAGT10] eq. 10
     const Float4& nb = s.velocity[b];  // a boundary's velocity slot holds its wall normal
-    normal.x += nb.x * w;
-    normal.y += nb.y * w;
-    normal.z += nb.z * w;
-    normal.w += nb.w * w;  // the 4th component takes part in the normalisation (gotcha 4)
+    normal.x = Fma(nb.x, w, normal.x);
+    normal.y = Fma(nb.y, w, normal.y);
+    normal.z = Fma(nb.z, w, normal.z);
+    normal.w = Fma(nb.w, w, normal.w);  // the 4th component takes part in the normalisation
     weight_sum += w;
-    weighted_depth += w * (k_.r0_cu - dist);
+    weighted_depth = Fma(w, k_.r0_cu - dist, weighted_depth);
   }
+  // OpenCL's dot() as PoCL's library computes it, unfused: (x² + y²) + (z² + w²).
   float length =
-      normal.x * normal.x + normal.y * normal.y + normal.z * normal.z + normal.w * normal.w;
+      (normal.x * normal.x + normal.y * normal.y) + (normal.z * normal.z + normal.w * normal.w);
   if (length == 0) return;
   length = std::sqrt(length);
   x->x += normal.x / length * weighted_depth / weight_sum;  // [IAGT10] eq. 11
@@ -211,11 +222,11 @@ void Pcisph::CorrectAtWalls(std::int32_t i, Float4* x, Float4* v) const {
   x->z += normal.z / length * weighted_depth / weight_sum;
   if (!v) return;
   // Remove the velocity into the wall along the (unnormalised) normal, then friction 0.99.
-  const float into = normal.x * v->x + normal.y * v->y + normal.z * v->z;
+  const float into = Fma(normal.z, v->z, Fma(normal.x, v->x, normal.y * v->y));
   if (into < 0) {
-    v->x -= normal.x * into;
-    v->y -= normal.y * into;
-    v->z -= normal.z * into;
+    v->x = Fma(-normal.x, into, v->x);
+    v->y = Fma(-normal.y, into, v->y);
+    v->z = Fma(-normal.z, into, v->z);
     v->x *= 0.99f;
     v->y *= 0.99f;
     v->z *= 0.99f;
@@ -231,10 +242,11 @@ void Pcisph::PredictPositions() {
     const std::int32_t i = s.moving[n];
     const Float4 a = s.acceleration[i], ap = s.pressure_acceleration[i], v = s.velocity[i],
                  x = s.position[i];
-    const float vx = v.x + k_.time_step_s * (a.x + ap.x), vy = v.y + k_.time_step_s * (a.y + ap.y),
-                vz = v.z + k_.time_step_s * (a.z + ap.z);
-    Float4 predicted{x.x + position_step * vx, x.y + position_step * vy, x.z + position_step * vz,
-                     x.w};
+    const float vx = Fma(k_.time_step_s, a.x + ap.x, v.x),
+                vy = Fma(k_.time_step_s, a.y + ap.y, v.y),
+                vz = Fma(k_.time_step_s, a.z + ap.z, v.z);
+    Float4 predicted{Fma(position_step, vx, x.x), Fma(position_step, vy, x.y),
+                     Fma(position_step, vz, x.z), x.w};
     CorrectAtWalls(i, &predicted, nullptr);  // positions only (sphFluid.cl:858-860)
     s.predicted[i] = predicted;
   }
@@ -251,11 +263,11 @@ void Pcisph::PredictDensity() {
     // Same neighbour list as x(t), distances from the predicted positions, summed in cu.
     for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
       const Float4& xj = s.predicted[slots[k].index];
-      const float d2 = (xi.x - xj.x) * (xi.x - xj.x) + (xi.y - xj.y) * (xi.y - xj.y) +
-                       (xi.z - xj.z) * (xi.z - xj.z);
+      const float dx = xi.x - xj.x, dy = xi.y - xj.y, dz = xi.z - xj.z;
+      const float d2 = Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:903-906
       if (d2 < k_.h2_cu) {
         const float q = k_.h2_cu - d2;
-        sum += q * q * q;
+        sum = Fma(q * q, q, sum);
       }
     }
     s.predicted_density[i] = k_.mass_wpoly6 * std::max(sum * k_.scale6, k_.hs6);
@@ -287,11 +299,10 @@ void Pcisph::ComputePressureAcceleration() {
       const std::int32_t j = slots[k].index;
       // Below hS/4 a fixed short-range repulsion replaces the pressure term
       // (sphFluid.cl:1000-1010).
-      const float t = r < quarter
-                          ? -(quarter - r) * (quarter - r) * k_.rest_density * k_.delta /
-                                (2 * s.predicted_density[j])
-                          : -(k_.hs_m - r) * (k_.hs_m - r) * (s.pressure[i] + s.pressure[j]) /
-                                (2 * s.predicted_density[j]);
+      const float t = r < quarter ? -(quarter - r) * (quarter - r) * 0.5f *
+                                        (k_.rest_density * k_.delta) / s.predicted_density[j]
+                                  : -(k_.hs_m - r) * (k_.hs_m - r) * 0.5f *
+                                        (s.pressure[i] + s.pressure[j]) / s.predicted_density[j];
       const Float4 xj = s.position[j];  // direction from x(t), not x* (gotcha 7)
       sum[0] += t * ((xi.x - xj.x) * k_.scale) / r;
       sum[1] += t * ((xi.y - xj.y) * k_.scale) / r;
@@ -313,11 +324,12 @@ void Pcisph::Integrate() {
     s.last_acceleration[i] = a;
     if (first) continue;  // nothing moves at step 0 (sphFluid.cl:1368-1373)
     Float4 v = s.velocity[i];
-    v = {v.x + a.x * k_.time_step_s, v.y + a.y * k_.time_step_s, v.z + a.z * k_.time_step_s, v.w};
+    v = {Fma(a.x, k_.time_step_s, v.x), Fma(a.y, k_.time_step_s, v.y),
+         Fma(a.z, k_.time_step_s, v.z), v.w};  // sphFluid.cl:1417-1418
     const Float4 x0 = s.position[i];
-    Float4 x{x0.x + v.x * k_.time_step_s * k_.inverse_scale,
-             x0.y + v.y * k_.time_step_s * k_.inverse_scale,
-             x0.z + v.z * k_.time_step_s * k_.inverse_scale, x0.w};
+    Float4 x{Fma(v.x * k_.time_step_s, k_.inverse_scale, x0.x),
+             Fma(v.y * k_.time_step_s, k_.inverse_scale, x0.y),
+             Fma(v.z * k_.time_step_s, k_.inverse_scale, x0.z), x0.w};
     CorrectAtWalls(i, &x, &v);
     s.velocity[i] = v;
     s.position[i] = x;
@@ -332,9 +344,10 @@ void Pcisph::MovePositionsLeapfrog() {
   for (std::size_t n = 0; n < s.moving.size(); ++n) {
     const std::int32_t i = s.moving[n];
     const Float4 x = s.position[i], v = s.velocity[i], a = s.last_acceleration[i];
-    s.position[i] = {x.x + (v.x * dt + a.x * dt * dt / 2.f) * k_.inverse_scale,
-                     x.y + (v.y * dt + a.y * dt * dt / 2.f) * k_.inverse_scale,
-                     x.z + (v.z * dt + a.z * dt * dt / 2.f) * k_.inverse_scale, x.w};
+    // sphFluid.cl:1455: both additions contracted.
+    s.position[i] = {Fma(Fma(v.x, dt, a.x * dt * dt / 2.f), k_.inverse_scale, x.x),
+                     Fma(Fma(v.y, dt, a.y * dt * dt / 2.f), k_.inverse_scale, x.y),
+                     Fma(Fma(v.z, dt, a.z * dt * dt / 2.f), k_.inverse_scale, x.z), x.w};
   }
 }
 

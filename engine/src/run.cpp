@@ -16,20 +16,26 @@ namespace {
 
 using internal::Pcisph;
 
-void CheckRunnable(const SiberneticConfig& c) {
+// Moving particles must start inside the box (within float rounding of its faces). Boundary
+// particles never move and only need a cell: Sibernetic's hash truncates toward zero, so a wall
+// layer up to 2h beyond a face still bins correctly (test_gravity's walls sit 0.167 cu outside);
+// owval allows h.
+void CheckRunnable(const SiberneticConfig& c, float h_cu) {
   const Box& b = c.box;
   if (!(b.xmax > b.xmin && b.ymax > b.ymin && b.zmax > b.zmin))
     throw InputError(c.source, 0,
                      "the simulation box is empty or missing (xmax > xmin etc. expected)");
-  // Sibernetic's own files put boundary particles on the faces, a few 1e-5 cu outside in float.
-  constexpr float kTolerance = 0.01f;
+  constexpr float kMovingTolerance = 0.01f;
   for (std::size_t i = 0; i < c.particle_count(); ++i) {
     const Row4& p = c.position[i];
-    if (p[0] < b.xmin - kTolerance || p[0] > b.xmax + kTolerance || p[1] < b.ymin - kTolerance ||
-        p[1] > b.ymax + kTolerance || p[2] < b.zmin - kTolerance || p[2] > b.zmax + kTolerance) {
+    const bool boundary = internal::IsBoundary(p[3]);
+    const float t = boundary ? h_cu : kMovingTolerance;
+    if (p[0] < b.xmin - t || p[0] > b.xmax + t || p[1] < b.ymin - t || p[1] > b.ymax + t ||
+        p[2] < b.zmin - t || p[2] > b.zmax + t) {
       std::ostringstream msg;
-      msg << "particle " << i << " at (" << p[0] << ", " << p[1] << ", " << p[2]
-          << ") is outside the simulation box (by more than 0.01 cu)";
+      msg << (boundary ? "boundary" : "moving") << " particle " << i << " at (" << p[0] << ", "
+          << p[1] << ", " << p[2] << ") is outside the simulation box by more than " << t << " cu ("
+          << (boundary ? "h" : "rounding") << ")";
       throw InputError(c.source, 0, msg.str());
     }
   }
@@ -93,7 +99,6 @@ void Provenance(const SiberneticConfig& config, const RunOptions& o, const Physi
 }  // namespace
 
 Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSummary* summary) {
-  CheckRunnable(config);
   RunSummary local;
   RunSummary& sum = summary ? *summary : local;
   PhysicsConstants constants = options.constants;
@@ -106,13 +111,16 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
                              "(pass --apply-physical-parameters to apply them)");
     }
   }
+  CheckRunnable(config, float(constants.h_cu));
   const bool equivalent = constants.DifferencesFromDefaults().empty() &&
                           options.integrator == Integrator::kSemiImplicitEuler;
   sum.reference_equivalent = equivalent;
   // A few hundred moving particles do not pay for a second thread's fork/join and barrier costs
   // (and a busy machine makes those barriers stall): one thread unless there is real work.
   const std::size_t moving = config.elastic_count() + config.liquid_count();
-  const int threads = options.threads > 0 ? options.threads : moving < 4096 ? 1 : omp_get_max_threads();
+  const int threads = options.threads > 0 ? options.threads
+                      : moving < 4096     ? 1
+                                          : omp_get_max_threads();
   Pcisph solver(config, constants, options.integrator, threads);
   Trajectory t;
   t.box = config.box;

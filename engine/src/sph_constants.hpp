@@ -1,6 +1,9 @@
 #pragma once
-// The numbers one PCISPH step uses, derived once from PhysicsConstants the way Sibernetic's host
-// does: in double, then cast to float (owConfigProperty.cpp), so device arithmetic stays float32.
+// The numbers one PCISPH step uses, derived once from PhysicsConstants exactly the way Sibernetic's
+// host does (inc/owPhysicsConstant.h, owConfigProperty.cpp:159-253): the base constants are floats,
+// products such as h·s and (h·s)² are formed in float, and only the kernel coefficients go
+// through double before their final cast. A last-bit difference in any of them is enough to make
+// a many-particle run drift away from the reference within a few hundred steps.
 #include <cmath>
 
 #include "owval/engine/config.hpp"
@@ -9,42 +12,46 @@ namespace owval::engine::internal {
 
 struct SphConstants {
   float h_cu, h2_cu, r0_cu;
-  float scale, inverse_scale;  // metres per cu, and its float reciprocal (135135.156)
+  float cell_size_cu, cell_size_inverse;  // hash cells are 2h wide
+  float scale, inverse_scale;             // metres per cu, and its float reciprocal (135135.156)
   float time_step_s;
   float hs_m, hs2_m2, hs6;  // h in metres, h², h⁶ (the density floor's kernel value)
-  float scale6;             // s⁶, for predicted densities summed in cu
+  float scale6;             // s⁶ as (s²·s²)·s², for predicted densities summed in cu
   float mass_kg;
   float mass_wpoly6;          // m·315/(64π hS⁹)
   float mass_grad_wspiky;     // m·(−45/(π hS⁶)), negative
-  float mass_lap_wviscosity;  // −mass_grad_wspiky
-  float surface_tension;  // −1.7e-9 · m·Wpoly6·s / m: acceleration per (hS²−r²)³·Δx[cu]
+  float mass_lap_wviscosity;  // −m·∇Wspiky
+  float surface_tension;  // −1.7e-9 · surfTensCoeff (= m·Wpoly6·s), divided by m after the sum
   float rest_density, delta;
   float elasticity_coefficient, max_muscle_force, non_worm_body_spring_factor;
   float gravity[3];
   int pcisph_iterations;
 
   static SphConstants From(const PhysicsConstants& c) {
-    constexpr double kPi = 3.14159265358979323846;
+    constexpr double kPi = 3.14159265358979323846;  // M_PI, a double, as in Sibernetic's host
     SphConstants k{};
-    const double hs = c.h_cu * c.simulation_scale;
     k.h_cu = float(c.h_cu);
-    k.h2_cu = float(c.h_cu * c.h_cu);
+    k.h2_cu = k.h_cu * k.h_cu;
     k.r0_cu = float(c.r0_cu);
+    k.cell_size_cu = 2.0f * k.h_cu;
+    k.cell_size_inverse = 1.0f / k.cell_size_cu;
     k.scale = float(c.simulation_scale);
-    k.inverse_scale = float(1.0 / c.simulation_scale);
+    k.inverse_scale = 1.0f / k.scale;
     k.time_step_s = float(c.time_step_s);
-    k.hs_m = float(hs);
-    k.hs2_m2 = float(hs * hs);
+    k.hs_m = k.h_cu * k.scale;
+    k.hs2_m2 = k.hs_m * k.hs_m;
     k.hs6 = k.hs2_m2 * k.hs2_m2 * k.hs2_m2;
-    k.scale6 = float(std::pow(c.simulation_scale, 6));
+    const float scale2 = k.scale * k.scale;
+    k.scale6 = scale2 * scale2 * scale2;
     k.mass_kg = float(c.mass_kg);
-    const double wpoly6 = 315.0 / (64.0 * kPi * std::pow(hs, 9));
-    k.mass_wpoly6 = float(c.mass_kg * wpoly6);
-    k.mass_grad_wspiky = float(c.mass_kg * (-45.0 / (kPi * std::pow(hs, 6))));
-    k.mass_lap_wviscosity = -k.mass_grad_wspiky;
-    // Sibernetic passes surfTensCoeff = m·Wpoly6·s and divides the sum by m (sphFluid.cl:645-655).
-    const float surf_tens_coeff = float(c.mass_kg * wpoly6 * c.simulation_scale);
-    k.surface_tension = float(-c.surface_tension_scale) * surf_tens_coeff / k.mass_kg;
+    const double mass = double(k.mass_kg), hs = double(k.hs_m);
+    const double wpoly6 = 315.0 / (64.0 * kPi * std::pow(hs, 9.0));
+    const double grad_wspiky = -45.0 / (kPi * std::pow(hs, 6.0));
+    k.mass_wpoly6 = float(mass * wpoly6);
+    k.mass_grad_wspiky = float(mass * grad_wspiky);
+    k.mass_lap_wviscosity = float(mass * -grad_wspiky);
+    const float surf_tens_coeff = k.mass_wpoly6 * k.scale;
+    k.surface_tension = float(-c.surface_tension_scale) * surf_tens_coeff;
     k.rest_density = float(c.rest_density);
     k.delta = float(c.delta);
     k.elasticity_coefficient = float(c.elasticity_coefficient);
@@ -55,5 +62,12 @@ struct SphConstants {
     return k;
   }
 };
+
+// a·b + c rounded once. PoCL builds Sibernetic's kernels with clang's default for OpenCL C,
+// fp-contract=on: within one expression a product feeding an addition becomes llvm.fmuladd, which
+// the x86 back end emits as an FMA instruction. The kernels here call Fma exactly where that
+// happens (the ~60 sites of sphFluid.cl) and nowhere else; the engine is compiled with
+// -ffp-contract=off so the C++ compiler adds no fusions of its own.
+inline float Fma(float a, float b, float c) { return std::fma(a, b, c); }
 
 }  // namespace owval::engine::internal
