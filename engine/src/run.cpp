@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
-#include "pcisph.hpp"
+#include "pcisph/pcisph.hpp"
 
 namespace owval::engine {
 namespace {

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/sph_constants.hpp"
 #include "owval/trajectory/trajectory.hpp"
-#include "particle_state.hpp"
-#include "sph_constants.hpp"
+#include "state/particle_state.hpp"
 
 namespace owval::engine::internal {
 
@@ -23,6 +23,15 @@ class NeighbourGrid {
   // Fills particle i's kSlots neighbour slots from x(t).
   void FindNeighbours(const ParticleState& state, std::int32_t i, Neighbour* slots) const;
 
+  // The neighbours phase of a step: re-bins the moving particles, fills their lists, sets
+  // state.active (moving particles, then the boundary particles some moving particle lists) and
+  // fills the active boundary particles' lists.
+  void Refresh(ParticleState* state, int threads);
+  // Whether the last Refresh computed particle i (moving, or a boundary particle next to one).
+  bool IsActive(std::int32_t i) const {
+    return std::size_t(i) < is_active_.size() && is_active_[std::size_t(i)] != 0;
+  }
+
  private:
   int CellCoordinate(float x, int axis) const;
   int CellIndex(int cx, int cy, int cz) const { return cx + cy * nx_ + cz * nx_ * ny_; }
@@ -34,6 +43,7 @@ class NeighbourGrid {
   // Particles per cell in ascending index order (compressed: offsets into a flat array).
   std::vector<std::int32_t> static_start_, static_items_;
   std::vector<std::int32_t> moving_start_, moving_items_;
+  std::vector<char> is_active_;  // per particle, for Refresh
 };
 
 }  // namespace owval::engine::internal

@@ -9,18 +9,22 @@
 //           time-stepping for PCISPH. VRIPHYS 2010, pp. 79-88.
 //
 // One step is a pipeline of named phases over shared ParticleState:
-//   neighbours → density → forces (viscosity, surface tension, gravity) → elastic
-//   → pressure iterations {predict, predicted density, pressure, pressure force}
+//   neighbours → density → non-pressure forces → springs
+//   → 3 × {predict positions, predicted density, correct pressure, pressure acceleration}
 //   → integrate → membranes.
+// Neighbours, density, forces, springs, walls, integrators and membranes are shared phases
+// (neighbours/, phases/); the pressure loop is what makes this scheme PCISPH and lives here.
 // Only moving particles and the boundary particles in their neighbour lists are computed;
 // boundary particles elsewhere influence nobody, so the result is the same as computing all.
+#include <cstdint>
 #include <vector>
 
-#include "neighbour_grid.hpp"
+#include "kernels/sph_constants.hpp"
+#include "neighbours/neighbour_grid.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
-#include "particle_state.hpp"
-#include "sph_constants.hpp"
+#include "state/elastic_matter.hpp"
+#include "state/particle_state.hpp"
 
 namespace owval::engine::internal {
 
@@ -34,46 +38,33 @@ class Pcisph {
   void Step();
   std::size_t steps_done() const { return step_; }
   const ParticleState& state() const { return state_; }
-  // Density of every particle at the current positions (boundary ones far from the action
-  // included), for output; the step itself needs only the active ones.
+  // Density of every particle (boundary ones far from the action included), for output.
   std::vector<float> DensityOfAll() const;
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
-  std::vector<float>& muscle_activation() { return muscle_activation_; }
+  std::vector<float>& muscle_activation() { return matter_.muscle_activation; }
   // Index of the first moving particle with a non-finite position, or -1.
   std::int64_t FirstNonFinite() const;
 
  private:
-  void FindNeighbours();
-  void MovePositionsLeapfrog();
-  void ComputeDensity();
-  void ComputeForces();
-  void ComputeElasticForces();
+  // [SP09] §3: p = 0 and a_p = 0 before the pressure loop (sphFluid.cl:664-666).
+  void ResetPressure();
+  // x* = x + dt/s·(v + dt·(a + a_p)), pushed out of the walls (positions only).
   void PredictPositions();
+  // ρ* from x*, over the x(t) neighbour lists, summed in cu.
   void PredictDensity();
+  // p += max(0, δ·(ρ* − ρ0)): only the increment is clamped.
   void CorrectPressure();
+  // a_p from p and ρ*, with x(t) distances and directions; a fixed short-range repulsion below
+  // hS/4.
   void ComputePressureAcceleration();
-  void Integrate();
-  void IntegrateLeapfrogVelocities();
-  void InteractWithMembranes();
-
-  // Ihmsen et al. 2010 §3.2 wall correction of a new position (and velocity when given) from the
-  // boundary particles in i's x(t) neighbour list.
-  void CorrectAtWalls(std::int32_t i, Float4* position, Float4* velocity) const;
-  float DensitySum(const Neighbour* slots) const;
 
   SphConstants k_;
   Integrator integrator_;
   int threads_;
   ParticleState state_;
   NeighbourGrid grid_;
-  std::vector<Float4>
-      connections_;  // 32 per elastic particle: partner, rest length (m), muscle, extra
-  std::size_t elastic_count_ = 0;
-  std::vector<std::array<int, 3>> membranes_;
-  std::vector<int> membrane_index_;  // 7 per elastic particle
-  std::vector<Float4> membrane_correction_;
-  std::vector<float> muscle_activation_;
-  std::vector<char> is_active_;
+  ElasticMatter matter_;
+  std::vector<Float4> membrane_scratch_;
   std::size_t step_ = 0;
 };
 

@@ -1,4 +1,4 @@
-#include "neighbour_grid.hpp"
+#include "neighbours/neighbour_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -125,6 +125,32 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
     slots[k].distance_m =
         selection.index[k] >= 0 ? std::sqrt(selection.distance2[k]) * k_.scale : -1.0f;
   }
+}
+
+void NeighbourGrid::Refresh(ParticleState* state, int threads) {
+  ParticleState& s = *state;
+  UpdateMoving(s);
+  const auto& moving = s.moving;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::size_t n = 0; n < moving.size(); ++n) FindNeighbours(s, moving[n], s.slots(moving[n]));
+  is_active_.resize(s.size(), 0);
+  for (std::int32_t b : s.active) is_active_[b] = 0;
+  s.active = moving;
+  for (std::int32_t i : moving) is_active_[i] = 1;
+  for (std::int32_t i : moving) {
+    const Neighbour* slots = s.slots(i);
+    for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
+      const std::int32_t j = slots[k].index;
+      if (!is_active_[j]) {
+        is_active_[j] = 1;
+        s.active.push_back(j);
+      }
+    }
+  }
+  const std::size_t first_boundary = moving.size();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::size_t n = first_boundary; n < s.active.size(); ++n)
+    FindNeighbours(s, s.active[n], s.slots(s.active[n]));
 }
 
 }  // namespace owval::engine::internal
