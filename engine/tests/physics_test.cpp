@@ -7,12 +7,12 @@
 
 #include <zlib.h>
 
-#include "neighbour_grid.hpp"
+#include "neighbours/neighbour_grid.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/trajectory/formats.hpp"
-#include "sph_constants.hpp"
+#include "kernels/sph_constants.hpp"
 
 namespace owval::engine {
 namespace {
