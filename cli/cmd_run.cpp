@@ -22,6 +22,7 @@ struct RunArgs {
   std::string out;
   std::string backend = "pcisph";
   std::string integrator = "euler";
+  std::string muscles = "auto";
   std::vector<std::string> set;
   bool apply_physical_parameters = false;
   int threads = 0;
@@ -37,6 +38,9 @@ void RunEngine(const RunArgs& a) {
   options.integrator = a.integrator == "leapfrog" ? engine::Integrator::kLeapfrog
                                                   : engine::Integrator::kSemiImplicitEuler;
   options.apply_physical_parameters = a.apply_physical_parameters;
+  options.muscle_signal = a.muscles == "off"     ? engine::MuscleSignal::kOff
+                          : a.muscles == "waves" ? engine::MuscleSignal::kSwimmingWaves
+                                                 : engine::MuscleSignal::kAuto;
   options.threads = a.threads;
   options.record_fields = !a.no_fields;
   for (const std::string& assignment : a.set) SetConstantAssignment(assignment, &options.constants);
@@ -60,6 +64,7 @@ void RunEngine(const RunArgs& a) {
       {"wall_s", summary.wall_s},
       {"steps_per_s", summary.steps_per_s},
       {"reference_equivalent", summary.reference_equivalent},
+      {"muscles_driven", summary.muscles_driven},
       {"outputs", {(out / "position_buffer.txt").string(), (out / "trajectory.h5").string()}}};
   if (a.json) {
     std::cout << result.dump(2) << "\n";
@@ -82,6 +87,10 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--backend", a->backend, "pcisph")->check(CLI::IsMember({"pcisph"}));
   cmd->add_option("--integrator", a->integrator, "euler (Sibernetic's default) or leapfrog")
       ->check(CLI::IsMember({"euler", "leapfrog"}));
+  cmd->add_option("--muscles", a->muscles,
+                  "Muscle activations: auto (Sibernetic's rule: main_sim's swimming waves when "
+                  "the configuration's name contains \"worm\"), waves, or off")
+      ->check(CLI::IsMember({"auto", "waves", "off"}));
   cmd->add_option("--set", a->set,
                   "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=3e8); the result "
                   "is then not reference-equivalent");

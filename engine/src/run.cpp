@@ -3,6 +3,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -122,16 +123,26 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
                       : moving < 4096     ? 1
                                           : omp_get_max_threads();
   Pcisph solver(config, constants, options.integrator, threads);
+  sum.muscles_driven = options.muscle_signal == MuscleSignal::kSwimmingWaves ||
+                       (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
   Trajectory t;
   t.box = config.box;
   t.time_step_s = constants.time_step_s;
   t.log_step = std::max(1, options.log_step);
   for (const Row4& p : config.position) t.type.push_back(p[3]);
   Provenance(config, options, constants, equivalent, &t);
+  t.provenance["muscle_signal"] =
+      sum.muscles_driven ? "main_sim.MuscleSimulation swimming/crawling waves (owval closed form)"
+                         : "none (all activations zero)";
   const std::size_t steps = StepCount(options.duration_s, constants.time_step_s);
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < steps; ++k) {
     solver.Step();
+    // Sibernetic asks for the next activations after each step; step k + 1 uses call k's.
+    if (sum.muscles_driven) {
+      const auto signal = MuscleSimulationSignal(double(k));
+      std::copy(signal.begin(), signal.end(), solver.muscle_activation().begin());
+    }
     const std::int64_t bad = solver.FirstNonFinite();
     if (bad >= 0) {
       const std::string dump = DumpState(solver, k);

@@ -6,24 +6,27 @@
 #include <string>
 
 #include "owval/engine/config.hpp"
+#include "owval/engine/muscles.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::engine {
 
-enum class Backend { kPcisph };                              // later: kXpbd, kWcsph
-enum class Integrator { kSemiImplicitEuler, kLeapfrog };     // Sibernetic's modes 2 and 0/1
+enum class Backend { kPcisph };                           // later: kXpbd, kWcsph
+enum class Integrator { kSemiImplicitEuler, kLeapfrog };  // Sibernetic's modes 2 and 0/1
 
 struct RunOptions {
-  double duration_s = 0.05;      // steps = (int)(duration_s / dt) computed in float, as Sibernetic
-  int log_step = 1;              // a frame after step k when k % log_step == 0
+  double duration_s = 0.05;  // steps = (int)(duration_s / dt) computed in float, as Sibernetic
+  int log_step = 1;          // a frame after step k when k % log_step == 0
   Backend backend = Backend::kPcisph;
   Integrator integrator = Integrator::kSemiImplicitEuler;
-  PhysicsConstants constants;    // Sibernetic's defaults unless changed
+  PhysicsConstants constants;  // Sibernetic's defaults unless changed
   // Apply the configuration's [physical parameters] block (Sibernetic ignores it). When true,
   // the result is labelled as no longer reference-equivalent in its provenance.
   bool apply_physical_parameters = false;
-  int threads = 0;               // 0: OpenMP default
-  bool record_fields = true;     // store velocity, density and pressure per frame
+  // Where muscle activations come from; kAuto follows Sibernetic (waves for "worm" files).
+  MuscleSignal muscle_signal = MuscleSignal::kAuto;
+  int threads = 0;            // 0: OpenMP default
+  bool record_fields = true;  // store velocity, density and pressure per frame
   // Called after every step with (steps done, total steps); may be empty.
   std::function<void(std::size_t, std::size_t)> on_step;
 };
@@ -33,8 +36,9 @@ struct RunSummary {
   std::size_t frames = 0;
   double wall_s = 0;
   double steps_per_s = 0;
-  bool reference_equivalent = true;  // false when constants differ from Sibernetic's
-  std::vector<std::string> warnings; // e.g. "[physical parameters] parsed but not applied"
+  bool reference_equivalent = true;   // false when constants differ from Sibernetic's
+  bool muscles_driven = false;        // activations came from MuscleSimulation's waves
+  std::vector<std::string> warnings;  // e.g. "[physical parameters] parsed but not applied"
 };
 
 // Runs the configuration. Throws InputError for a configuration the engine cannot run (particle
