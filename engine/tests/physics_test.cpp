@@ -7,12 +7,13 @@
 
 #include <zlib.h>
 
+#include "kernels/sph_constants.hpp"
 #include "neighbours/neighbour_grid.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/trajectory/formats.hpp"
-#include "kernels/sph_constants.hpp"
+#include "pcisph/pcisph.hpp"
 
 namespace owval::engine {
 namespace {
@@ -110,6 +111,23 @@ TEST(Step, FreeFallMatchesSemiImplicitEulerExactly) {
   for (std::size_t n : {0u, 1u, 10u, 199u})
     EXPECT_NEAR(t.coordinate(n, 0, 1), 90 - g * dt * dt * double(n) * double(n + 1) / 2 / s, 2e-4)
         << n;
+}
+
+TEST(Step, AgarTouchingWormBodyIsRelabelled) {
+  // Sibernetic's force kernel writes 2.32 into an agar particle's type when a worm-body particle
+  // is within hS (sphFluid.cl:592-595); an agar particle with no worm-body neighbour keeps 2.3.
+  SiberneticConfig c;
+  c.source = "test";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 50, 50, 2.3f}, {51.5f, 50, 50, 2.1f}, {20, 50, 50, 2.3f}};
+  c.velocity.assign(3, {0, 0, 0, 0});
+  c.connection.assign(3 * 32, {-1, 0, 0, 0});
+  c.particle_mem_index.assign(3 * 7, -1);
+  internal::Pcisph solver(c, PhysicsConstants{}, Integrator::kSemiImplicitEuler, 1);
+  solver.Step();
+  EXPECT_EQ(solver.state().position[0].w, 2.32f);
+  EXPECT_EQ(solver.state().position[1].w, 2.1f);
+  EXPECT_EQ(solver.state().position[2].w, 2.3f);
 }
 
 TEST(Step, NothingMovesAtStepZero) {

@@ -41,6 +41,24 @@ Float4 NonPressureAcceleration(const SphConstants& k, const ParticleState& s, st
   return {a[0], a[1], a[2], 0};
 }
 
+// Sibernetic's force kernel overwrites the type code of an agar particle with a worm-body
+// neighbour within hS by 2.32 (sphFluid.cl:592-595). Still agar, so no force changes, but the
+// membranes' distance uses type codes and the value persists. Done after the parallel pass, in
+// which every read of a type code sees the old value, as the forces do.
+void MarkAgarTouchingWormBody(const SphConstants& k, ParticleState* state) {
+  ParticleState& s = *state;
+  for (std::int32_t i : s.moving) {
+    if (!IsAgar(s.position[i].w)) continue;
+    const Neighbour* slots = s.slots(i);
+    for (int n = 0; n < kSlots && slots[n].index >= 0; ++n) {
+      if (slots[n].distance_m < k.hs_m && IsWormBody(s.position[slots[n].index].w)) {
+        s.position[i].w = 2.32f;
+        break;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void ComputeViscosityGravitySurfaceTension(const SphConstants& k, ParticleState* state,
@@ -51,6 +69,7 @@ void ComputeViscosityGravitySurfaceTension(const SphConstants& k, ParticleState*
     const std::int32_t i = s.active[n];
     s.acceleration[i] = IsBoundary(s.position[i].w) ? Float4{} : NonPressureAcceleration(k, s, i);
   }
+  MarkAgarTouchingWormBody(k, &s);
 }
 
 void AddSpringForces(const SphConstants& k, const ElasticMatter& matter, ParticleState* state,
