@@ -29,8 +29,13 @@ struct Selection {
     std::fill(distance2, distance2 + kSlots, h2);
     std::fill(index, index + kSlots, -1);
   }
+  // The distance² a candidate must not exceed to be taken.
+  float limit() const { return distance2[target]; }
   void Offer(std::int32_t j, float d2) {
     if (!(d2 <= distance2[target])) return;
+    Take(j, d2);
+  }
+  void Take(std::int32_t j, float d2) {
     distance2[target] = d2;
     index[target] = j;
     if (found < kSlots - 1) {
@@ -68,6 +73,13 @@ void NeighbourGrid::SetStatic(const ParticleState& s) {
         CellIndex(CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2)));
   }
   Bin(boundary, cell_of, nx_ * ny_ * nz_, &static_start_, &static_items_);
+  for (std::int32_t b : static_items_) {
+    static_x_.push_back(s.position[b].x);
+    static_y_.push_back(s.position[b].y);
+    static_z_.push_back(s.position[b].z);
+  }
+  merged_start_.assign(std::size_t(nx_) * ny_ * nz_, -1);
+  merged_count_.assign(std::size_t(nx_) * ny_ * nz_, 0);
 }
 
 void NeighbourGrid::UpdateMoving(const ParticleState& s) {
@@ -77,6 +89,46 @@ void NeighbourGrid::UpdateMoving(const ParticleState& s) {
     cell_of[n] = CellIndex(CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2));
   }
   Bin(s.moving, cell_of, nx_ * ny_ * nz_, &moving_start_, &moving_items_);
+  MergeCells(s, cell_of);
+}
+
+void NeighbourGrid::MergeCells(const ParticleState& s, const std::vector<int>& moving_cells) {
+  for (int c : merged_cells_) merged_start_[c] = -1;
+  merged_cells_.clear();
+  for (int c : moving_cells) {
+    if (merged_start_[c] >= 0) continue;
+    merged_start_[c] = 0;  // marked; offsets are set below
+    merged_cells_.push_back(c);
+  }
+  merged_items_.clear();
+  merged_x_.clear();
+  merged_y_.clear();
+  merged_z_.clear();
+  for (int c : merged_cells_) {
+    merged_start_[c] = std::int32_t(merged_items_.size());
+    // Merge the two ascending lists so candidates arrive in ascending index order, as in
+    // Sibernetic's cell-sorted array.
+    std::int32_t a = moving_start_[c], a_end = moving_start_[c + 1];
+    std::int32_t b = static_start_[c], b_end = static_start_[c + 1];
+    while (a < a_end || b < b_end) {
+      const bool take_moving = b >= b_end || (a < a_end && moving_items_[a] < static_items_[b]);
+      const std::int32_t j = take_moving ? moving_items_[a++] : static_items_[b++];
+      merged_items_.push_back(j);
+      merged_x_.push_back(s.position[j].x);
+      merged_y_.push_back(s.position[j].y);
+      merged_z_.push_back(s.position[j].z);
+    }
+    merged_count_[c] = std::int32_t(merged_items_.size()) - merged_start_[c];
+  }
+}
+
+NeighbourGrid::Segment NeighbourGrid::CellSegment(int cell) const {
+  const std::int32_t m = merged_start_[cell];
+  if (m >= 0)
+    return {&merged_items_[m], &merged_x_[m], &merged_y_[m], &merged_z_[m], merged_count_[cell]};
+  const std::int32_t b = static_start_[cell];
+  return {static_items_.data() + b, static_x_.data() + b, static_y_.data() + b,
+          static_z_.data() + b, static_start_[cell + 1] - b};
 }
 
 void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
@@ -99,24 +151,26 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
                              {0, delta[1], delta[2]},
                              {delta[0], delta[1], delta[2]}};
   Selection selection(k_.h2_cu);
-  auto offer = [&](std::int32_t j) {
-    if (j == i) return;
-    const Float4& q = s.position[j];
-    const float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-    selection.Offer(j, Fma(dz, dz, Fma(dx, dx, dy * dy)));  // sphFluid.cl:311, contracted
-  };
+  constexpr int kChunk = 128;
+  float d2[kChunk];
   for (const auto& o : offsets) {
     const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
     if (cx < 0 || cy < 0 || cz < 0 || cx >= nx_ || cy >= ny_ || cz >= nz_) continue;
-    const int cell = CellIndex(cx, cy, cz);
-    // Merge the two ascending lists so candidates arrive in ascending index order.
-    std::int32_t a = moving_start_[cell], a_end = moving_start_[cell + 1];
-    std::int32_t b = static_start_[cell], b_end = static_start_[cell + 1];
-    while (a < a_end || b < b_end) {
-      if (b >= b_end || (a < a_end && moving_items_[a] < static_items_[b])) {
-        offer(moving_items_[a++]);
-      } else {
-        offer(static_items_[b++]);
+    const Segment cell = CellSegment(CellIndex(cx, cy, cz));
+    for (int first = 0; first < cell.count; first += kChunk) {
+      const int n = std::min(kChunk, cell.count - first);
+      const float *x = cell.x + first, *y = cell.y + first, *z = cell.z + first;
+      for (int m = 0; m < n; ++m) {
+        const float dx = p.x - x[m], dy = p.y - y[m], dz = p.z - z[m];
+        d2[m] = Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:311, contracted
+      }
+      const std::int32_t* index = cell.index + first;
+      float limit = selection.limit();  // kept in a register: most candidates fail this test
+      for (int m = 0; m < n; ++m) {
+        if (d2[m] <= limit && index[m] != i) {
+          selection.Take(index[m], d2[m]);
+          limit = selection.limit();
+        }
       }
     }
   }

@@ -40,10 +40,28 @@ class NeighbourGrid {
   SphConstants k_;
   float cell_size_, cell_size_inverse_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  // Particles per cell in ascending index order (compressed: offsets into a flat array).
+  // One cell's candidates in ascending index order, with their x(t) in structure-of-arrays form
+  // so that the distances of a whole cell are computed in one vectorised loop.
+  struct Segment {
+    const std::int32_t* index;
+    const float *x, *y, *z;
+    int count;
+  };
+  Segment CellSegment(int cell) const;
+  // Rebuilds the merged segments of the cells that hold moving particles.
+  void MergeCells(const ParticleState& state, const std::vector<int>& moving_cells);
+
+  // Boundary particles per cell in ascending index order (offsets into flat arrays).
   std::vector<std::int32_t> static_start_, static_items_;
+  std::vector<float> static_x_, static_y_, static_z_;
   std::vector<std::int32_t> moving_start_, moving_items_;
-  std::vector<char> is_active_;  // per particle, for Refresh
+  // Cells with moving particles: merged (static + moving) candidates, rebuilt every step.
+  std::vector<std::int32_t> merged_start_;  // per cell, −1 when the cell has no moving particle
+  std::vector<std::int32_t> merged_count_;
+  std::vector<std::int32_t> merged_items_;
+  std::vector<float> merged_x_, merged_y_, merged_z_;
+  std::vector<int> merged_cells_;  // the cells merged in the last step
+  std::vector<char> is_active_;    // per particle, for Refresh
 };
 
 }  // namespace owval::engine::internal
