@@ -1,5 +1,7 @@
 // owval bench io: parse throughput of a large generated position_buffer.txt and HDF5 read
 // throughput of the same trajectory. Results as JSON on stdout (and --json-out FILE).
+#include <omp.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -89,7 +91,8 @@ void RunBenchIo(const BenchIoArgs& a) {
       {"hdf5_read_gb_per_s_uncompressed", position_bytes / 1e9 / read_s},
       {"hdf5_compression_level", a.hdf5.compression_level},
       {"hdf5_frames_per_chunk", a.hdf5.frames_per_chunk},
-      {"threads", 1},
+      {"threads", 1},  // text parsing
+      {"hdf5_read_threads", omp_get_max_threads()},
   };
   if (!a.keep) {
     fs::remove(text);

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <type_traits>
 
+#include "hdf5_chunks.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/mapped_file.hpp"
@@ -162,6 +164,10 @@ std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
   data.reserve(total);
   AdviseHugePages(data.data(), total * sizeof(T));
   data.resize(total);
+  if constexpr (std::is_same_v<T, float>) {
+    if (total > 0 && internal::ReadDeflatedChunksInParallel(file, set, path, dims, data.data()))
+      return data;
+  }
   if (total > 0 && H5Dread(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     throw InputError(path, 0,
                      std::string("HDF5: cannot read /") + name + " (truncated or corrupt file?)");

@@ -1,0 +1,19 @@
+#pragma once
+// Parallel read of the float datasets WriteHdf5 writes: chunked, shuffle then deflate. HDF5's own
+// filter pipeline inflates one chunk at a time on one core; here the chunks' file addresses come
+// from HDF5, their bytes from a memory map, and all cores inflate, un-shuffle and place them.
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+namespace owval::internal {
+
+// Reads float dataset `set` of shape `dims` (2 or 3 axes) into `out` (already sized). Returns
+// false, having read nothing, when the dataset is stored any other way (not chunked, other
+// filters, another element type, a user block): the caller then uses H5Dread. Throws InputError
+// naming `path` when a chunk is truncated or does not inflate to its size.
+bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, const std::string& path,
+                                  const std::vector<hsize_t>& dims, float* out);
+
+}  // namespace owval::internal

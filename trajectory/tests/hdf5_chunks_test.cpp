@@ -1,0 +1,153 @@
+// The parallel chunk reader behind ReadHdf5: same values as HDF5's own pipeline, zlib's
+// checksum, a fallback for other layouts, and corrupt chunks refused.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "adler32.hpp"
+#include "hdf5_chunks.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path TempPath(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("owval_chunks_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+// 37 frames x 2500 particles: three chunks along each axis, the last ones partial.
+Trajectory Wandering(std::size_t frames = 37, std::size_t particles = 2500) {
+  Trajectory t;
+  t.box = {0, 90, 0, 90, 0, 90};
+  t.time_step_s = 2e-5;
+  t.log_step = 20;
+  for (std::size_t p = 0; p < particles; ++p) t.type.push_back(p % 7 == 0 ? 3.1f : 1.1f);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 90.0f);
+  std::vector<float> x(particles * 3);
+  for (float& v : x) v = u(rng);
+  for (std::size_t f = 0; f < frames; ++f) {
+    for (std::size_t i = 0; i < x.size(); i += 2) x[i] += 0.01f * float(f);
+    t.AppendFrame(double(f) * 4e-4, x.data());
+  }
+  return t;
+}
+
+// positions read through HDF5's own filter pipeline.
+std::vector<float> ReadWithHdf5Pipeline(const fs::path& path, std::size_t values) {
+  std::vector<float> out(values);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
+  EXPECT_GE(H5Dread(set, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), 0);
+  H5Dclose(set);
+  H5Fclose(file);
+  return out;
+}
+
+TEST(Adler32, EqualsZlibForAnyLengthAndStart) {
+  std::mt19937 rng(1);
+  std::vector<unsigned char> data(200003);
+  for (auto& b : data) b = static_cast<unsigned char>(rng());
+  for (std::size_t length :
+       {0u, 1u, 31u, 32u, 33u, 1000u, 5535u, 5536u, 5537u, 5552u, 11072u, 65537u, 200003u}) {
+    for (std::uint32_t start : {1u, 0xfff0fff0u % 65521u, (65520u << 16) | 65520u}) {
+      EXPECT_EQ(internal::Adler32(start, data.data(), length),
+                std::uint32_t(adler32(start, data.data(), uInt(length))))
+          << length << " from " << start;
+    }
+  }
+  std::vector<unsigned char> ones(100000, 255);  // the largest sums
+  EXPECT_EQ(internal::Adler32(1, ones.data(), ones.size()),
+            std::uint32_t(adler32(1, ones.data(), uInt(ones.size()))));
+}
+
+TEST(Hdf5Chunks, ParallelReadEqualsHdf5sPipeline) {
+  for (int level : {0, 4, 9}) {  // 0: stored deflate blocks
+    const Trajectory t = Wandering();
+    const fs::path path = TempPath("wander" + std::to_string(level) + ".h5");
+    Hdf5WriteOptions options;
+    options.compression_level = level;
+    WriteHdf5(t, path, options);
+    const Trajectory back = ReadHdf5(path);
+    EXPECT_EQ(back.positions, t.positions) << level;
+    EXPECT_EQ(back.positions, ReadWithHdf5Pipeline(path, t.positions.size())) << level;
+  }
+}
+
+TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
+  const Trajectory t = Wandering(5, 100);
+  const fs::path path = TempPath("layout.h5");
+  WriteHdf5(t, path);
+  std::vector<float> out(t.positions.size());
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
+  EXPECT_TRUE(
+      internal::ReadDeflatedChunksInParallel(file, set, path.string(), {5, 100, 3}, out.data()));
+  EXPECT_EQ(out, t.positions);
+  H5Dclose(set);
+  // A contiguous dataset and a deflate-only one (as other tools write them) are left to HDF5.
+  const hsize_t dims[3] = {5, 100, 3};
+  const hid_t space = H5Screate_simple(3, dims, nullptr);
+  const hid_t plain =
+      H5Dcreate2(file, "plain", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(plain, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
+  EXPECT_FALSE(
+      internal::ReadDeflatedChunksInParallel(file, plain, path.string(), {5, 100, 3}, out.data()));
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  const hsize_t chunk[3] = {2, 50, 3};
+  H5Pset_chunk(dcpl, 3, chunk);
+  H5Pset_deflate(dcpl, 4);
+  const hid_t deflated =
+      H5Dcreate2(file, "deflated", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  H5Dwrite(deflated, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
+  EXPECT_FALSE(internal::ReadDeflatedChunksInParallel(file, deflated, path.string(), {5, 100, 3},
+                                                      out.data()));
+  H5Dclose(deflated);
+  H5Dclose(plain);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  H5Fclose(file);
+}
+
+TEST(Hdf5Chunks, CorruptChunkIsRefusedWithTheFileName) {
+  const fs::path path = TempPath("corrupt.h5");
+  WriteHdf5(Wandering(), path);
+  // Locate the first positions chunk and overwrite 16 bytes in its middle.
+  haddr_t address = 0;
+  hsize_t stored = 0;
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
+    const hsize_t origin[3] = {0, 0, 0};
+    unsigned mask = 0;
+    ASSERT_GE(H5Dget_chunk_info_by_coord(set, origin, &mask, &address, &stored), 0);
+    H5Dclose(set);
+    H5Fclose(file);
+  }
+  ASSERT_GT(stored, 64u);
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(address + stored / 2));
+    const char garbage[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+    f.write(garbage, sizeof garbage);
+  }
+  try {
+    ReadHdf5(path);
+    FAIL() << "a corrupt chunk was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("corrupt.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("chunk"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace owval
