@@ -10,27 +10,40 @@ Float4 TotalAcceleration(const ParticleState& s, std::int32_t i) {
   return {a.x + ap.x, a.y + ap.y, a.z + ap.z, 0};
 }
 
-}  // namespace
-
-void IntegrateSemiImplicitEuler(const SphConstants& k, ParticleState* state, bool first_step,
-                                int threads) {
+// The shared shape of both integrators' velocity update: a = a_i + a_p is remembered as the
+// last acceleration; after the first step, `advance(a, a_last, &v, &x)` gives the new velocity
+// and position, which the wall correction then adjusts.
+template <typename Advance>
+void IntegrateMoving(const SphConstants& k, ParticleState* state, bool first_step, int threads,
+                     Advance advance) {
   ParticleState& s = *state;
-  const float dt = k.time_step_s;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t n = 0; n < s.moving.size(); ++n) {
     const std::int32_t i = s.moving[n];
-    const Float4 a = TotalAcceleration(s, i);
+    const Float4 a = TotalAcceleration(s, i), last = s.last_acceleration[i];
     s.last_acceleration[i] = a;
     if (first_step) continue;
-    const Float4 v0 = s.velocity[i], x0 = s.position[i];
-    // sphFluid.cl:1417-1418, both additions contracted; /s is the float reciprocal.
-    Float4 v{Fma(a.x, dt, v0.x), Fma(a.y, dt, v0.y), Fma(a.z, dt, v0.z), v0.w};
-    Float4 x{Fma(v.x * dt, k.inverse_scale, x0.x), Fma(v.y * dt, k.inverse_scale, x0.y),
-             Fma(v.z * dt, k.inverse_scale, x0.z), x0.w};
+    Float4 v = s.velocity[i], x = s.position[i];
+    advance(a, last, &v, &x);
     CorrectAtWalls(k, s, i, &x, &v);
     s.velocity[i] = v;
     s.position[i] = x;
   }
+}
+
+}  // namespace
+
+void IntegrateSemiImplicitEuler(const SphConstants& k, ParticleState* state, bool first_step,
+                                int threads) {
+  const float dt = k.time_step_s, to_cu = k.inverse_scale;
+  IntegrateMoving(k, state, first_step, threads,
+                  [dt, to_cu](const Float4& a, const Float4&, Float4* v, Float4* x) {
+                    // sphFluid.cl:1417-1418, both additions contracted; /s is the float
+                    // reciprocal.
+                    *v = {Fma(a.x, dt, v->x), Fma(a.y, dt, v->y), Fma(a.z, dt, v->z), v->w};
+                    *x = {Fma(v->x * dt, to_cu, x->x), Fma(v->y * dt, to_cu, x->y),
+                          Fma(v->z * dt, to_cu, x->z), x->w};
+                  });
 }
 
 void MovePositionsLeapfrog(const SphConstants& k, ParticleState* state, int threads) {
@@ -49,22 +62,13 @@ void MovePositionsLeapfrog(const SphConstants& k, ParticleState* state, int thre
 
 void IntegrateLeapfrogVelocities(const SphConstants& k, ParticleState* state, bool first_step,
                                  int threads) {
-  ParticleState& s = *state;
   const float dt = k.time_step_s;
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = 0; n < s.moving.size(); ++n) {
-    const std::int32_t i = s.moving[n];
-    const Float4 a = TotalAcceleration(s, i), previous = s.last_acceleration[i];
-    s.last_acceleration[i] = a;
-    if (first_step) continue;
-    const Float4 v0 = s.velocity[i];
-    Float4 v{v0.x + (previous.x + a.x) * dt / 2.f, v0.y + (previous.y + a.y) * dt / 2.f,
-             v0.z + (previous.z + a.z) * dt / 2.f, v0.w};
-    Float4 x = s.position[i];
-    CorrectAtWalls(k, s, i, &x, &v);
-    s.velocity[i] = v;
-    s.position[i] = x;
-  }
+  // Positions already moved (MovePositionsLeapfrog): only the velocity changes here.
+  IntegrateMoving(k, state, first_step, threads,
+                  [dt](const Float4& a, const Float4& last, Float4* v, Float4*) {
+                    *v = {v->x + (last.x + a.x) * dt / 2.f, v->y + (last.y + a.y) * dt / 2.f,
+                          v->z + (last.z + a.z) * dt / 2.f, v->w};
+                  });
 }
 
 }  // namespace owval::engine::internal
