@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <random>
 
-#include <zlib.h>
-
 #include "kernels/sph_constants.hpp"
 #include "neighbours/neighbour_grid.hpp"
 #include "owval/base/errors.hpp"
@@ -194,21 +192,6 @@ std::vector<std::string> PrintedDifferences(const Trajectory& run, const Traject
   return differences;
 }
 
-// The reference keeps its large position file gzip-compressed.
-Trajectory ReadGzipTrajectory(const fs::path& gz) {
-  const fs::path plain = fs::temp_directory_path() / ("owval_test_" + gz.stem().string());
-  gzFile in = gzopen(gz.c_str(), "rb");
-  if (!in) throw InputError(gz.string(), 0, "cannot open");
-  std::FILE* out = std::fopen(plain.c_str(), "wb");
-  char buffer[1 << 16];
-  for (int n; (n = gzread(in, buffer, sizeof buffer)) > 0;) std::fwrite(buffer, 1, n, out);
-  gzclose(in);
-  std::fclose(out);
-  Trajectory t = ReadTrajectory(plain);
-  fs::remove(plain);
-  return t;
-}
-
 Trajectory RunReference(const std::string& name, double duration_s, int log_step) {
   RunOptions o;
   o.duration_s = duration_s;
@@ -232,8 +215,7 @@ TEST(Parity, TestEnergyLiquidBlockReproducesSiberneticWhileFalling) {
   if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
   // 29,791 liquid particles, 32-neighbour truncation everywhere: frames 0-2 (300 steps).
   const Trajectory t = RunReference("test_energy", 0.006, 100);
-  const Trajectory ref =
-      ReadGzipTrajectory(kShared / "reference/test_energy/position_buffer.txt.gz");
+  const Trajectory ref = ReadTrajectory(kShared / "reference/test_energy/position_buffer.txt.gz");
   ASSERT_EQ(t.frame_count(), 3u);
   const auto differences = PrintedDifferences(t, ref);
   EXPECT_TRUE(differences.empty()) << differences.size() << " differ, first " << differences[0];

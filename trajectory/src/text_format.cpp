@@ -6,6 +6,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "gzip.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/mapped_file.hpp"
@@ -411,6 +412,9 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
 Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadOptions& options,
                               TextReadReport* report) {
   const MappedFile file(path);
+  if (internal::IsGzip(file.text()))
+    return ParseSiberneticText(internal::Gunzip(file.text(), path.string()), path.string(), options,
+                               report);
   return ParseSiberneticText(file.text(), path.string(), options, report);
 }
 

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <zlib.h>
+
 #include "owval/base/errors.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -63,6 +65,37 @@ TEST(TextFormat, ReadsOpenCLLayoutAndFillsBoundaryFromFrameZero) {
   EXPECT_DOUBLE_EQ(t.time_s[1], 10 * 2e-5);
   EXPECT_EQ(t.count(ParticleKind::kBoundary), 2u);
   EXPECT_NE(report.description.find("opencl"), std::string::npos);
+}
+
+// Writes `text` gzip-compressed, cut to `keep` of its compressed bytes (1 = whole).
+fs::path WriteGzip(const std::string& name, const std::string& text, double keep = 1) {
+  const fs::path path = TempPath(name);
+  gzFile out = gzopen(path.c_str(), "wb");
+  gzwrite(out, text.data(), unsigned(text.size()));
+  gzclose(out);
+  if (keep < 1) fs::resize_file(path, std::uintmax_t(double(fs::file_size(path)) * keep));
+  return path;
+}
+
+TEST(TextFormat, ReadsGzipCompressedFilesAsTheyAre) {
+  const std::string text = std::string(kHeader) + kFrame0 + "2.5\t2.25\t3\t2.1\n4\t4.5\t6\t1.1\n";
+  const Trajectory plain = Parse(text);
+  const Trajectory unzipped = ReadTrajectory(WriteGzip("small.txt.gz", text));
+  EXPECT_EQ(unzipped.positions, plain.positions);
+  EXPECT_EQ(unzipped.type, plain.type);
+}
+
+TEST(TextFormat, TruncatedGzipIsRefusedWithItsName) {
+  std::string text = kHeader;
+  for (int i = 0; i < 2000; ++i) text += kFrame0;
+  const fs::path cut = WriteGzip("cut.txt.gz", text, 0.5);
+  try {
+    ReadTrajectory(cut);
+    FAIL() << "truncated gzip accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cut.txt.gz"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TextFormat, ReadsNativeLayout) {

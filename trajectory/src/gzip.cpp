@@ -1,0 +1,48 @@
+#include "gzip.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+
+#include "owval/base/errors.hpp"
+
+namespace owval::internal {
+
+std::string Gunzip(std::string_view data, const std::string& name) {
+  z_stream z{};
+  if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) throw InputError(name, 0, "gzip: out of memory");
+  std::string out;
+  out.resize(std::max<std::size_t>(data.size() * 4, 1 << 16));
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+  std::size_t consumed = 0, produced = 0;
+  int status = Z_OK;
+  while (true) {
+    const std::size_t in_chunk = std::min<std::size_t>(data.size() - consumed, 1u << 30);
+    if (produced == out.size()) out.resize(out.size() * 2);
+    const std::size_t out_chunk = std::min<std::size_t>(out.size() - produced, 1u << 30);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data() + consumed));
+    z.avail_in = uInt(in_chunk);
+    z.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
+    z.avail_out = uInt(out_chunk);
+    status = inflate(&z, Z_NO_FLUSH);
+    consumed += in_chunk - z.avail_in;
+    produced += out_chunk - z.avail_out;
+    if (status == Z_STREAM_END) {
+      if (consumed == data.size()) break;
+      inflateReset(&z);  // a further gzip member follows
+      continue;
+    }
+    if (status == Z_BUF_ERROR && consumed == data.size()) break;  // input ended mid-stream
+    if (status != Z_OK && status != Z_BUF_ERROR) break;
+  }
+  inflateEnd(&z);
+  if (status != Z_STREAM_END)
+    throw InputError(name, 0,
+                     status == Z_DATA_ERROR
+                         ? "gzip: corrupt compressed data"
+                         : "gzip: truncated file (the compressed stream ends early)");
+  out.resize(produced);
+  return out;
+}
+
+}  // namespace owval::internal
