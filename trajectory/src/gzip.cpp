@@ -13,7 +13,6 @@ std::string Gunzip(std::string_view data, const std::string& name) {
   if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) throw InputError(name, 0, "gzip: out of memory");
   std::string out;
   out.resize(std::max<std::size_t>(data.size() * 4, 1 << 16));
-  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
   std::size_t consumed = 0, produced = 0;
   int status = Z_OK;
   while (true) {

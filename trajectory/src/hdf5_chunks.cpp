@@ -161,16 +161,16 @@ std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk
 
 }  // namespace
 
-bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, const std::string& path,
+bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
                                   const std::vector<hsize_t>& dims, float* out) {
+  const std::string& path = file_bytes->path();
   const int rank = int(dims.size());
   if (rank < 2 || rank > 3) return false;
   const auto shape = ShuffleDeflateChunkShape(file, set, rank);
   // Whole components per chunk (as WriteHdf5 writes) keep the placement a row copy.
   if (!shape || (rank == 3 && (*shape)[2] != dims[2])) return false;
   const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path);
-  const MappedFile map(path);
-  const std::string_view bytes = map.text();
+  const std::string_view bytes = file_bytes->bytes();
   std::size_t chunk_bytes = sizeof(float);
   for (hsize_t d : *shape) chunk_bytes *= d;
   std::string error;

@@ -4,16 +4,35 @@
 // from HDF5, their bytes from a memory map, and all cores inflate, un-shuffle and place them.
 #include <hdf5.h>
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "owval/base/mapped_file.hpp"
+
 namespace owval::internal {
+
+// The file's bytes, mapped the first time a dataset needs them and shared by the datasets after.
+class FileBytes {
+ public:
+  explicit FileBytes(std::string path) : path_(std::move(path)) {}
+  const std::string& path() const { return path_; }
+  std::string_view bytes() {
+    if (!map_) map_.emplace(path_);
+    return map_->text();
+  }
+
+ private:
+  std::string path_;
+  std::optional<MappedFile> map_;
+};
 
 // Reads float dataset `set` of shape `dims` (2 or 3 axes) into `out` (already sized). Returns
 // false, having read nothing, when the dataset is stored any other way (not chunked, other
 // filters, another element type, a user block): the caller then uses H5Dread. Throws InputError
-// naming `path` when a chunk is truncated or does not inflate to its size.
-bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, const std::string& path,
+// naming the file when a chunk is truncated or does not inflate to its size.
+bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* bytes,
                                   const std::vector<hsize_t>& dims, float* out);
 
 }  // namespace owval::internal

@@ -132,7 +132,9 @@ namespace {
 // Reads a dataset whose shape must be exactly `expected` (0 entries mean "any").
 template <typename T>
 std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
-                           std::vector<hsize_t> expected, const std::string& path, bool required) {
+                           std::vector<hsize_t> expected, internal::FileBytes* bytes,
+                           bool required) {
+  const std::string& path = bytes->path();
   if (H5Lexists(file, name, H5P_DEFAULT) <= 0) {
     if (required) throw InputError(path, 0, std::string("HDF5: missing dataset /") + name);
     return {};
@@ -165,7 +167,7 @@ std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
   AdviseHugePages(data.data(), total * sizeof(T));
   data.resize(total);
   if constexpr (std::is_same_v<T, float>) {
-    if (total > 0 && internal::ReadDeflatedChunksInParallel(file, set, path, dims, data.data()))
+    if (total > 0 && internal::ReadDeflatedChunksInParallel(file, set, bytes, dims, data.data()))
       return data;
   }
   if (total > 0 && H5Dread(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
@@ -232,20 +234,21 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
     throw InputError(name, 0, "not a readable HDF5 file (truncated or wrong format)");
   Handle file(H5Fopen(name.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(name, 0, "cannot open HDF5 file (truncated or corrupt?)");
+  internal::FileBytes bytes(name);
   Trajectory t;
-  t.type = ReadDataset<float>(file, "type", H5T_NATIVE_FLOAT, {0}, name, true);
-  t.time_s = ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, name, true);
+  t.type = ReadDataset<float>(file, "type", H5T_NATIVE_FLOAT, {0}, &bytes, true);
+  t.time_s = ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, &bytes, true);
   const hsize_t frames = t.time_s.size(), particles = t.type.size();
   if (particles == 0)
     throw InputError(name, 0, "HDF5: /type is empty: expected at least one particle");
   t.positions =
-      ReadDataset<float>(file, "positions", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, true);
-  t.velocities =
-      ReadDataset<float>(file, "velocities", H5T_NATIVE_FLOAT, {frames, particles, 3}, name, false);
+      ReadDataset<float>(file, "positions", H5T_NATIVE_FLOAT, {frames, particles, 3}, &bytes, true);
+  t.velocities = ReadDataset<float>(file, "velocities", H5T_NATIVE_FLOAT, {frames, particles, 3},
+                                    &bytes, false);
   t.density =
-      ReadDataset<float>(file, "density", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
+      ReadDataset<float>(file, "density", H5T_NATIVE_FLOAT, {frames, particles}, &bytes, false);
   t.pressure =
-      ReadDataset<float>(file, "pressure", H5T_NATIVE_FLOAT, {frames, particles}, name, false);
+      ReadDataset<float>(file, "pressure", H5T_NATIVE_FLOAT, {frames, particles}, &bytes, false);
   ReadAttributes(file, t, name);
   return t;
 }

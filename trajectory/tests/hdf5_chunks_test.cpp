@@ -88,10 +88,10 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   const fs::path path = TempPath("layout.h5");
   WriteHdf5(t, path);
   std::vector<float> out(t.positions.size());
+  internal::FileBytes bytes(path.string());
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
-  EXPECT_TRUE(
-      internal::ReadDeflatedChunksInParallel(file, set, path.string(), {5, 100, 3}, out.data()));
+  EXPECT_TRUE(internal::ReadDeflatedChunksInParallel(file, set, &bytes, {5, 100, 3}, out.data()));
   EXPECT_EQ(out, t.positions);
   H5Dclose(set);
   // A contiguous dataset and a deflate-only one (as other tools write them) are left to HDF5.
@@ -101,7 +101,7 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
       H5Dcreate2(file, "plain", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   H5Dwrite(plain, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
   EXPECT_FALSE(
-      internal::ReadDeflatedChunksInParallel(file, plain, path.string(), {5, 100, 3}, out.data()));
+      internal::ReadDeflatedChunksInParallel(file, plain, &bytes, {5, 100, 3}, out.data()));
   const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   const hsize_t chunk[3] = {2, 50, 3};
   H5Pset_chunk(dcpl, 3, chunk);
@@ -109,8 +109,8 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   const hid_t deflated =
       H5Dcreate2(file, "deflated", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   H5Dwrite(deflated, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
-  EXPECT_FALSE(internal::ReadDeflatedChunksInParallel(file, deflated, path.string(), {5, 100, 3},
-                                                      out.data()));
+  EXPECT_FALSE(
+      internal::ReadDeflatedChunksInParallel(file, deflated, &bytes, {5, 100, 3}, out.data()));
   H5Dclose(deflated);
   H5Dclose(plain);
   H5Pclose(dcpl);

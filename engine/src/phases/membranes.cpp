@@ -113,11 +113,11 @@ void InteractWithMembranes(const SphConstants& k, const ElasticMatter& matter, P
                            std::vector<Float4>* scratch, int threads) {
   ParticleState& s = *state;
   std::vector<Float4>& correction = *scratch;
-  correction.assign(s.size(), Float4{});
+  correction.resize(s.size());  // only moving particles' entries are written and read
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t n = 0; n < s.moving.size(); ++n) {
     const std::int32_t i = s.moving[n];
-    if (IsLiquid(s.position[i].w)) correction[i] = MembraneCorrection(k, matter, s, i);
+    correction[i] = IsLiquid(s.position[i].w) ? MembraneCorrection(k, matter, s, i) : Float4{};
   }
   for (std::int32_t i : s.moving) {
     s.position[i].x += correction[i].x;
