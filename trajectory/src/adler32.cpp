@@ -1,9 +1,13 @@
 #include "adler32.hpp"
 
-#include <immintrin.h>
 #include <zlib.h>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 namespace owval::internal {
+#if defined(__x86_64__)
 namespace {
 
 constexpr std::uint32_t kBase = 65521;  // largest prime below 2^16
@@ -49,10 +53,13 @@ std::uint32_t Adler32Avx2(std::uint32_t adler, const unsigned char* data, std::s
 }
 
 }  // namespace
+#endif
 
 std::uint32_t Adler32(std::uint32_t adler, const unsigned char* data, std::size_t length) {
+#if defined(__x86_64__)
   static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
   if (avx2) return Adler32Avx2(adler, data, length);
+#endif
   return std::uint32_t(adler32_z(adler, data, length));
 }
 

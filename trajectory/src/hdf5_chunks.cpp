@@ -4,6 +4,10 @@
 
 #include <zlib.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cstring>
 #include <optional>
@@ -85,18 +89,49 @@ Placement PlacementOf(const Chunk& c, const std::vector<hsize_t>& dims,
           particles * components, shape[1] * components};
 }
 
+// Interleaves 16 elements' bytes from the four byte planes into 64 output bytes.
+void Interleave16(const unsigned char* p0, const unsigned char* p1, const unsigned char* p2,
+                  const unsigned char* p3, unsigned char* out) {
+#if defined(__SSE2__)
+  const __m128i b0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p0));
+  const __m128i b1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p1));
+  const __m128i b2 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p2));
+  const __m128i b3 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p3));
+  const __m128i low01 = _mm_unpacklo_epi8(b0, b1), high01 = _mm_unpackhi_epi8(b0, b1);
+  const __m128i low23 = _mm_unpacklo_epi8(b2, b3), high23 = _mm_unpackhi_epi8(b2, b3);
+  auto* o = reinterpret_cast<__m128i*>(out);
+  _mm_storeu_si128(o + 0, _mm_unpacklo_epi16(low01, low23));
+  _mm_storeu_si128(o + 1, _mm_unpackhi_epi16(low01, low23));
+  _mm_storeu_si128(o + 2, _mm_unpacklo_epi16(high01, high23));
+  _mm_storeu_si128(o + 3, _mm_unpackhi_epi16(high01, high23));
+#else
+  for (int e = 0; e < 16; ++e) {
+    out[4 * e + 0] = p0[e];
+    out[4 * e + 1] = p1[e];
+    out[4 * e + 2] = p2[e];
+    out[4 * e + 3] = p3[e];
+  }
+#endif
+}
+
 // Inverse of HDF5's shuffle filter for 4-byte elements (byte b of element e sits at b·n + e),
 // written straight to the chunk's place in the output.
 void UnshuffleInto(const unsigned char* in, std::size_t n, const Placement& p) {
+  const unsigned char *p0 = in, *p1 = in + n, *p2 = in + 2 * n, *p3 = in + 3 * n;
   for (std::size_t r = 0; r < p.rows; ++r) {
     auto* row = reinterpret_cast<unsigned char*>(p.out + r * p.stride);
     const std::size_t first = r * p.chunk_row_values;
-    for (std::size_t v = 0; v < p.row_values; ++v) {
+    std::size_t v = 0;
+    for (; v + 16 <= p.row_values; v += 16) {
       const std::size_t e = first + v;
-      row[4 * v + 0] = in[e];
-      row[4 * v + 1] = in[n + e];
-      row[4 * v + 2] = in[2 * n + e];
-      row[4 * v + 3] = in[3 * n + e];
+      Interleave16(p0 + e, p1 + e, p2 + e, p3 + e, row + 4 * v);
+    }
+    for (; v < p.row_values; ++v) {
+      const std::size_t e = first + v;
+      row[4 * v + 0] = p0[e];
+      row[4 * v + 1] = p1[e];
+      row[4 * v + 2] = p2[e];
+      row[4 * v + 3] = p3[e];
     }
   }
 }
