@@ -149,5 +149,31 @@ TEST(Hdf5Chunks, CorruptChunkIsRefusedWithTheFileName) {
   }
 }
 
+TEST(Hdf5Chunks, TruncatedChunkIsRefusedWithTheFileName) {
+  const fs::path path = TempPath("truncated_chunk.h5");
+  WriteHdf5(Wandering(), path);
+  {  // Store the first positions chunk again with only the first half of its bytes.
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
+    const hsize_t origin[3] = {0, 0, 0};
+    hsize_t stored = 0;
+    ASSERT_GE(H5Dget_chunk_storage_size(set, origin, &stored), 0);
+    ASSERT_GT(stored, 64u);
+    std::vector<unsigned char> chunk(stored);
+    std::uint32_t filters = 0;
+    ASSERT_GE(H5Dread_chunk(set, H5P_DEFAULT, origin, &filters, chunk.data()), 0);
+    ASSERT_GE(H5Dwrite_chunk(set, H5P_DEFAULT, filters, origin, stored / 2, chunk.data()), 0);
+    H5Dclose(set);
+    H5Fclose(file);
+  }
+  try {
+    ReadHdf5(path);
+    FAIL() << "a truncated chunk was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated_chunk.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("chunk"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace owval
