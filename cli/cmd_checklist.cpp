@@ -4,18 +4,34 @@
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/ci/checklist.hpp"
+#include "owval/scenarios/scenario.hpp"
 
 namespace owval::cli {
 namespace {
 
 struct ChecklistArgs {
   std::string directory;
+  std::string scenario, manifest, git_range;
   std::string markdown;
   bool json = false;
 };
 
 void RunChecklistCommand(const ChecklistArgs& a) {
-  const ci::ChecklistReport report = ci::RunChecklist(a.directory);
+  ci::ChecklistOptions options;
+  if (!a.scenario.empty()) {
+    const scenarios::Scenario s = scenarios::LoadScenario(a.scenario, DataDir());
+    options.gates = s.gates;
+    options.track = s.track;
+  }
+  if (!a.manifest.empty()) {
+    compare::ParityOptions parity;
+    scenarios::ApplyManifestFile(a.manifest, &parity);
+    options.gates = parity.gates;
+    options.track = parity.track;
+  }
+  options.git_range = a.git_range;
+  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  const ci::ChecklistReport report = ci::RunChecklist(a.directory, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
   std::cout << (a.json ? report.ToJson().dump(2) + "\n" : report.ToMarkdown());
   SetExitCode(report.exit_code());
@@ -24,9 +40,22 @@ void RunChecklistCommand(const ChecklistArgs& a) {
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<ChecklistArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "checklist", "Phase 8: the 10-item PR checklist over an artifact directory");
+      "checklist",
+      "Phase 8: the 10-item PR checklist and the parity gate over an artifact directory");
+  cmd->footer(
+      "Verdict: ready (exit 0) when all ten items and the parity gate pass; incomplete but not "
+      "blocking (exit 0) when only items 7-10 fail; not ready (exit 1) when item 1, 4, 5, 6 or "
+      "the parity gate fails; unreviewable (exit 1) when item 2 or 3 fails. Gate thresholds come "
+      "from --scenario or --manifest (else DD001's defaults), never from the directory itself.");
   cmd->add_option("directory", args->directory, "PR artifact directory (see docs/checklist.md)")
       ->required();
+  auto* scenario = cmd->add_option("--scenario", args->scenario,
+                                   "Built-in scenario whose track and gates apply");
+  cmd->add_option("--manifest", args->manifest,
+                  "Scenario manifest JSON whose track and gates apply")
+      ->excludes(scenario);
+  cmd->add_option("--git-range", args->git_range,
+                  "BASE..HEAD: check that prediction.json was committed before the trajectories");
   cmd->add_option("--markdown", args->markdown, "Also write the Markdown comment to this file");
   cmd->add_flag("--json", args->json, "Machine-readable output");
   cmd->callback([args] { RunChecklistCommand(*args); });

@@ -1,13 +1,11 @@
 // owval compare REF CAND: the parity report a backend port must pass (exit 1 when a gate fails).
-#include <cstdio>
 #include <iostream>
-#include <sstream>
 
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
-#include "owval/trajectory/formats.hpp"
+#include "owval/scenarios/scenario.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -17,73 +15,91 @@ struct CompareArgs {
   std::string reference, candidate;
   std::optional<std::size_t> particle;
   std::string group;
-  std::string axis = "y";
+  std::optional<std::string> axis;
   std::string frames;
-  std::optional<double> scale, threshold;
+  std::optional<double> scale;
   std::string manifest;
   std::string markdown;
   bool json = false;
+  // Gate thresholds given as flags, by the ParityGates member they set.
+  std::vector<std::pair<compare::Threshold compare::ParityGates::*, std::optional<double>>> gates;
 };
 
-// Scenario manifests may carry gate thresholds: {"gates": {"frame_threshold": 0.05,
-// "period_gap_threshold": 0.02, "amplitude_gap_threshold": 0.05}, "track": {"particle": 0,
-// "group": "", "axis": "y"}}. Command-line flags override them.
-void ApplyManifest(const std::string& path, compare::ParityOptions* o) {
-  const nlohmann::json m = [&] {
-    try {
-      return nlohmann::json::parse(ReadWholeFile(path));
-    } catch (const nlohmann::json::parse_error& e) {
-      throw InputError(path, 0, std::string("not valid JSON: ") + e.what());
-    }
-  }();
-  const nlohmann::json gates = m.value("gates", nlohmann::json::object());
-  o->frame_threshold = gates.value("frame_threshold", o->frame_threshold);
-  o->period_gap_threshold = gates.value("period_gap_threshold", o->period_gap_threshold);
-  o->amplitude_gap_threshold = gates.value("amplitude_gap_threshold", o->amplitude_gap_threshold);
-  const nlohmann::json track = m.value("track", nlohmann::json::object());
-  o->particle = track.value("particle", o->particle);
-  o->group = track.value("group", o->group);
-  if (track.contains("axis")) o->axis = ParseAxis(track["axis"].get<std::string>());
+const char* kGatesHelp =
+    "Gates (each printed with value, threshold and source; flags override a --manifest's "
+    "\"gates\", which override the defaults): frames: |cand-ref|/reference range of the tracked "
+    "scalar at each gated frame < 0.05; period and half_amplitude: relative gaps < 0.02 and "
+    "< 0.05, applied only when both signals have >= 4 upward mean crossings (else n/a); per "
+    "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
+    "per axis), final_distance (last frame), each < 0.05 of the box; particle_distance.initial/"
+    "mean/final of moving particles < 0.05 of the box. Both runs are measured over their common "
+    "time window only.";
+
+void AddGateFlag(CLI::App* cmd, CompareArgs* a, const std::string& flag,
+                 compare::Threshold compare::ParityGates::*member, const std::string& help) {
+  a->gates.emplace_back(member, std::nullopt);
+  cmd->add_option(flag, a->gates.back().second, help)->check(CLI::PositiveNumber);
+}
+
+compare::ParityOptions Options(const CompareArgs& a) {
+  compare::ParityOptions o;
+  if (!a.manifest.empty()) scenarios::ApplyManifestFile(a.manifest, &o);
+  if (a.particle) o.track = Track{*a.particle, "", o.track.axis};
+  if (!a.group.empty()) o.track.group = a.group;
+  if (a.axis) o.track.axis = ParseAxisName(*a.axis);
+  if (!a.frames.empty()) o.sample_frames = ParseIndexList(a.frames, "--frames");
+  o.scale = a.scale;
+  for (const auto& [member, value] : a.gates)
+    if (value) o.gates.*member = {*value, compare::ThresholdSource::kFlag};
+  return o;
 }
 
 void RunCompare(const CompareArgs& a) {
-  compare::ParityOptions options;
-  if (!a.manifest.empty()) ApplyManifest(a.manifest, &options);
-  if (a.particle) options.particle = *a.particle;
-  if (!a.group.empty()) options.group = a.group;
-  options.axis = ParseAxis(a.axis);
-  if (!a.frames.empty()) options.sample_frames = ParseIndexList(a.frames, "--frames");
-  options.scale = a.scale;
-  if (a.threshold) options.frame_threshold = *a.threshold;
+  const compare::ParityOptions options = Options(a);
+  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
   const Trajectory reference = ReadTrajectoryArgument(a.reference);
   const Trajectory candidate = ReadTrajectoryArgument(a.candidate);
   const compare::ParityReport report = compare::CompareTrajectories(reference, candidate, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
-  if (a.json) {
-    std::cout << report.ToJson().dump(2) << "\n";
-  } else {
-    std::cout << report.ToTable();
-  }
+  std::cout << (a.json ? report.ToJson().dump(2) + "\n" : report.ToTable());
   if (!report.pass()) SetExitCode(kExitGateFailed);
 }
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
+  args->gates.reserve(16);
   CLI::App* cmd = app.add_subcommand(
       "compare", "Phase 7: frame-by-frame parity of a candidate against a reference");
+  cmd->footer(kGatesHelp);
   cmd->add_option("reference", args->reference, "Reference trajectory")->required();
   cmd->add_option("candidate", args->candidate, "Candidate trajectory")->required();
   auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)");
   cmd->add_option("--group", args->group, "Track a group centroid: elastic, liquid, all")
       ->excludes(particle)
       ->check(CLI::IsMember({"elastic", "liquid", "all"}));
-  cmd->add_option("--axis", args->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));
+  cmd->add_option("--axis", args->axis, "x, y or z (default y)")
+      ->check(CLI::IsMember({"x", "y", "z"}));
   cmd->add_option("--frames", args->frames,
-                  "Reference frames to gate, e.g. 0,15,100,200 (default: all)");
-  cmd->add_option("--scale", args->scale, "Scale for |delta| in cu (default: reference range)");
-  cmd->add_option("--threshold", args->threshold,
-                  "Frame gate: |delta|/scale must stay below (default 0.05)");
-  cmd->add_option("--manifest", args->manifest, "Scenario manifest JSON with gate thresholds");
+                  "Reference frames to gate, e.g. 0,15,100,200 (default: all paired)");
+  cmd->add_option("--scale", args->scale,
+                  "Scale for the frame gate in cu (default: reference range)")
+      ->check(CLI::PositiveNumber);
+  using G = compare::ParityGates;
+  AddGateFlag(cmd, args.get(), "--threshold", &G::frame, "frames gate (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--period-gap", &G::period_gap, "period gate (default 0.02)");
+  AddGateFlag(cmd, args.get(), "--amplitude-gap", &G::amplitude_gap,
+              "half_amplitude gate (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--min-crossings", &G::min_crossings,
+              "Upward crossings both signals need for the oscillation gates (default 4)");
+  AddGateFlag(cmd, args.get(), "--centroid-threshold", &G::centroid_distance,
+              "centroid_distance gates, fraction of the box (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--extent-threshold", &G::extent,
+              "extent gates, fraction of the box extent (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--final-threshold", &G::final_distance,
+              "final_distance gates, fraction of the box (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--particle-threshold", &G::particle_distance,
+              "particle_distance gates, fraction of the box (default 0.05)");
+  cmd->add_option("--manifest", args->manifest, "Scenario manifest JSON (its track and gates)");
   cmd->add_option("--markdown", args->markdown, "Also write the report as Markdown (for a PR)");
   cmd->add_flag("--json", args->json, "Machine-readable output");
   cmd->callback([args] { RunCompare(*args); });

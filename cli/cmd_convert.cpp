@@ -15,6 +15,7 @@ struct ConvertArgs {
 };
 
 void RunConvert(const ConvertArgs& a) {
+  CheckTrajectoryOutput(a.out);
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
   WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
@@ -28,7 +29,9 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
   cmd->add_option("input", args->in, "Input trajectory")->required();
-  cmd->add_option("output", args->out, "Output (.h5/.hdf5 = HDF5, else Sibernetic text)")
+  cmd->add_option(
+         "output", args->out,
+         "Output: .h5/.hdf5 (owval HDF5) or .txt (Sibernetic text); other extensions are refused")
       ->required();
   cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));

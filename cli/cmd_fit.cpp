@@ -9,7 +9,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
-#include "owval/reports/svg_plot.hpp"
+#include "owval/reports/pipeline_report.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/targets.hpp"
@@ -79,7 +79,7 @@ void RunFit(const FitArgs& a) {
   const nlohmann::json history = sgd::ToJson(options, parameters, summary, targets_json);
   WriteFileAtomically(out / "history.json", history.dump(2) + "\n");
   WriteFileAtomically(out / "parameters.json", history["final"].dump(2) + "\n");
-  WriteFileAtomically(out / "convergence.svg", ConvergencePlot(summary));
+  WriteFileAtomically(out / "convergence.svg", reports::ConvergencePlot(summary));
   if (a.json) {
     std::cout << history.dump(2) << "\n";
   } else {

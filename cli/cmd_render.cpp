@@ -4,6 +4,7 @@
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/compare/parity.hpp"
 #include "owval/render/render.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
@@ -18,10 +19,28 @@ struct RenderArgs {
   std::size_t max_frames = 0;
   float liquid_opacity = 1.0f;
   std::optional<std::size_t> track_particle;
+  std::string track_group;
   std::string track_axis = "y";
+  std::string label_ref, label_cand;
+  bool no_box = false, no_gate = false;
+  std::optional<double> threshold;
   std::string connections;  // configuration whose [connection] block is drawn
   bool json = false;
 };
+
+// A panel's default name: the file's stem, or its folder's name for generic file names
+// (position_buffer.txt, trajectory.h5).
+std::string LabelFor(const std::string& path, const char* fallback) {
+  if (path.empty()) return fallback;
+  std::filesystem::path p(path);
+  while (p.has_extension()) p = p.stem();
+  const std::string stem = p.filename().string();
+  if (stem == "position_buffer" || stem == "trajectory") {
+    const std::string folder = std::filesystem::path(path).parent_path().filename().string();
+    return folder.empty() ? fallback : folder;
+  }
+  return stem.empty() ? fallback : stem;
+}
 
 render::RenderOptions Options(const RenderArgs& a) {
   if (a.out.empty()) throw InputError("-o/--out is required");
@@ -42,8 +61,28 @@ render::RenderOptions Options(const RenderArgs& a) {
         o.connections.emplace_back(std::uint32_t(row / engine::kConnectionSlots),
                                    std::uint32_t(config.connection[row][0]));
   }
-  if (a.track_particle) o.tracking = render::Tracking{*a.track_particle, ParseAxis(a.track_axis)};
+  if (a.track_particle || !a.track_group.empty())
+    o.tracking = Track{a.track_particle.value_or(0), a.track_group, ParseAxisName(a.track_axis)};
+  o.draw_box = !a.no_box;
+  o.reference_label = a.label_ref.empty() ? LabelFor(a.reference, "reference") : a.label_ref;
+  o.candidate_label = a.label_cand.empty() ? LabelFor(a.candidate, "candidate") : a.label_cand;
   return o;
+}
+
+// Phase 7's frame gate at the rendered frames, as owval compare --frames computes it: exit 1
+// when a frame breaks it (unless --no-gate), and the gate printed either way.
+void GateFrames(const RenderArgs& a, const Trajectory& ref, const Trajectory& cand,
+                const render::RenderOptions& o, const std::vector<std::size_t>& at) {
+  compare::ParityOptions parity;
+  parity.track = *o.tracking;
+  parity.sample_frames = at;
+  if (a.threshold) parity.gates.frame = {*a.threshold, compare::ThresholdSource::kFlag};
+  const compare::ParityReport r = compare::CompareTrajectories(ref, cand, parity);
+  std::cerr << "frame gates at " << a.at << (a.no_gate ? " (not gating: --no-gate)" : "") << "\n"
+            << compare::GatesTextTable({*r.gate("frames"), *r.gate("frames.group_centroids")});
+  const bool failed = r.gate("frames")->status == compare::GateStatus::kFail ||
+                      r.gate("frames.group_centroids")->status == compare::GateStatus::kFail;
+  if (failed && !a.no_gate) SetExitCode(kExitGateFailed);
 }
 
 void Print(const render::VideoSummary& s, const std::string& out, bool json) {
@@ -69,8 +108,14 @@ void AddCommon(CLI::App* cmd, RenderArgs* a) {
   cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1");
   cmd->add_option("--track-particle", a->track_particle,
                   "Print this particle's coordinate on each panel");
+  cmd->add_option("--track-group", a->track_group, "Print this group's centroid instead")
+      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
   cmd->add_option("--track-axis", a->track_axis, "x, y or z")
       ->check(CLI::IsMember({"x", "y", "z"}));
+  cmd->add_option("--label-ref", a->label_ref, "Left panel's name (default: from the file name)");
+  cmd->add_option("--label-cand", a->label_cand,
+                  "Right panel's name (default: from the file name)");
+  cmd->add_flag("--no-box", a->no_box, "Do not draw the simulation box and its floor");
   cmd->add_option("--title", a->title, "Title line");
   cmd->add_option("--connections", a->connections,
                   "Draw the elastic connections of this configuration (file or scenario) as lines");
@@ -110,12 +155,24 @@ void SetUp(CLI::App& app) {
   frames->add_option("candidate", a->candidate)->required();
   frames->add_option("--at", a->at, "Reference frame indices, e.g. 0,15,100,200");
   AddCommon(frames, a.get());
+  frames
+      ->add_option("--threshold", a->threshold,
+                   "Frame gate: |delta| / reference range must stay below (default 0.05)")
+      ->check(CLI::PositiveNumber);
+  frames->footer(
+      "Gates at the sampled frames (as owval compare --frames): frames: |delta| of the tracked "
+      "value / the reference's range < 0.05 (--threshold); frames.group_centroids: each moving "
+      "group's centroid distance / the box's largest extent < 0.05. Exit 1 when one fails.");
+  frames->add_flag("--no-gate", a->no_gate, "Exit 0 even when a frame breaks the gate");
   frames->callback([a] {
     RenderArgs args = *a;
-    if (!args.track_particle) args.track_particle = 0;
-    const auto result = render::RenderFrames(ReadTrajectoryArgument(a->reference),
-                                             ReadTrajectoryArgument(a->candidate),
-                                             ParseIndexList(a->at, "--at"), Options(args), a->out);
+    if (!args.track_particle && args.track_group.empty()) args.track_particle = 0;
+    const render::RenderOptions options = Options(args);
+    const Trajectory ref = ReadTrajectoryArgument(a->reference);
+    const Trajectory cand = ReadTrajectoryArgument(a->candidate);
+    const std::vector<std::size_t> at = ParseIndexList(a->at, "--at");
+    const auto result = render::RenderFrames(ref, cand, at, options, a->out);
+    GateFrames(*a, ref, cand, options, at);
     std::cout << (a->json
                       ? result.dump(2)
                       : "wrote " + std::to_string(result["frames"].size()) + " frames to " + a->out)

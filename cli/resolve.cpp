@@ -5,7 +5,6 @@
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
-#include "owval/reports/svg_plot.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 
@@ -50,20 +49,6 @@ std::vector<std::size_t> ParseIndexList(const std::string& text, const std::stri
     }
   }
   return indices;
-}
-
-std::string ConvergencePlot(const sgd::FitSummary& summary) {
-  reports::Series loss{"loss L", {}, {}};
-  for (const sgd::Iteration& it : summary.iterations) {
-    loss.x.push_back(it.iteration);
-    loss.y.push_back(it.loss);
-  }
-  reports::PlotOptions o;
-  o.title = "fit convergence";
-  o.x_label = "iteration";
-  o.y_label = "loss (log scale)";
-  o.log_y = true;
-  return reports::SvgLinePlot({loss}, o);
 }
 
 }  // namespace owval::cli

@@ -23,7 +23,4 @@ Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& la
 // "0,15,100,200" → indices; InputError naming `flag` on anything else.
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag);
 
-// The loss-per-iteration plot of a fit (SVG, log scale), as owval fit and the pipeline save it.
-std::string ConvergencePlot(const sgd::FitSummary& summary);
-
 }  // namespace owval::cli

@@ -2,26 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
 #include <sstream>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
+#include "owval/predict/predict.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
 namespace {
 
-using Check = void (*)(const fs::path& dir, ChecklistItem* item);
+// What every item's check may read: the directory, the caller's options and the two
+// trajectories (each read once; empty when missing or unreadable).
+struct Evidence {
+  fs::path dir;
+  ChecklistOptions options;
+  std::optional<Trajectory> reference, candidate;
+};
 
-nlohmann::json ReadJson(const fs::path& path) {
-  try {
-    return nlohmann::json::parse(ReadWholeFile(path));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path.string(), 0, std::string("not valid JSON: ") + e.what());
-  }
-}
+using Check = void (*)(const Evidence& e, ChecklistItem* item);
 
 // The first of `names` that exists in dir, or empty.
 fs::path FirstExisting(const fs::path& dir, std::initializer_list<const char*> names) {
@@ -30,13 +31,45 @@ fs::path FirstExisting(const fs::path& dir, std::initializer_list<const char*> n
   return {};
 }
 
-void CheckPrediction(const fs::path& dir, ChecklistItem* item) {
-  const nlohmann::json p = ReadJson(dir / "prediction.json");
-  if (!p.contains("predictions") || p["predictions"].empty())
-    throw InputError((dir / "prediction.json").string(), 0,
+std::optional<Trajectory> TryRead(const fs::path& file) {
+  if (file.empty()) return std::nullopt;
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  try {
+    return ReadTrajectory(file, quiet);
+  } catch (const std::exception&) {
+    return std::nullopt;  // the item's own check reads it again and reports why
+  }
+}
+
+const Trajectory& Need(const std::optional<Trajectory>& t, const char* which) {
+  if (!t) throw InputError(std::string("the ") + which + " trajectory is missing or unreadable");
+  return *t;
+}
+
+std::string Percent(double fraction) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g%%", fraction * 100);
+  return b;
+}
+
+void CheckPrediction(const Evidence& e, ChecklistItem* item) {
+  const nlohmann::json p = ReadJsonFile(e.dir / "prediction.json");
+  if (!p.is_object() || !p.contains("predictions") || !p["predictions"].is_array() ||
+      p["predictions"].empty())
+    throw InputError((e.dir / "prediction.json").string(), 0,
                      "expected a non-empty \"predictions\" list");
   item->detail = std::to_string(p["predictions"].size()) + " predicted quantities";
-  item->pass = true;
+  if (e.options.git_range.empty()) {
+    item->pass = true;
+    item->detail +=
+        "; written before the run: NOT CHECKED (a plain directory has no order; pass "
+        "--git-range BASE..HEAD)";
+    return;
+  }
+  std::string order;
+  item->pass = PredictionCommittedFirst(e.dir, e.options.git_range, &order);
+  item->detail += "; " + order;
 }
 
 void CheckTrajectory(const fs::path& file, ChecklistItem* item) {
@@ -51,15 +84,15 @@ void CheckTrajectory(const fs::path& file, ChecklistItem* item) {
   if (!item->pass) item->detail += " (expected at least 2 frames)";
 }
 
-void CheckReference(const fs::path& dir, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(dir, {"reference.h5", "reference.txt"}), item);
+void CheckReference(const Evidence& e, ChecklistItem* item) {
+  CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), item);
 }
-void CheckCandidate(const fs::path& dir, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(dir, {"candidate.h5", "candidate.txt"}), item);
+void CheckCandidate(const Evidence& e, ChecklistItem* item) {
+  CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), item);
 }
 
-void CheckVideo(const fs::path& dir, ChecklistItem* item) {
-  const VideoInfo v = ProbeVideo(dir / "sxs.mp4");
+void CheckVideo(const Evidence& e, ChecklistItem* item) {
+  const VideoInfo v = ProbeVideo(e.dir / "sxs.mp4");
   std::ostringstream s;
   s << v.codec << " " << v.width << "x" << v.height << ", " << v.decoded_frames
     << " frames decoded, " << v.duration_s << " s";
@@ -71,95 +104,154 @@ void CheckVideo(const fs::path& dir, ChecklistItem* item) {
   item->pass = two_panels && v.codec == "h264";
 }
 
-// The tracked value of a frames.json entry against the trajectory at the same frame.
-bool ValueAgrees(const Trajectory& t, std::size_t frame, const nlohmann::json& track,
-                 double value) {
-  if (frame >= t.frame_count()) return false;
-  const int axis = ParseAxis(track.value("axis", std::string("y")));
-  double actual;
-  if (track.contains("group") && !track["group"].get<std::string>().empty()) {
-    actual = Centroid(t, frame, GroupIndices(t, track["group"].get<std::string>()))[axis];
-  } else {
-    actual = t.coordinate(frame, track.value("particle", std::size_t{0}), axis);
-  }
-  return std::abs(actual - value) <= 1e-3 * std::max(1.0, std::abs(actual));
-}
-
-void CheckFrames(const fs::path& dir, ChecklistItem* item) {
-  const fs::path frames_dir = dir / "frames";
+std::size_t DecodedPngs(const fs::path& frames_dir) {
   std::size_t pngs = 0;
   if (fs::is_directory(frames_dir))
-    for (const auto& e : fs::directory_iterator(frames_dir))
-      if (e.path().extension() == ".png") {
-        ProbePng(e.path());
+    for (const auto& entry : fs::directory_iterator(frames_dir))
+      if (entry.path().extension() == ".png") {
+        ProbePng(entry.path());
         ++pngs;
       }
-  const nlohmann::json j = ReadJson(frames_dir / "frames.json");
-  TextReadOptions quiet;
-  quiet.quiet = true;
-  const Trajectory ref =
-      ReadTrajectory(FirstExisting(dir, {"reference.h5", "reference.txt"}), quiet);
-  const Trajectory cand =
-      ReadTrajectory(FirstExisting(dir, {"candidate.h5", "candidate.txt"}), quiet);
-  const nlohmann::json track = j.value("track", nlohmann::json::object());
+  return pngs;
+}
+
+// The labelled values of frames.json against the trajectories: returns how many agree.
+std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, const Trajectory& ref,
+                           const Trajectory& cand, std::vector<std::size_t>* reference_frames) {
+  auto agrees = [&](const Trajectory& t, const nlohmann::json& frame, const nlohmann::json& value) {
+    if (!frame.is_number_unsigned() || !value.is_number()) return false;
+    const double actual = track.ValueAt(t, frame.get<std::size_t>());
+    return std::abs(actual - value.get<double>()) <= 1e-3 * std::max(1.0, std::abs(actual));
+  };
   std::size_t agree = 0;
-  for (const auto& f : j.at("frames")) {
-    const bool ok = ValueAgrees(ref, f.at("reference_frame"), track, f.at("reference_value")) &&
-                    ValueAgrees(cand, f.at("candidate_frame"), track, f.at("candidate_value"));
-    agree += ok;
+  for (const auto& f : entries) {
+    if (!f.is_object()) continue;
+    const nlohmann::json none;
+    const auto& rf = f.contains("reference_frame") ? f["reference_frame"] : none;
+    agree += agrees(ref, rf, f.value("reference_value", none)) &&
+             agrees(cand, f.value("candidate_frame", none), f.value("candidate_value", none));
+    if (rf.is_number_unsigned()) reference_frames->push_back(rf.get<std::size_t>());
   }
-  const std::size_t listed = j.at("frames").size();
+  return agree;
+}
+
+void CheckFrames(const Evidence& e, ChecklistItem* item) {
+  const std::size_t pngs = DecodedPngs(e.dir / "frames");
+  const fs::path json_path = e.dir / "frames" / "frames.json";
+  const nlohmann::json j = ReadJsonFile(json_path);
+  if (!j.is_object() || !j.contains("frames") || !j["frames"].is_array())
+    throw InputError(json_path.string(), 0, "expected an object with a \"frames\" list");
+  const Track track = e.options.track.value_or(
+      Track::FromJson(j.value("track", nlohmann::json::object()), json_path.string()));
+  const Trajectory& ref = Need(e.reference, "reference");
+  const Trajectory& cand = Need(e.candidate, "candidate");
+  std::vector<std::size_t> sampled;
+  const std::size_t agree = AgreeingLabels(j["frames"], track, ref, cand, &sampled);
+  const std::size_t listed = j["frames"].size();
   item->detail = std::to_string(pngs) + " PNGs decode; " + std::to_string(agree) + "/" +
                  std::to_string(listed) + " labelled values agree with the trajectories";
   item->pass = pngs >= 3 && listed >= 3 && agree == listed;
+  if (sampled.empty()) return;
+  // The frame gate at the sampled frames, as `owval compare --frames` computes it.
+  const compare::ParityReport p =
+      compare::CompareTrajectories(ref, cand, {track, sampled, std::nullopt, e.options.gates});
+  const compare::Gate& gate = *p.gate("frames");
+  item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
+                  Percent(gate.value) + " of the reference range (gate < " +
+                  Percent(gate.threshold.value) + ")";
+  if (gate.status == compare::GateStatus::kFail) {
+    item->pass = false;
+    item->detail += ", FAILS at frames";
+    for (std::size_t f : p.failing_frames) item->detail += " " + std::to_string(f);
+  }
+  if (const compare::Gate* groups = p.gate("frames.group_centroids")) {
+    item->detail += "; group centroids at the sampled frames: worst " + Percent(groups->value) +
+                    " of the box (gate < " + Percent(groups->threshold.value) + ")";
+    if (groups->status == compare::GateStatus::kFail) {
+      item->pass = false;
+      item->detail += ", FAILS: " + groups->detail;
+    }
+  }
 }
 
-void CheckFitHistory(const fs::path& dir, ChecklistItem* item) {
-  const fs::path path = dir / "fit" / "history.json";
-  const nlohmann::json h = ReadJson(path);
+void CheckFitHistory(const Evidence& e, ChecklistItem* item) {
+  const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
+  if (!h.is_object())
+    throw InputError((e.dir / "fit/history.json").string(), 0, "expected an object");
   const bool converged = h.value("converged", false);
-  const std::size_t iterations = h.contains("iterations") ? h["iterations"].size() : 0;
+  const std::size_t iterations =
+      h.contains("iterations") && h["iterations"].is_array() ? h["iterations"].size() : 0;
   std::ostringstream s;
-  s << iterations << " iterations, stop reason: " << h.value("stop_reason", std::string("?"));
-  if (h.contains("final") && h["final"].contains("loss"))
+  s << iterations << " iterations, stop reason: "
+    << (h.contains("stop_reason") && h["stop_reason"].is_string()
+            ? h["stop_reason"].get<std::string>()
+            : "?");
+  if (h.contains("final") && h["final"].is_object() && h["final"].contains("loss") &&
+      h["final"]["loss"].is_number())
     s << ", final loss " << h["final"]["loss"].get<double>();
   item->detail = s.str();
   item->pass = converged && iterations > 0;
   if (!converged) item->detail += " (not converged)";
 }
 
-void CheckFdTests(const fs::path& dir, ChecklistItem* item) {
-  const nlohmann::json j = ReadJson(dir / "fd_tests.json");
+void CheckFdTests(const Evidence& e, ChecklistItem* item) {
+  const fs::path path = e.dir / "fd_tests.json";
+  const nlohmann::json j = ReadJsonFile(path);
+  if (!j.is_object() || !j.contains("tests") || !j["tests"].is_array())
+    throw InputError(path.string(), 0, "expected an object with a \"tests\" list");
   std::size_t passed = 0, total = 0;
-  for (const auto& t : j.at("tests")) {
+  for (const auto& t : j["tests"]) {
     ++total;
-    passed += t.value("pass", false);
+    passed += t.is_object() && t.value("pass", false);
   }
   item->detail =
       std::to_string(passed) + "/" + std::to_string(total) + " finite-difference tests pass";
   item->pass = total > 0 && passed == total;
 }
 
-void CheckParameters(const fs::path& dir, ChecklistItem* item) {
-  const nlohmann::json j = ReadJson(dir / "parameters.json");
-  const nlohmann::json values = j.contains("parameters") ? j["parameters"] : j;
+void CheckParameters(const Evidence& e, ChecklistItem* item) {
+  const nlohmann::json j = ReadJsonFile(e.dir / "parameters.json");
+  const nlohmann::json values = j.is_object() && j.contains("parameters") ? j["parameters"] : j;
   item->detail = std::to_string(values.size()) + " tuned values";
   item->pass = values.is_object() && !values.empty();
 }
 
-void CheckChanges(const fs::path& dir, ChecklistItem* item) {
-  std::istringstream in(ReadWholeFile(dir / "changes.md"));
-  static const std::regex list_item(R"(^\s*([-*+]|\d+\.)\s+\S)");
+// A Markdown list item: optional indentation, then "-", "*", "+" or "1." and a space, then text.
+bool IsListItem(const std::string& line) {
+  std::size_t i = line.find_first_not_of(" \t");
+  if (i == std::string::npos) return false;
+  if (line[i] == '-' || line[i] == '*' || line[i] == '+') {
+    ++i;
+  } else {
+    const std::size_t digits = line.find_first_not_of("0123456789", i);
+    if (digits == i || digits == std::string::npos || line[digits] != '.') return false;
+    i = digits + 1;
+  }
+  if (i >= line.size() || (line[i] != ' ' && line[i] != '\t')) return false;
+  return line.find_first_not_of(" \t", i) != std::string::npos;
+}
+
+void CheckChanges(const Evidence& e, ChecklistItem* item) {
+  std::istringstream in(ReadWholeFile(e.dir / "changes.md"));
   std::size_t items = 0;
-  for (std::string line; std::getline(in, line);) items += std::regex_search(line, list_item);
+  for (std::string line; std::getline(in, line);) items += IsListItem(line);
   item->detail = std::to_string(items) + " itemised changes";
   item->pass = items > 0;
 }
 
-void CheckReconcile(const fs::path& dir, ChecklistItem* item) {
-  const nlohmann::json j = ReadJson(dir / "reconcile.json");
-  item->pass = j.value("pass", false);
-  item->detail = item->pass ? "every gap within tolerance" : "a gap exceeds its tolerance";
+// DD001: the prediction is reconciled with the reference measurement (the validated physics),
+// recomputed here from prediction.json and the reference trajectory.
+void CheckReconcile(const Evidence& e, ChecklistItem* item) {
+  const nlohmann::json prediction = ReadJsonFile(e.dir / "prediction.json");
+  const nlohmann::json r = predict::Reconcile(prediction, Need(e.reference, "reference"));
+  item->pass = r.value("pass", false);
+  std::string failing;
+  for (const auto& row : r.value("rows", nlohmann::json::array()))
+    if (row.contains("pass") && row["pass"].is_boolean() && !row["pass"].get<bool>())
+      failing += (failing.empty() ? "" : ", ") + row.value("quantity", std::string("?"));
+  item->detail = "prediction reconciled with the reference's measurement: " +
+                 (item->pass ? std::string("every gap within tolerance")
+                             : "gap beyond tolerance in " + failing);
 }
 
 struct ItemSpec {
@@ -175,41 +267,92 @@ const std::vector<ItemSpec>& Items() {
       {2, "reference trajectory", {"reference.h5", "reference.txt"}, CheckReference},
       {3, "candidate trajectory", {"candidate.h5", "candidate.txt"}, CheckCandidate},
       {4, "side-by-side MP4 (reference left)", {"sxs.mp4"}, CheckVideo},
-      {5, ">= 3 labelled frame PNGs with values", {"frames/frames.json"}, CheckFrames},
+      {5, ">= 3 labelled frame PNGs within the frame gate", {"frames/frames.json"}, CheckFrames},
       {6, "fit convergence history", {"fit/history.json"}, CheckFitHistory},
       {7, "finite-difference tests for new kernels", {"fd_tests.json"}, CheckFdTests},
       {8, "tuned parameter values", {"parameters.json"}, CheckParameters},
       {9, "itemised substrate changes", {"changes.md"}, CheckChanges},
-      {10, "prediction reconciled with measurement", {"reconcile.json"}, CheckReconcile},
+      {10,
+       "prediction reconciled with the reference measurement",
+       {"prediction.json"},
+       CheckReconcile},
   };
   return items;
 }
 
-ChecklistItem Evaluate(const fs::path& dir, const ItemSpec& spec) {
+ChecklistItem Evaluate(const Evidence& e, const ItemSpec& spec) {
   ChecklistItem item;
   item.number = spec.number;
   item.title = spec.title;
   item.present = std::any_of(spec.files.begin(), spec.files.end(),
-                             [&](const char* f) { return fs::exists(dir / f); });
+                             [&](const char* f) { return fs::exists(e.dir / f); });
   if (!item.present) {
     item.detail = std::string("missing: ") + spec.files.front();
     return item;
   }
   try {
-    spec.check(dir, &item);
-  } catch (const std::exception& e) {
+    spec.check(e, &item);
+  } catch (const std::exception& ex) {
     item.pass = false;
-    item.detail = e.what();
+    item.detail = ex.what();
   }
   return item;
 }
 
-Verdict Decide(const std::vector<ChecklistItem>& items) {
-  auto fails = [&](int n) { return !items[std::size_t(n - 1)].pass; };
-  if (fails(2) || fails(3)) return Verdict::kUnreviewable;
-  if (fails(1) || fails(4) || fails(5) || fails(6)) return Verdict::kNotReady;
-  if (fails(7) || fails(8) || fails(9) || fails(10)) return Verdict::kIncomplete;
-  return Verdict::kReady;
+// The parity gate, recomputed from the trajectories; a parity.json that disagrees is stale.
+void JudgeParity(const Evidence& e, const nlohmann::json& frames_track, ChecklistReport* r) {
+  if (!e.reference || !e.candidate) return;
+  try {
+    Track track = e.options.track.value_or(Track::FromJson(frames_track, "frames/frames.json"));
+    r->parity = compare::CompareTrajectories(*e.reference, *e.candidate,
+                                             {track, {}, std::nullopt, e.options.gates});
+  } catch (const std::exception& ex) {
+    r->parity_note = std::string("parity could not be computed: ") + ex.what();
+    return;
+  }
+  const fs::path stored = e.dir / "parity.json";
+  if (!fs::exists(stored)) return;
+  try {
+    const nlohmann::json j = ReadJsonFile(stored);
+    const bool says_pass = j.is_object() && j.value("pass", false);
+    if (says_pass != r->parity->pass())
+      r->parity_note = std::string("parity.json is stale: it says ") +
+                       (says_pass ? "pass" : "FAIL") + ", recomputed " +
+                       (r->parity->pass() ? "pass" : "FAIL");
+  } catch (const std::exception& ex) {
+    r->parity_note = std::string("parity.json ignored: ") + ex.what();
+  }
+}
+
+nlohmann::json FramesTrack(const fs::path& dir) {
+  try {
+    const nlohmann::json j = ReadJsonFile(dir / "frames" / "frames.json");
+    if (j.is_object() && j.contains("track")) return j["track"];
+  } catch (const std::exception&) {
+  }
+  return nlohmann::json::object();
+}
+
+void Decide(ChecklistReport* r) {
+  auto fails = [&](int n) { return !r->items[std::size_t(n - 1)].pass; };
+  auto block = [&](int n) {
+    const ChecklistItem& i = r->items[std::size_t(n - 1)];
+    r->blocking.push_back("item " + std::to_string(n) + " (" + i.title + ")");
+  };
+  for (int n : {2, 3, 1, 4, 5, 6})
+    if (fails(n)) block(n);
+  if (!fails(2) && !fails(3) && !r->parity_pass())
+    r->blocking.push_back(r->parity ? "parity gate (failed: " + r->parity->FailedGates() + ")"
+                                    : "parity gate (" + r->parity_note + ")");
+  if (fails(2) || fails(3)) {
+    r->verdict = Verdict::kUnreviewable;
+  } else if (!r->blocking.empty()) {
+    r->verdict = Verdict::kNotReady;
+  } else {
+    for (int n : {7, 8, 9, 10})
+      if (fails(n)) block(n);
+    r->verdict = r->blocking.empty() ? Verdict::kReady : Verdict::kIncomplete;
+  }
 }
 
 }  // namespace
@@ -232,24 +375,41 @@ int ChecklistReport::exit_code() const {
   return verdict == Verdict::kReady || verdict == Verdict::kIncomplete ? 0 : 1;
 }
 
-ChecklistReport RunChecklist(const fs::path& directory) {
+ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
   if (!fs::is_directory(directory))
     throw InputError(directory.string(), 0, "not a directory of PR artifacts");
+  Evidence e{directory, options,
+             TryRead(FirstExisting(directory, {"reference.h5", "reference.txt"})),
+             TryRead(FirstExisting(directory, {"candidate.h5", "candidate.txt"}))};
   ChecklistReport r;
   r.directory = directory;
-  for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(directory, spec));
-  r.verdict = Decide(r.items);
+  for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(e, spec));
+  JudgeParity(e, FramesTrack(directory), &r);
+  Decide(&r);
   return r;
 }
 
 std::string ChecklistReport::ToMarkdown() const {
   std::ostringstream s;
   s << "## owval PR checklist: **" << VerdictName(verdict) << "**\n\n";
+  if (!blocking.empty())
+    for (std::size_t i = 0; i < blocking.size(); ++i)
+      s << (i ? ", " : (verdict == Verdict::kIncomplete ? "Incomplete: " : "Blocking: "))
+        << blocking[i] << (i + 1 == blocking.size() ? ".\n\n" : "");
   for (const ChecklistItem& i : items)
     s << "- " << (i.pass ? "✅" : "❌") << " **" << i.number << ". " << i.title << "** — " << i.detail
       << "\n";
-  s << "\nItems 1, 4, 5, 6 are required (else: not ready); 2 and 3 make the PR reviewable; 7–10 "
-       "complete it.\n";
+  s << "- " << (parity_pass() ? "✅" : "❌") << " **parity gate** — ";
+  if (parity) {
+    s << parity->subject << ", " << parity->paired_frames << " paired frames: "
+      << (parity->pass() ? "every applicable gate passes" : "failed: " + parity->FailedGates());
+  } else {
+    s << "not computed";
+  }
+  if (!parity_note.empty()) s << " (" << parity_note << ")";
+  s << "\n\nItems 1, 4, 5, 6 and the parity gate are required (else: not ready); 2 and 3 make "
+       "the PR reviewable; 7–10 complete it.\n";
+  if (parity) s << "\n" << compare::GatesMarkdownTable(parity->gates);
   return s.str();
 }
 
@@ -264,7 +424,10 @@ nlohmann::json ChecklistReport::ToJson() const {
   return {{"directory", directory.string()},
           {"verdict", VerdictName(verdict)},
           {"exit_code", exit_code()},
-          {"items", list}};
+          {"blocking", blocking},
+          {"items", list},
+          {"parity", parity ? parity->ToJson() : nlohmann::json(nullptr)},
+          {"parity_note", parity_note}};
 }
 
 }  // namespace owval::ci

@@ -86,8 +86,9 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity) {
   r.gates.push_back(Run("parity", [&](GateResult* g) {
     const compare::ParityReport p = compare::CompareTrajectories(ref, cand, parity);
     g->pass = p.pass();
-    g->detail = std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
-                std::to_string(p.frames.size()) + " frames within threshold";
+    g->detail = p.subject + ": " + std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
+                std::to_string(p.frames.size()) + " frames within the frame gate";
+    if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();
   }));
   return r;
 }

@@ -12,32 +12,30 @@
 namespace owval::compare {
 namespace {
 
-const char* kAxisNames[3] = {"x", "y", "z"};
+using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
 
-double FrameInterval(const Trajectory& t) {
-  return t.frame_count() > 1 ? (t.time_s.back() - t.time_s.front()) / double(t.frame_count() - 1)
-                             : 0.0;
-}
-
-std::vector<double> TrackedSeries(const Trajectory& t, const ParityOptions& o) {
-  if (!o.group.empty()) return CentroidSeries(t, GroupIndices(t, o.group), o.axis);
-  return ParticleSeries(t, o.particle, o.axis);
+std::vector<std::size_t> MovingParticles(const Trajectory& t) {
+  std::vector<std::size_t> moving;
+  for (std::size_t p = 0; p < t.particle_count(); ++p)
+    if (KindOf(t.type[p]) != ParticleKind::kBoundary) moving.push_back(p);
+  return moving;
 }
 
 double MeanParticleDistance(const Trajectory& a, std::size_t fa, const Trajectory& b,
-                            std::size_t fb) {
+                            std::size_t fb, const std::vector<std::size_t>& particles) {
+  if (particles.empty()) return 0;
   double sum = 0;
-  for (std::size_t p = 0; p < a.particle_count(); ++p) {
+  for (std::size_t p : particles) {
     const float* x = a.position(fa, p);
     const float* y = b.position(fb, p);
-    sum += std::sqrt(double(x[0] - y[0]) * (x[0] - y[0]) + double(x[1] - y[1]) * (x[1] - y[1]) +
-                     double(x[2] - y[2]) * (x[2] - y[2]));
+    sum += std::hypot(double(x[0]) - y[0], double(x[1]) - y[1], double(x[2]) - y[2]);
   }
-  return sum / double(a.particle_count());
+  return sum / double(particles.size());
 }
 
-void Extent(const Trajectory& t, std::size_t frame, const std::vector<std::size_t>& group,
-            double out[3]) {
+std::array<double, 3> Extent(const Trajectory& t, std::size_t frame,
+                             const std::vector<std::size_t>& group) {
+  std::array<double, 3> out{};
   for (int a = 0; a < 3; ++a) {
     double lo = std::numeric_limits<double>::max(), hi = -lo;
     for (std::size_t p : group) {
@@ -46,17 +44,16 @@ void Extent(const Trajectory& t, std::size_t frame, const std::vector<std::size_
     }
     out[a] = hi - lo;
   }
+  return out;
 }
 
-std::optional<GroupDrift> MeasureDrift(
-    const Trajectory& ref, const Trajectory& cand, const std::string& group,
-    const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
-  std::vector<std::size_t> members;
-  try {
-    members = GroupIndices(ref, group);
-  } catch (const InputError&) {
-    return std::nullopt;  // the scenario has no such particles
-  }
+double BoxScale(const Box& box) {
+  const double s = std::max({box.extent(0), box.extent(1), box.extent(2)});
+  return s > 0 ? s : 1.0;
+}
+
+GroupDrift MeasureDrift(const Trajectory& ref, const Trajectory& cand, const std::string& group,
+                        const std::vector<std::size_t>& members, const Pairs& pairs) {
   GroupDrift d;
   d.group = group;
   for (const auto& [fr, fc] : pairs) {
@@ -64,12 +61,15 @@ std::optional<GroupDrift> MeasureDrift(
     const double dist = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     d.max_centroid_distance_cu = std::max(d.max_centroid_distance_cu, dist);
     d.final_centroid_distance_cu = dist;
+    for (int ax = 0; ax < 3; ++ax) d.final_offset_cu[ax] = b[ax] - a[ax];
+    const auto er = Extent(ref, fr, members), ec = Extent(cand, fc, members);
+    for (int ax = 0; ax < 3; ++ax) {
+      const double box = ref.box.extent(ax) > 0 ? ref.box.extent(ax) : 1.0;
+      d.max_extent_difference_fraction =
+          std::max(d.max_extent_difference_fraction, std::abs(ec[ax] - er[ax]) / box);
+      d.final_extent_ratio[ax] = er[ax] > 0 ? ec[ax] / er[ax] : (ec[ax] > 0 ? INFINITY : 1);
+    }
   }
-  double er[3], ec[3];
-  Extent(ref, pairs.back().first, members, er);
-  Extent(cand, pairs.back().second, members, ec);
-  for (int a = 0; a < 3; ++a)
-    d.final_extent_ratio[a] = er[a] > 0 ? ec[a] / er[a] : (ec[a] > 0 ? INFINITY : 1);
   return d;
 }
 
@@ -79,52 +79,182 @@ std::optional<double> RelativeGap(const std::optional<double>& ref,
   return (*cand - *ref) / *ref;
 }
 
-void GateFrames(const std::vector<double>& ref_series, const std::vector<double>& cand_series,
-                const Trajectory& ref,
-                const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                const ParityOptions& o, ParityReport* r) {
-  std::vector<std::pair<std::size_t, std::size_t>> gated;
-  if (o.sample_frames.empty()) {
-    gated = pairs;
-  } else {
-    for (std::size_t f : o.sample_frames) {
-      auto it =
-          std::find_if(pairs.begin(), pairs.end(), [f](const auto& p) { return p.first == f; });
-      if (it == pairs.end())
-        throw InputError(
-            "sample frame " + std::to_string(f) + " has no candidate frame at t = " +
-            (f < ref.frame_count() ? std::to_string(ref.time_s[f]) : std::string("?")) + " s");
-      gated.push_back(*it);
-    }
+std::string FailingList(const std::vector<std::size_t>& frames) {
+  std::ostringstream s;
+  for (std::size_t i = 0; i < frames.size() && i < 20; ++i) s << (i ? ", " : "") << frames[i];
+  if (frames.size() > 20) s << ", ... (" << frames.size() << " in all)";
+  return s.str();
+}
+
+Pairs GatedPairs(const Pairs& pairs, const Trajectory& ref, const ParityOptions& o) {
+  if (o.sample_frames.empty()) return pairs;
+  Pairs gated;
+  for (std::size_t f : o.sample_frames) {
+    auto it = std::find_if(pairs.begin(), pairs.end(), [f](const auto& p) { return p.first == f; });
+    if (it == pairs.end())
+      throw InputError("sample frame " + std::to_string(f) + " has no candidate frame at t = " +
+                       (f < ref.frame_count() ? std::to_string(ref.time_s[f]) : std::string("?")) +
+                       " s");
+    gated.push_back(*it);
   }
-  for (const auto& [fr, fc] : gated) {
-    FrameParity fp{fr, fc, ref.time_s[fr], ref_series[fr], cand_series[fc], 0, true};
+  return gated;
+}
+
+void GateFrames(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
+                const ParityOptions& o, ParityReport* r) {
+  Gate g =
+      MakeGate("frames", "worst |cand - ref| / scale of " + r->subject + " over the gated frames",
+               0, o.gates.frame, "of the reference range");
+  for (const auto& [fr, fc] : GatedPairs(pairs, ref, o)) {
+    FrameParity fp{fr, fc, ref.time_s[fr], o.track.ValueAt(ref, fr), o.track.ValueAt(cand, fc)};
     fp.relative_difference = std::abs(fp.candidate_value - fp.reference_value) / r->scale;
-    fp.pass = std::isfinite(fp.candidate_value) && fp.relative_difference < o.frame_threshold;
+    fp.pass = std::isfinite(fp.candidate_value) && fp.relative_difference < o.gates.frame.value;
     if (!fp.pass) r->failing_frames.push_back(fr);
+    g.value = std::isfinite(fp.relative_difference) ? std::max(g.value, fp.relative_difference)
+                                                    : INFINITY;
     r->frames.push_back(fp);
   }
-  r->frames_pass = r->failing_frames.empty();
+  Decide(&g);
+  char scale[64];
+  std::snprintf(scale, sizeof scale, "scale %.4g cu", r->scale);
+  g.detail = std::to_string(r->frames.size() - r->failing_frames.size()) + "/" +
+             std::to_string(r->frames.size()) + " frames within, " + scale;
+  if (!r->failing_frames.empty()) g.detail += "; failing frames " + FailingList(r->failing_frames);
+  r->gates.push_back(g);
+}
+
+void GateOscillation(const ParityOptions& o, ParityReport* r) {
+  const std::size_t need = static_cast<std::size_t>(o.gates.min_crossings.value);
+  const std::size_t nr = r->reference_metrics.upward_crossings,
+                    nc = r->candidate_metrics.upward_crossings;
+  const bool applies = nr >= need && nc >= need && r->period_gap && r->half_amplitude_gap;
+  const std::string why_not = "reference has " + std::to_string(nr) +
+                              " upward mean crossings, candidate " + std::to_string(nc) +
+                              "; oscillation gates need >= " + std::to_string(need) + " in both";
+  auto add = [&](const char* name, const char* what, const std::optional<double>& gap,
+                 const Threshold& t) {
+    Gate g = MakeGate(name, what, applies ? std::abs(*gap) : NAN, t, "relative");
+    if (applies) {
+      Decide(&g);
+      char b[64];
+      std::snprintf(b, sizeof b, "gap %+.3f%%", *gap * 100);
+      g.detail = b;
+    } else {
+      g.status = GateStatus::kNotApplicable;
+      g.detail = why_not;
+    }
+    r->gates.push_back(g);
+  };
+  add("period", "|zero-crossing period gap| of the tracked scalar", r->period_gap,
+      o.gates.period_gap);
+  add("half_amplitude", "|half-amplitude gap| of the tracked scalar", r->half_amplitude_gap,
+      o.gates.amplitude_gap);
+}
+
+void GateGroups(const ParityOptions& o, ParityReport* r) {
+  const std::string box = "of the box (" + std::to_string(r->box_scale_cu).substr(0, 6) + " cu)";
+  for (const GroupDrift& d : r->drift) {
+    Gate c = MakeGate(d.group + ".centroid_distance",
+                      "max over time of the 3-D " + d.group + " centroid distance",
+                      d.max_centroid_distance_cu / r->box_scale_cu, o.gates.centroid_distance, box);
+    Gate e = MakeGate(
+        d.group + ".extent",
+        "max over time and axes of the " + d.group + " bounding-box extent difference",
+        d.max_extent_difference_fraction, o.gates.extent, "of the box extent on that axis");
+    Gate f = MakeGate(d.group + ".final_distance",
+                      "3-D " + d.group + " centroid distance at the last frame",
+                      d.final_centroid_distance_cu / r->box_scale_cu, o.gates.final_distance, box);
+    char offset[128];
+    std::snprintf(offset, sizeof offset, "last-frame offset (x, y, z) = (%+.3g, %+.3g, %+.3g) cu",
+                  d.final_offset_cu[0], d.final_offset_cu[1], d.final_offset_cu[2]);
+    f.detail = offset;
+    for (Gate* g : {&c, &e, &f}) {
+      Decide(g);
+      r->gates.push_back(*g);
+    }
+  }
+  const std::pair<const char*, double> l2[] = {
+      {"initial", r->l2_initial_cu}, {"mean", r->l2_mean_cu}, {"final", r->l2_final_cu}};
+  for (const auto& [when, value] : l2) {
+    Gate g = MakeGate(std::string("particle_distance.") + when,
+                      std::string("mean per-particle distance of moving particles, ") + when,
+                      value / r->box_scale_cu, o.gates.particle_distance, box);
+    Decide(&g);
+    r->gates.push_back(g);
+  }
+}
+
+// At sample frames, the scene as well as the tracked scalar: each moving group's centroid
+// distance against the box (the centroid_distance threshold), so a labelled frame whose picture
+// is off fails even when the tracked particle happens to agree. Over all frames this is the
+// centroid_distance gate itself, so it is added only for a sample.
+void GateSampledGroups(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
+                       const ParityOptions& o, ParityReport* r) {
+  if (o.sample_frames.empty()) return;
+  Gate g =
+      MakeGate("frames.group_centroids", "worst 3-D group centroid distance at the gated frames", 0,
+               o.gates.centroid_distance, "of the box");
+  for (const char* group : {"elastic", "liquid"}) {
+    const ParticleKind kind = group[0] == 'e' ? ParticleKind::kElastic : ParticleKind::kLiquid;
+    if (ref.count(kind) == 0) continue;
+    const std::vector<std::size_t> members = GroupIndices(ref, group);
+    for (const auto& [fr, fc] : GatedPairs(pairs, ref, o)) {
+      const auto a = Centroid(ref, fr, members), b = Centroid(cand, fc, members);
+      const double d = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) / r->box_scale_cu;
+      g.value = std::isfinite(d) ? std::max(g.value, d) : INFINITY;
+      if (!(d < g.threshold.value))
+        g.detail +=
+            std::string(g.detail.empty() ? "" : "; ") + group + " at frame " + std::to_string(fr);
+    }
+  }
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
+void MeasureDistances(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
+                      ParityReport* r) {
+  const std::vector<std::size_t> moving = MovingParticles(ref);
+  double l2_sum = 0;
+  for (const auto& [fr, fc] : pairs) l2_sum += MeanParticleDistance(ref, fr, cand, fc, moving);
+  r->l2_initial_cu =
+      MeanParticleDistance(ref, pairs.front().first, cand, pairs.front().second, moving);
+  r->l2_final_cu = MeanParticleDistance(ref, pairs.back().first, cand, pairs.back().second, moving);
+  r->l2_mean_cu = l2_sum / double(pairs.size());
+  for (const char* group : {"elastic", "liquid"}) {
+    std::vector<std::size_t> members;
+    for (std::size_t p : moving)
+      if (KindName(KindOf(ref.type[p])) == std::string(group)) members.push_back(p);
+    if (!members.empty()) r->drift.push_back(MeasureDrift(ref, cand, group, members, pairs));
+  }
+}
+
+void MeasureSignals(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
+                    const ParityOptions& o, ParityReport* r) {
+  std::vector<double> cand_time;
+  for (const auto& [fr, fc] : pairs) {
+    r->paired_time_s.push_back(ref.time_s[fr]);
+    cand_time.push_back(cand.time_s[fc]);
+    r->reference_series.push_back(o.track.ValueAt(ref, fr));
+    r->candidate_series.push_back(o.track.ValueAt(cand, fc));
+  }
+  const auto [lo, hi] = std::minmax_element(r->reference_series.begin(), r->reference_series.end());
+  r->scale = o.scale ? *o.scale : (*hi - *lo);
+  if (!(r->scale > 0)) r->scale = 1.0;  // a constant reference: compare in absolute config units
+  if (pairs.size() < 2) return;
+  r->reference_metrics = MeasureSignal(r->paired_time_s, r->reference_series);
+  r->candidate_metrics = MeasureSignal(cand_time, r->candidate_series);
+  r->period_gap = RelativeGap(r->reference_metrics.period_s, r->candidate_metrics.period_s);
+  r->half_amplitude_gap =
+      RelativeGap(r->reference_metrics.half_amplitude, r->candidate_metrics.half_amplitude);
+  r->equilibrium_gap_cu = r->candidate_metrics.equilibrium - r->reference_metrics.equilibrium;
 }
 
 }  // namespace
 
-std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const Trajectory& ref,
-                                                                  const Trajectory& cand) {
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;
-  const double finer = std::min(FrameInterval(ref) > 0 ? FrameInterval(ref) : INFINITY,
-                                FrameInterval(cand) > 0 ? FrameInterval(cand) : INFINITY);
-  const double tolerance = std::isfinite(finer) ? finer / 2 : 1e-12;
-  std::size_t c = 0;
-  for (std::size_t f = 0; f < ref.frame_count(); ++f) {
-    const double t = ref.time_s[f];
-    while (c + 1 < cand.frame_count() &&
-           std::abs(cand.time_s[c + 1] - t) <= std::abs(cand.time_s[c] - t))
-      ++c;
-    if (c < cand.frame_count() && std::abs(cand.time_s[c] - t) < tolerance)
-      pairs.emplace_back(f, c);
-  }
-  return pairs;
+const Gate* ParityReport::gate(const std::string& name) const {
+  for (const Gate& g : gates)
+    if (g.name == name) return &g;
+  return nullptr;
 }
 
 ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
@@ -133,54 +263,27 @@ ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
     throw InputError("wrong particle count: the reference has " +
                      std::to_string(ref.particle_count()) + " particles, the candidate " +
                      std::to_string(cand.particle_count()));
-  const auto pairs = PairFramesByTime(ref, cand);
+  o.track.Validate(ref);
+  const Pairs pairs = PairFramesByTime(ref, cand);
   if (pairs.empty()) throw InputError("the reference and candidate share no frame time");
   ParityReport r;
-  r.subject = (o.group.empty() ? "particle " + std::to_string(o.particle) : o.group + " centroid") +
-              " " + kAxisNames[o.axis];
+  r.subject = o.track.Describe();
   r.paired_frames = pairs.size();
-  const std::vector<double> ref_series = TrackedSeries(ref, o),
-                            cand_series = TrackedSeries(cand, o);
-  const auto [lo, hi] = std::minmax_element(ref_series.begin(), ref_series.end());
-  r.scale = o.scale ? *o.scale : (*hi - *lo);
-  if (!(r.scale > 0)) r.scale = 1.0;  // a constant reference: compare in absolute config units
-  GateFrames(ref_series, cand_series, ref, pairs, o, &r);
-  double l2_sum = 0;
-  for (const auto& [fr, fc] : pairs) l2_sum += MeanParticleDistance(ref, fr, cand, fc);
-  r.l2_initial_cu = MeanParticleDistance(ref, pairs.front().first, cand, pairs.front().second);
-  r.l2_final_cu = MeanParticleDistance(ref, pairs.back().first, cand, pairs.back().second);
-  r.l2_mean_cu = l2_sum / double(pairs.size());
-  for (const char* group : {"elastic", "liquid"})
-    if (auto d = MeasureDrift(ref, cand, group, pairs)) r.drift.push_back(*d);
-  r.reference_metrics = MeasureSignal(ref.time_s, ref_series);
-  r.candidate_metrics = MeasureSignal(cand.time_s, cand_series);
-  r.period_gap = RelativeGap(r.reference_metrics.period_s, r.candidate_metrics.period_s);
-  r.half_amplitude_gap =
-      RelativeGap(r.reference_metrics.half_amplitude, r.candidate_metrics.half_amplitude);
-  r.equilibrium_gap_cu = r.candidate_metrics.equilibrium - r.reference_metrics.equilibrium;
-  r.metrics_pass =
-      (!r.period_gap || std::abs(*r.period_gap) < o.period_gap_threshold) &&
-      (!r.half_amplitude_gap || std::abs(*r.half_amplitude_gap) < o.amplitude_gap_threshold);
+  r.common_window_start_s = ref.time_s[pairs.front().first];
+  r.common_window_end_s = ref.time_s[pairs.back().first];
+  r.box_scale_cu = BoxScale(ref.box);
+  MeasureSignals(ref, cand, pairs, o, &r);
+  GateFrames(ref, cand, pairs, o, &r);
+  GateSampledGroups(ref, cand, pairs, o, &r);
+  GateOscillation(o, &r);
+  MeasureDistances(ref, cand, pairs, &r);
+  GateGroups(o, &r);
   return r;
 }
 
 namespace {
 nlohmann::json Opt(const std::optional<double>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
-std::string Pct(const std::optional<double>& v) {
-  if (!v) return "n/a";
-  char b[32];
-  std::snprintf(b, sizeof b, "%+.3f%%", *v * 100);
-  return b;
-}
-
-std::string FailingList(const std::vector<std::size_t>& frames) {
-  std::ostringstream s;
-  for (std::size_t i = 0; i < frames.size() && i < 20; ++i) s << (i ? ", " : "") << frames[i];
-  if (frames.size() > 20) s << ", ... (" << frames.size() << " in all)";
-  return s.str();
 }
 }  // namespace
 
@@ -200,11 +303,18 @@ nlohmann::json ParityReport::ToJson() const {
         {{"group", d.group},
          {"final_centroid_distance_cu", d.final_centroid_distance_cu},
          {"max_centroid_distance_cu", d.max_centroid_distance_cu},
+         {"max_extent_difference_of_box", d.max_extent_difference_fraction},
          {"final_extent_ratio_xyz",
           {d.final_extent_ratio[0], d.final_extent_ratio[1], d.final_extent_ratio[2]}}});
+  nlohmann::json gates_json = nlohmann::json::array();
+  for (const Gate& g : gates) gates_json.push_back(compare::ToJson(g));
   return {{"subject", subject},
           {"scale_cu", scale},
+          {"box_scale_cu", box_scale_cu},
           {"paired_frames", paired_frames},
+          {"common_window_s", {common_window_start_s, common_window_end_s}},
+          {"gates", gates_json},
+          {"failed_gates", FailedGates()},
           {"frames", frames_json},
           {"failing_frames", failing_frames},
           {"per_particle_distance_cu",
@@ -216,48 +326,30 @@ nlohmann::json ParityReport::ToJson() const {
            {{"period_relative", Opt(period_gap)},
             {"half_amplitude_relative", Opt(half_amplitude_gap)},
             {"equilibrium_cu", Opt(equilibrium_gap_cu)}}},
-          {"frames_pass", frames_pass},
-          {"metrics_pass", metrics_pass},
           {"pass", pass()}};
 }
 
 std::string ParityReport::ToMarkdown() const {
   std::ostringstream s;
-  s << "### Parity: " << subject << " — " << (pass() ? "PASS" : "FAIL") << "\n\n";
-  s << "| check | result |\n|---|---|\n";
-  s << "| frames gated (Δ/scale < threshold, scale " << scale << " cu) | "
-    << frames.size() - failing_frames.size() << "/" << frames.size() << " pass |\n";
-  if (!failing_frames.empty()) s << "| failing frames | " << FailingList(failing_frames) << " |\n";
-  s << "| mean particle distance initial / mean / final | " << l2_initial_cu << " / " << l2_mean_cu
-    << " / " << l2_final_cu << " cu |\n";
-  s << "| period gap | " << Pct(period_gap) << " |\n| half-amplitude gap | "
-    << Pct(half_amplitude_gap) << " |\n";
-  s << "| equilibrium gap | "
-    << (equilibrium_gap_cu ? std::to_string(*equilibrium_gap_cu) + " cu" : "n/a") << " |\n";
-  for (const GroupDrift& d : drift)
-    s << "| " << d.group << " centroid drift final / max | " << d.final_centroid_distance_cu
-      << " / " << d.max_centroid_distance_cu << " cu |\n";
+  s << "### Parity: " << subject << " — " << (pass() ? "PASS" : "FAIL");
+  if (!pass()) s << " (failed: " << FailedGates() << ")";
+  s << "\n\n- paired frames: " << paired_frames << ", common window " << common_window_start_s
+    << " s to " << common_window_end_s << " s\n- frame-gate scale: " << scale
+    << " cu (reference range); box scale: " << box_scale_cu << " cu\n\n";
+  s << GatesMarkdownTable(gates);
   return s.str();
 }
 
 std::string ParityReport::ToTable() const {
   std::ostringstream s;
-  s << "parity of " << subject << ": " << (pass() ? "PASS" : "FAIL") << "\n";
-  s << "  paired frames            " << paired_frames << "\n";
-  s << "  frames gated             " << frames.size() << ", failing " << failing_frames.size()
-    << "\n";
-  if (!failing_frames.empty())
-    s << "  failing frames           " << FailingList(failing_frames) << "\n";
-  double worst = 0;
-  for (const FrameParity& f : frames) worst = std::max(worst, f.relative_difference);
-  s << "  worst |Δ|/scale          " << worst * 100 << "% (scale " << scale << " cu)\n";
-  s << "  particle distance (cu)   initial " << l2_initial_cu << ", mean " << l2_mean_cu
+  s << "parity of " << subject << ": " << (pass() ? "PASS" : "FAIL");
+  if (!pass()) s << " (failed: " << FailedGates() << ")";
+  s << "\n  paired frames " << paired_frames << " over " << common_window_start_s << " s to "
+    << common_window_end_s << " s; frame scale " << scale << " cu, box scale " << box_scale_cu
+    << " cu\n";
+  s << GatesTextTable(gates);
+  s << "  particle distance (cu): initial " << l2_initial_cu << ", mean " << l2_mean_cu
     << ", final " << l2_final_cu << "\n";
-  s << "  period gap               " << Pct(period_gap) << "\n";
-  s << "  half-amplitude gap       " << Pct(half_amplitude_gap) << "\n";
-  for (const GroupDrift& d : drift)
-    s << "  " << d.group << " centroid drift  final " << d.final_centroid_distance_cu << " cu, max "
-      << d.max_centroid_distance_cu << " cu\n";
   return s.str();
 }
 

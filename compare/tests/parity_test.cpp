@@ -33,12 +33,14 @@ TEST(Parity, ElasticYScaledBy106FailsTheFrameGateAndNamesFrames) {
   ParityOptions options;
   options.sample_frames = {0, 15, 100, 200};
   const ParityReport r = CompareTrajectories(OneSprig(), scaled, options);
-  EXPECT_FALSE(r.frames_pass);
+  EXPECT_EQ(r.gate("frames")->status, GateStatus::kFail);
   EXPECT_FALSE(r.pass());
+  EXPECT_EQ(r.FailedGates(), "frames, half_amplitude");  // the amplitude scales by 6% too
   EXPECT_EQ(r.failing_frames, (std::vector<std::size_t>{0, 15, 100, 200}));
   // 6% of y ≈ 18 is ≈ 1.1 cu against a 3.39 cu range: about a third of the scale.
   EXPECT_NEAR(r.frames[0].relative_difference, 0.06 * 20.04 / 3.388, 1e-3);
-  EXPECT_NE(r.ToMarkdown().find("failing frames | 0, 15, 100, 200"), std::string::npos);
+  EXPECT_NE(r.ToMarkdown().find("failing frames 0, 15, 100, 200"), std::string::npos);
+  EXPECT_NE(r.ToTable().find("FAIL (failed: frames, half_amplitude)"), std::string::npos);
 }
 
 TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
@@ -54,7 +56,7 @@ TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
   const auto pairs = PairFramesByTime(coarse, thinned);
   ASSERT_EQ(pairs.size(), 250u);
   EXPECT_EQ(pairs[3], (std::pair<std::size_t, std::size_t>{30, 3}));
-  EXPECT_TRUE(CompareTrajectories(coarse, thinned, {}).frames_pass);
+  EXPECT_TRUE(CompareTrajectories(coarse, thinned, {}).pass());
 }
 
 TEST(Parity, RefusesDifferentParticleCounts) {
@@ -66,6 +68,88 @@ TEST(Parity, RefusesDifferentParticleCounts) {
   std::vector<float> frame(fewer.type.size() * 3, 1.0f);
   rebuilt.AppendFrame(0, frame.data());
   EXPECT_THROW(CompareTrajectories(OneSprig(), rebuilt, {}), InputError);
+}
+
+// The first `frames` frames of a trajectory: the same run recorded for a shorter time.
+Trajectory FirstFrames(const Trajectory& t, std::size_t frames) {
+  Trajectory out;
+  out.box = t.box;
+  out.type = t.type;
+  out.time_step_s = t.time_step_s;
+  out.log_step = t.log_step;
+  for (std::size_t f = 0; f < frames; ++f) out.AppendFrame(t.time_s[f], t.position(f, 0));
+  return out;
+}
+
+TEST(Parity, IdenticalRunsOfDifferentDurationsPassOverTheCommonWindow) {
+  // 250 of 2500 frames (5 ms of 50 ms, about 7 periods): every measure on both sides is taken
+  // over those 5 ms, so nothing differs.
+  const Trajectory shorter = FirstFrames(OneSprig(), 250);
+  for (const auto* pair : {&shorter}) {
+    const ParityReport r = CompareTrajectories(OneSprig(), *pair, {});
+    EXPECT_TRUE(r.pass()) << r.ToTable();
+    EXPECT_EQ(r.paired_frames, 250u);
+    EXPECT_EQ(*r.half_amplitude_gap, 0.0);
+    EXPECT_EQ(r.gate("period")->status, GateStatus::kPass);
+  }
+  EXPECT_TRUE(CompareTrajectories(shorter, OneSprig(), {}).pass());
+}
+
+TEST(Parity, OscillationGatesDoNotApplyWithoutEnoughCrossings) {
+  // 30 frames (0.6 ms) hold less than one period: one upward crossing at most.
+  const Trajectory short_run = FirstFrames(OneSprig(), 30);
+  Trajectory shifted = short_run;
+  for (std::size_t f = 0; f < shifted.frame_count(); ++f) shifted.position(f, 0)[1] += 0.01f;
+  const ParityReport r = CompareTrajectories(short_run, shifted, {});
+  EXPECT_EQ(r.gate("period")->status, GateStatus::kNotApplicable);
+  EXPECT_EQ(r.gate("half_amplitude")->status, GateStatus::kNotApplicable);
+  EXPECT_NE(r.gate("period")->detail.find("need >= 4"), std::string::npos);
+  // The frame gate still judges: 0.01 cu against the short run's range.
+  EXPECT_NE(r.gate("frames")->status, GateStatus::kNotApplicable);
+}
+
+TEST(Parity, OscillationGatesApplyAndFailOnAStifferSpring) {
+  // A candidate whose period is 5% shorter: the signal resampled at 1.05x the time.
+  Trajectory faster = OneSprig();
+  const Trajectory& ref = OneSprig();
+  for (std::size_t f = 0; f < faster.frame_count(); ++f) {
+    const std::size_t g = std::min(ref.frame_count() - 1, std::size_t(double(f) * 1.05));
+    faster.position(f, 0)[1] = ref.position(g, 0)[1];
+  }
+  const ParityReport r = CompareTrajectories(ref, faster, {});
+  EXPECT_EQ(r.gate("period")->status, GateStatus::kFail);
+  EXPECT_NE(r.FailedGates().find("period"), std::string::npos);
+}
+
+TEST(Parity, FinalStateGateNamesAnOffsetAtTheEnd) {
+  Trajectory moved = OneSprig();
+  const std::size_t last = moved.frame_count() - 1;
+  moved.position(last, 0)[0] += 5.0f;  // 5 cu of a 33.4 cu box: 15%
+  const ParityReport r = CompareTrajectories(OneSprig(), moved, {});
+  EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);  // y is untouched
+  EXPECT_EQ(r.gate("elastic.final_distance")->status, GateStatus::kFail);
+  EXPECT_NEAR(r.gate("elastic.final_distance")->value, 5.0 / 33.4, 1e-3);
+  EXPECT_NE(r.FailedGates().find("elastic.final_distance"), std::string::npos);
+  EXPECT_FALSE(r.pass());
+}
+
+TEST(Parity, ThresholdsCarryTheirSource) {
+  ParityOptions options;
+  options.gates.frame = {0.5, ThresholdSource::kFlag};
+  Trajectory scaled = OneSprig();
+  for (std::size_t f = 0; f < scaled.frame_count(); ++f) scaled.position(f, 0)[1] *= 1.06f;
+  const ParityReport r = CompareTrajectories(OneSprig(), scaled, options);
+  EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);  // 0.35 < 0.5
+  EXPECT_EQ(r.gate("frames")->threshold.source, ThresholdSource::kFlag);
+  EXPECT_EQ(ToJson(*r.gate("frames"))["threshold_source"], "flag");
+  EXPECT_EQ(r.gate("extent"), nullptr);
+  EXPECT_EQ(r.gate("elastic.extent")->threshold.source, ThresholdSource::kDefault);
+}
+
+TEST(Parity, RefusesATrackThatNamesNothing) {
+  ParityOptions options;
+  options.track.particle = 99999999;
+  EXPECT_THROW(CompareTrajectories(OneSprig(), OneSprig(), options), InputError);
 }
 
 Trajectory TwoLiquidParticles(std::size_t frames) {

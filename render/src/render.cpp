@@ -88,10 +88,12 @@ class Canvas {
     // Opaque particles first, then translucent ones without depth writes.
     DrawKinds(t, frame, o, /*translucent=*/false);
     DrawConnections(t, frame, o);
+    if (o.draw_box) DrawBoxEdges(t.box);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
     DrawKinds(t, frame, o, /*translucent=*/true);
+    if (o.draw_box) DrawFloor(t.box);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   }
@@ -141,9 +143,48 @@ class Canvas {
       const float* y = t.position(frame, b);
       vertices_.insert(vertices_.end(), {x[0], x[1], x[2], y[0], y[1], y[2]});
     }
+    DrawLines(0.05f, 0.35f, 0.1f, 1.0f);
+  }
+
+  static bool HasWalls(const Box& b) {
+    return b.extent(0) > 0 && b.extent(1) > 0 && b.extent(2) > 0;
+  }
+
+  // The twelve edges of the box, so a falling body has a floor and walls to be seen against.
+  void DrawBoxEdges(const Box& b) {
+    if (!HasWalls(b)) return;
+    vertices_.clear();
+    const float xs[2] = {b.xmin, b.xmax}, ys[2] = {b.ymin, b.ymax}, zs[2] = {b.zmin, b.zmax};
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        vertices_.insert(vertices_.end(), {b.xmin, ys[i], zs[j], b.xmax, ys[i], zs[j]});
+        vertices_.insert(vertices_.end(), {xs[i], b.ymin, zs[j], xs[i], b.ymax, zs[j]});
+        vertices_.insert(vertices_.end(), {xs[i], ys[j], b.zmin, xs[i], ys[j], b.zmax});
+      }
+    DrawLines(0.35f, 0.35f, 0.35f, 1.0f);
+  }
+
+  // The floor (y = ymin: gravity points along -y) as a faint plane.
+  void DrawFloor(const Box& b) {
+    if (!HasWalls(b)) return;
     glDisable(GL_TEXTURE_2D);
     glDisable(GL_ALPHA_TEST);
-    glColor4f(0.05f, 0.35f, 0.1f, 1.0f);
+    glColor4f(0.45f, 0.40f, 0.35f, 0.18f);
+    glBegin(GL_QUADS);
+    glVertex3f(b.xmin, b.ymin, b.zmin);
+    glVertex3f(b.xmax, b.ymin, b.zmin);
+    glVertex3f(b.xmax, b.ymin, b.zmax);
+    glVertex3f(b.xmin, b.ymin, b.zmax);
+    glEnd();
+    glEnable(GL_TEXTURE_2D);
+    glEnable(GL_ALPHA_TEST);
+  }
+
+  // vertices_ as GL_LINES pairs in one colour.
+  void DrawLines(float r, float g, float b, float a) {
+    glDisable(GL_TEXTURE_2D);
+    glDisable(GL_ALPHA_TEST);
+    glColor4f(r, g, b, a);
     glLineWidth(1.0f);
     glEnableClientState(GL_VERTEX_ARRAY);
     glVertexPointer(3, GL_FLOAT, 0, vertices_.data());
@@ -200,26 +241,25 @@ std::string Format(const char* format, double value) {
   return b;
 }
 
-const char* AxisName(int axis) { return axis == 0 ? "x" : axis == 1 ? "y" : "z"; }
+// Text rows from the top of a panel (the bottom is where a browser's video controls sit): the
+// title (when there is one), then the panel's name, its time, its tracked value, the difference.
+int Row(const RenderOptions& o, int row) { return (o.title.empty() ? 28 : 56) + 24 * row; }
 
 void Label(internal::TextPainter& text, std::vector<unsigned char>& rgba, const RenderOptions& o,
            int x0, const std::string& panel, const Trajectory& t, std::size_t frame) {
   const int w = o.width, h = o.height;
-  text.Draw(rgba, w, h, x0 + 12, 28, panel, 20, kTextColour);
-  text.Draw(rgba, w, h, x0 + 12, h - 16, Format("t = %.3f ms", t.time_s[frame] * 1e3), 18,
+  text.Draw(rgba, w, h, x0 + 12, Row(o, 0), panel, 20, kTextColour);
+  text.Draw(rgba, w, h, x0 + 12, Row(o, 1), Format("t = %.3f ms", t.time_s[frame] * 1e3), 18,
             kTextColour);
   if (o.tracking) {
-    const auto& k = *o.tracking;
-    const std::string label = std::string(AxisName(k.axis)) + "[" + std::to_string(k.particle) +
-                              "] = " + Format("%.4f cu", t.coordinate(frame, k.particle, k.axis));
-    text.Draw(rgba, w, h, x0 + 12, h - 42, label, 18, kTextColour);
+    const std::string label =
+        o.tracking->Describe() + " = " + Format("%.4f cu", o.tracking->ValueAt(t, frame));
+    text.Draw(rgba, w, h, x0 + 12, Row(o, 2), label, 18, kTextColour);
   }
 }
 
 void Title(internal::TextPainter& text, std::vector<unsigned char>& rgba, const RenderOptions& o) {
-  if (!o.title.empty())
-    text.Draw(rgba, o.width, o.height, o.width / 2 - int(o.title.size()) * 5, 56, o.title, 18,
-              kTextColour);
+  if (!o.title.empty()) text.Draw(rgba, o.width, o.height, 12, 28, o.title, 18, kTextColour);
 }
 
 // Evenly spaced indices into [0, n), at most `cap` of them (0: all).
@@ -266,8 +306,8 @@ class SideBySideFrame {
     canvas_.DrawPanel(ref, fr, camera_, 0, panel_, options_, point_size_);
     canvas_.DrawPanel(cand, fc, camera_, panel_, options_.width - panel_, options_, point_size_);
     auto& rgba = canvas_.Pixels();
-    Label(text_, rgba, options_, 0, "reference", ref, fr);
-    Label(text_, rgba, options_, panel_, "candidate", cand, fc);
+    Label(text_, rgba, options_, 0, options_.reference_label, ref, fr);
+    Label(text_, rgba, options_, panel_, options_.candidate_label, cand, fc);
     return rgba;
   }
   internal::TextPainter& text() { return text_; }
@@ -433,27 +473,32 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
                             const std::vector<std::size_t>& frames, const RenderOptions& o,
                             const std::filesystem::path& out_dir) {
   CheckSize(o);
-  const Tracking tracking = o.tracking.value_or(Tracking{});
-  const std::vector<double> ref_series = ParticleSeries(ref, tracking.particle, tracking.axis);
-  const auto [lo, hi] = std::minmax_element(ref_series.begin(), ref_series.end());
-  const double scale = *hi - *lo > 0 ? *hi - *lo : 1.0;
   RenderOptions options = o;
-  options.tracking = tracking;
+  if (!options.tracking) options.tracking = Track{};
+  const Track& track = *options.tracking;
+  const auto pairs = PairFramesByTime(ref, cand);
+  std::vector<double> paired_ref;  // the reference over the common window, for the scale
+  for (const auto& [fr, fc] : pairs) paired_ref.push_back(track.ValueAt(ref, fr));
+  if (paired_ref.empty()) throw InputError("the reference and candidate share no frame time");
+  const auto [lo, hi] = std::minmax_element(paired_ref.begin(), paired_ref.end());
+  const double scale = *hi - *lo > 0 ? *hi - *lo : 1.0;
   SideBySideFrame compose(ref, options);
   nlohmann::json entries = nlohmann::json::array();
   std::filesystem::create_directories(out_dir);
   for (std::size_t fr : frames) {
-    if (fr >= ref.frame_count())
-      throw InputError("frame " + std::to_string(fr) + " does not exist (the reference has " +
-                       std::to_string(ref.frame_count()) + " frames)");
-    const std::size_t fc = FrameAtTime(cand, ref.time_s[fr]);
-    const double vr = ref.coordinate(fr, tracking.particle, tracking.axis);
-    const double vc = cand.coordinate(fc, tracking.particle, tracking.axis);
+    const auto it =
+        std::find_if(pairs.begin(), pairs.end(), [fr](auto p) { return p.first == fr; });
+    if (it == pairs.end())
+      throw InputError("frame " + std::to_string(fr) + " has no candidate frame at the same time" +
+                       " (the reference has " + std::to_string(ref.frame_count()) + " frames)");
+    const std::size_t fc = it->second;
+    const double vr = track.ValueAt(ref, fr), vc = track.ValueAt(cand, fc);
     auto& rgba = compose.Compose(ref, fr, cand, fc);
-    const std::string diff =
-        Format("difference = %+.4f cu", vc - vr) +
-        Format(" (%.3f%% of the reference range)", 100 * std::abs(vc - vr) / scale);
-    compose.text().Draw(rgba, o.width, o.height, compose.panel() - 220, 60, diff, 18, kTextColour);
+    Title(compose.text(), rgba, options);
+    const std::string diff = Format("diff %+.4f cu", vc - vr) +
+                             Format(" (%.2f%% of range)", 100 * std::abs(vc - vr) / scale);
+    compose.text().Draw(rgba, o.width, o.height, compose.panel() + 12, Row(options, 3), diff, 16,
+                        kTextColour);
     const std::string name = "frame_" + std::to_string(fr) + ".png";
     WritePng(out_dir / name, rgba, o.width, o.height);
     entries.push_back({{"image", name},
@@ -465,11 +510,11 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
                        {"difference", vc - vr},
                        {"relative_difference", std::abs(vc - vr) / scale}});
   }
-  const nlohmann::json result = {
-      {"track",
-       {{"particle", tracking.particle}, {"group", ""}, {"axis", AxisName(tracking.axis)}}},
-      {"reference_range_cu", scale},
-      {"frames", entries}};
+  const nlohmann::json result = {{"track", track.ToJson()},
+                                 {"reference_label", o.reference_label},
+                                 {"candidate_label", o.candidate_label},
+                                 {"reference_range_cu", scale},
+                                 {"frames", entries}};
   WriteFileAtomically(out_dir / "frames.json", result.dump(2) + "\n");
   return result;
 }

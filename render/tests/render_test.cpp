@@ -34,6 +34,7 @@ TEST(Render, ParticleAppearsWhereTheCameraProjectsIt) {
   o.width = 320;
   o.height = 240;
   o.point_size_px = 12;
+  o.draw_box = false;
   const Trajectory t = OneParticle(8, 20, 12);
   const auto rgba = RenderFrameRgba(t, 0, o);
   const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / o.height);
@@ -48,6 +49,22 @@ TEST(Render, ParticleAppearsWhereTheCameraProjectsIt) {
   // The far side of the box, where nothing is drawn, is background too.
   const auto empty = camera.Project({25, 5, 25}, o.width, o.height);
   EXPECT_EQ(pixel(int(empty[0]), int(empty[1]))[1], 250);
+}
+
+TEST(Render, TheBoxFloorIsDrawnUnlessTurnedOff) {
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  const Trajectory t = OneParticle(8, 20, 12);
+  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / o.height);
+  const auto floor =
+      camera.Project({t.box.xmax * 0.75f, t.box.ymin, t.box.zmax * 0.75f}, o.width, o.height);
+  auto green_at = [&](const std::vector<unsigned char>& rgba) {
+    return rgba[(std::size_t(floor[1]) * o.width + std::size_t(floor[0])) * 4 + 1];
+  };
+  EXPECT_LT(green_at(RenderFrameRgba(t, 0, o)), 250);  // tinted by the floor
+  o.draw_box = false;
+  EXPECT_EQ(green_at(RenderFrameRgba(t, 0, o)), 250);  // background
 }
 
 TEST(Render, SideBySideMp4ReadsBackAsH264WithTheExpectedShape) {
@@ -84,7 +101,7 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
   RenderOptions o;
   o.width = 640;
   o.height = 360;
-  o.tracking = Tracking{0, 1};
+  o.tracking = Track{0, "", Axis::kY};
   const auto json = RenderFrames(t, t, {0, 15, 100}, o, Scratch() / "frames");
   ASSERT_EQ(json["frames"].size(), 3u);
   EXPECT_FLOAT_EQ(json["frames"][1]["reference_value"].get<float>(), t.coordinate(15, 0, 1));

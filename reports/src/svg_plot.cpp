@@ -85,14 +85,23 @@ std::string SvgLinePlot(const std::vector<Series>& series, const PlotOptions& o)
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     const std::string colour = s.colour.empty() ? kPalette[k % 5] : s.colour;
-    svg << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"";
+    svg << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.2\" points=\"";
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
       if ((o.log_y && !(s.y[i] > 0)) || !std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
       svg << Number(px(s.x[i])) << "," << Number(py(s.y[i])) << " ";
     }
     svg << "\"/>\n";
-    svg << "<text x=\"" << kLeft + 8 << "\" y=\"" << kTop + 16 + 14 * k << "\" fill=\"" << colour
-        << "\">" << Escape(s.name) << "</text>\n";
+  }
+  // The legend last, on a white box, so no line is drawn over it.
+  std::size_t longest = 0;
+  for (const Series& s : series) longest = std::max(longest, s.name.size());
+  svg << "<rect x=\"" << kLeft + 4 << "\" y=\"" << kTop + 4 << "\" width=\"" << 16 + 7 * longest
+      << "\" height=\"" << 6 + 14 * series.size()
+      << "\" fill=\"white\" fill-opacity=\"0.9\" stroke=\"#bbb\"/>\n";
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const std::string colour = series[k].colour.empty() ? kPalette[k % 5] : series[k].colour;
+    svg << "<text x=\"" << kLeft + 10 << "\" y=\"" << kTop + 16 + 14 * k << "\" fill=\"" << colour
+        << "\">" << Escape(series[k].name) << "</text>\n";
   }
   svg << "</svg>\n";
   return svg.str();

@@ -1,10 +1,12 @@
 #include "owval/scenarios/scenario.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
 
 namespace owval::scenarios {
 namespace fs = std::filesystem;
@@ -25,20 +27,46 @@ Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
     s.generator = m.at("generator").get<std::string>();
     const nlohmann::json parameters = m.value("parameters", nlohmann::json::object());
     for (const auto& [k, v] : parameters.items()) s.parameters[k] = v.get<double>();
-    const auto track = m.value("track", nlohmann::json::object());
-    s.track_particle = track.value("particle", std::size_t{0});
-    s.track_axis = track.value("axis", std::string("y"));
-    s.track_group = track.value("group", std::string());
+    s.track = Track::FromJson(m.value("track", nlohmann::json::object()), path.string());
     s.predictor = m.value("predictor", "");
     s.duration_s = m.value("duration_s", 0.05);
     s.log_step = m.value("log_step", 1);
     if (m.contains("reference")) s.reference = data_dir / m["reference"].get<std::string>();
-    s.gates = m.value("gates", nlohmann::json::object());
+    ApplyManifestGates(m.value("gates", nlohmann::json::object()), path.string(), &s.gates);
+    if (m.contains("frames")) s.sample_frames = m["frames"].get<std::vector<std::size_t>>();
     s.manifest = m;
     return s;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path.string(), 0, std::string("bad scenario manifest: ") + e.what());
   }
+}
+
+void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
+                        compare::ParityGates* out) {
+  const std::map<std::string, compare::Threshold*> keys = {
+      {"frame_threshold", &out->frame},
+      {"period_gap_threshold", &out->period_gap},
+      {"amplitude_gap_threshold", &out->amplitude_gap},
+      {"min_crossings", &out->min_crossings},
+      {"centroid_distance_threshold", &out->centroid_distance},
+      {"extent_threshold", &out->extent},
+      {"final_distance_threshold", &out->final_distance},
+      {"particle_distance_threshold", &out->particle_distance}};
+  if (!gates.is_object()) throw InputError(where, 0, "\"gates\": expected an object");
+  for (const auto& [key, value] : gates.items()) {
+    const auto it = keys.find(key);
+    if (it == keys.end()) throw InputError(where, 0, "\"gates." + key + "\": unknown gate");
+    if (!value.is_number() || !(value.get<double>() > 0) || !std::isfinite(value.get<double>()))
+      throw InputError(where, 0, "\"gates." + key + "\": expected a positive number");
+    *it->second = {value.get<double>(), compare::ThresholdSource::kManifest};
+  }
+}
+
+void ApplyManifestFile(const fs::path& manifest, compare::ParityOptions* options) {
+  const nlohmann::json m = ReadJsonFile(manifest);
+  if (!m.is_object()) throw InputError(manifest.string(), 0, "expected a JSON object");
+  if (m.contains("track")) options->track = Track::FromJson(m["track"], manifest.string());
+  if (m.contains("gates")) ApplyManifestGates(m["gates"], manifest.string(), &options->gates);
 }
 
 std::vector<std::string> ListScenarios(const fs::path& data_dir) {

@@ -1,6 +1,7 @@
 // owval scenario list|show|generate end to end, and the --param parser it shares with predict.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -32,7 +33,9 @@ struct CliRun {
 };
 
 CliRun Owval(const std::string& args) {
-  const fs::path out = fs::path(testing::TempDir()) / "owval_scenario_cli.txt";
+  // One file per process: ctest runs tests in parallel.
+  const fs::path out =
+      fs::path(testing::TempDir()) / ("owval_scenario_cli." + std::to_string(::getpid()) + ".txt");
   const std::string command = (fs::path(OWVAL_BINARY_DIR) / "owval").string() + " -q " + args +
                               " > " + out.string() + " 2>&1";
   const int status = std::system(command.c_str());

@@ -50,7 +50,7 @@ double Rms(const Trajectory& t, const Tracking& k, const std::string& reference_
     cached = ReadTrajectory(reference_file);
     cached_name = reference_file;
   }
-  const auto pairs = compare::PairFramesByTime(cached, t);
+  const auto pairs = PairFramesByTime(cached, t);
   if (pairs.empty())
     throw InputError(reference_file, 0, "shares no frame time with the simulation");
   const auto ref = Series(cached, k), cand = Series(t, k);

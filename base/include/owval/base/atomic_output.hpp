@@ -33,6 +33,10 @@ class AtomicOutput {
 // Writes the whole string atomically.
 void WriteFileAtomically(const std::filesystem::path& destination, const std::string& contents);
 
+// Checks, before any work starts, that `destination` can be written: not an existing directory,
+// its parent directory exists (or can be created) and is writable. InputError naming the path.
+void CheckOutputPath(const std::filesystem::path& destination);
+
 // Reads a whole file; throws InputError naming the file when it is missing or unreadable.
 std::string ReadWholeFile(const std::filesystem::path& path);
 

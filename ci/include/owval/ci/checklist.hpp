@@ -1,13 +1,32 @@
 #pragma once
-// The PR checklist bot (phase 8): checks a pull request's artifact directory item by item, for
-// real (files parse, the video decodes, the frames' numbers agree with the trajectories, the fit
-// converged), and renders the verdict as a Markdown comment. File names: docs/checklist.md.
+// The PR checklist bot (phase 8): judges a pull request's artifact directory item by item on the
+// evidence, not on its presence: the candidate must pass the parity gates against the reference
+// (recomputed from the two trajectories, whatever parity.json says), every sampled frame must be
+// within the frame gate, the prediction is reconciled with the *reference* measurement, and the
+// prediction's order before the runs is checked in the git history where one is given. Renders
+// the verdict as a Markdown comment. File names and rules: docs/checklist.md.
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "owval/compare/parity.hpp"
+#include "owval/trajectory/track.hpp"
+
 namespace owval::ci {
+
+struct ChecklistOptions {
+  // Gate thresholds. They come from the caller (a scenario manifest or flags), never from files
+  // in the directory under review: a pull request cannot loosen its own gates.
+  compare::ParityGates gates;
+  // The tracked scalar of the frame gate; empty: frames/frames.json's "track" (the group gates
+  // cover every moving particle whatever is tracked).
+  std::optional<Track> track;
+  // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
+  // committed no later than the first trajectory. Empty: the order is reported as not checked.
+  std::string git_range;
+};
 
 struct ChecklistItem {
   int number = 0;        // 1..10, as in the design notes
@@ -18,9 +37,9 @@ struct ChecklistItem {
 };
 
 enum class Verdict {
-  kReady,         // all ten items pass
+  kReady,         // all ten items and the parity gate pass
   kIncomplete,    // only items 7-10 missing or failing: not blocking
-  kNotReady,      // item 1, 4, 5 or 6 missing or failing
+  kNotReady,      // item 1, 4, 5 or 6 missing or failing, or the parity gate fails
   kUnreviewable,  // item 2 or 3 missing or failing
 };
 const char* VerdictName(Verdict verdict);
@@ -28,13 +47,27 @@ const char* VerdictName(Verdict verdict);
 struct ChecklistReport {
   std::filesystem::path directory;
   std::vector<ChecklistItem> items;
+  // The parity of the candidate against the reference, recomputed; empty when either trajectory
+  // is missing or unreadable (then item 2 or 3 fails).
+  std::optional<compare::ParityReport> parity;
+  std::string parity_note;  // e.g. "parity.json is stale: it says pass, recomputed FAIL"
   Verdict verdict = Verdict::kNotReady;
+  std::vector<std::string> blocking;  // what makes the verdict what it is, e.g. "item 5 (...)"
+
   int exit_code() const;  // 0 ready or incomplete, 1 otherwise
+  bool parity_pass() const { return parity && parity->pass(); }
   std::string ToMarkdown() const;
   nlohmann::json ToJson() const;
 };
 
-ChecklistReport RunChecklist(const std::filesystem::path& directory);
+ChecklistReport RunChecklist(const std::filesystem::path& directory,
+                             const ChecklistOptions& options = {});
+
+// Whether prediction.json was committed no later than the first trajectory in `git_range`
+// (BASE..HEAD) of the repository holding `directory`; runs git. `detail` says what was found.
+// Throws InputError when git cannot read the range.
+bool PredictionCommittedFirst(const std::filesystem::path& directory, const std::string& git_range,
+                              std::string* detail);
 
 // Facts about an MP4 read back through libavformat/libavcodec (frames decoded, not guessed).
 struct VideoInfo {

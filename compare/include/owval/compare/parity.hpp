@@ -1,30 +1,54 @@
 #pragma once
-// Frame-by-frame parity of a candidate trajectory against a reference (design notes §4): the
-// report a backend port must pass. Frames are paired by simulation time, so files with different
-// log steps or layouts compare correctly.
+// Parity of a candidate trajectory against a reference (design notes §4): the report a backend
+// port must pass. Frames are paired by simulation time (PairFramesByTime), so files with
+// different log steps, layouts or durations compare correctly, and every measure, on both sides,
+// is taken over the two runs' common time window only.
+//
+// Gates (each listed in the report with its value, threshold and the threshold's source):
+//  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
+//    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
+//    scale".
+//  - period, half_amplitude: zero-crossing period and half-amplitude gaps. They apply only where
+//    both signals oscillate: at least `min_crossings` upward mean crossings in each; otherwise
+//    they are reported as not applicable, never as a failure (a dropped cube has no period).
+//  - For scenes whose detail is chaotic (demo1's sliding cube), per group (elastic, liquid) that
+//    exists: the 3-D centroid distance (maximum over time), the bounding-box extents (maximum
+//    over time and axes of |e_cand - e_ref| per axis), the final-state centroid distance; and
+//    the mean per-particle distance of the moving particles at the first paired frame, averaged
+//    over all paired frames, and at the last. All relative to the reference's box: its largest
+//    extent for distances, its extent on the same axis for extents.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "owval/compare/gates.hpp"
 #include "owval/compare/signal_metrics.hpp"
+#include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::compare {
 
+// Thresholds of every parity gate, each with its source. Defaults follow DD001 (5% of the
+// reference scale); scenario manifests and flags override them (scenarios::ApplyManifestGates).
+struct ParityGates {
+  Threshold frame{0.05};              // fraction of the reference range
+  Threshold period_gap{0.02};         // |T_cand - T_ref| / T_ref
+  Threshold amplitude_gap{0.05};      // |A_cand - A_ref| / A_ref
+  Threshold min_crossings{4};         // upward mean crossings both signals need for the above
+  Threshold centroid_distance{0.05};  // fraction of the box's largest extent
+  Threshold extent{0.05};             // fraction of the box's extent on that axis
+  Threshold final_distance{0.05};     // fraction of the box's largest extent
+  Threshold particle_distance{0.05};  // fraction of the box's largest extent
+};
+
 struct ParityOptions {
-  // The tracked scalar: a particle's coordinate, or a group centroid's when `group` is set
-  // ("elastic", "liquid", "all").
-  std::size_t particle = 0;
-  std::string group;
-  int axis = 1;
+  Track track;  // the tracked scalar of the frame gate
   // Reference frame indices to gate; empty means every reference frame that has a partner.
   std::vector<std::size_t> sample_frames;
-  // Scale for |cand - ref|; empty means the reference's range over the run.
+  // Scale for |cand - ref| in cu; empty means the reference's range over the common window.
   std::optional<double> scale;
-  double frame_threshold = 0.05;       // pass when |Δ|/scale < this at every sample frame
-  double period_gap_threshold = 0.02;  // relative gap of zero-crossing periods
-  double amplitude_gap_threshold = 0.05;
+  ParityGates gates;
 };
 
 struct FrameParity {
@@ -38,38 +62,42 @@ struct FrameParity {
 struct GroupDrift {
   std::string group;
   double final_centroid_distance_cu = 0;  // |centroid_cand - centroid_ref| at the last paired frame
+  double final_offset_cu[3] = {0, 0, 0};  // centroid_cand - centroid_ref per axis, last frame
   double max_centroid_distance_cu = 0;
-  double final_extent_ratio[3] = {1, 1, 1};  // bounding-box extent cand/ref per axis, last frame
+  double max_extent_difference_fraction = 0;  // max over frames, axes of |e_c - e_r| / box extent
+  double final_extent_ratio[3] = {1, 1, 1};   // bounding-box extent cand/ref per axis, last frame
 };
 
 struct ParityReport {
   std::string subject;  // e.g. "particle 0 y"
-  double scale = 0;
+  double scale = 0;     // cu, for the frame gate
+  double box_scale_cu = 0;
   std::size_t paired_frames = 0;
+  double common_window_start_s = 0, common_window_end_s = 0;
   std::vector<FrameParity> frames;  // the gated frames
   std::vector<std::size_t> failing_frames;
-  // Mean over particles of |x_cand - x_ref| (cu) at the first paired frame, averaged over all
-  // paired frames, and at the last one.
+  // The tracked scalar at every paired frame (for plots of candidate - reference over time).
+  std::vector<double> paired_time_s, reference_series, candidate_series;
+  // Mean over moving particles of |x_cand - x_ref| (cu) at the first paired frame, averaged over
+  // all paired frames, and at the last one.
   double l2_initial_cu = 0, l2_mean_cu = 0, l2_final_cu = 0;
   std::vector<GroupDrift> drift;
-  SignalMetrics reference_metrics, candidate_metrics;
+  SignalMetrics reference_metrics, candidate_metrics;  // over the common window
   std::optional<double> period_gap, half_amplitude_gap, equilibrium_gap_cu;
-  bool frames_pass = true, metrics_pass = true;
-  bool pass() const { return frames_pass && metrics_pass; }
+  std::vector<Gate> gates;
+
+  bool pass() const { return AllApplicablePass(gates); }
+  const Gate* gate(const std::string& name) const;
+  std::string FailedGates() const { return FailedGateNames(gates); }
 
   nlohmann::json ToJson() const;
   std::string ToMarkdown() const;
   std::string ToTable() const;
 };
 
-// Throws InputError when the two trajectories have different particle counts or no frames in
-// common time.
+// Throws InputError when the two trajectories have different particle counts, no frames in
+// common time, or the track names nothing in them.
 ParityReport CompareTrajectories(const Trajectory& reference, const Trajectory& candidate,
                                  const ParityOptions& options);
-
-// Pairs each reference frame with the candidate frame at the same simulation time (within half
-// the finer frame interval); returns (reference, candidate) index pairs.
-std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const Trajectory& reference,
-                                                                  const Trajectory& candidate);
 
 }  // namespace owval::compare

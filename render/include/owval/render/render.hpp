@@ -11,17 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::render {
 
 enum class BoundaryMode { kHidden, kTranslucent, kShown };
 BoundaryMode ParseBoundaryMode(const std::string& name);  // hidden | translucent | shown
-
-struct Tracking {
-  std::size_t particle = 0;
-  int axis = 1;
-};
 
 struct RenderOptions {
   int width = 1280, height = 720;  // whole output frame (both panels in side-by-side mode)
@@ -31,8 +27,12 @@ struct RenderOptions {
   float point_size_px = 0;  // 0: from the frame size and the particle spacing
   int fps = 30;
   std::size_t max_frames = 0;  // 0: every frame
-  std::string title;
-  std::optional<Tracking> tracking;  // print this particle's coordinate on each panel
+  std::string title;           // a line across the top of the frame
+  // Panel names of a side-by-side frame (e.g. "OpenCL" and "Metal").
+  std::string reference_label = "reference", candidate_label = "candidate";
+  // The simulation box's edges and its floor, where the scene has walls (a non-empty box).
+  bool draw_box = true;
+  std::optional<Track> tracking;  // print this tracked value on each panel
   // Elastic connections drawn as lines (particle index pairs, e.g. from a configuration's
   // [connection] block); empty: none.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> connections;
@@ -60,8 +60,11 @@ VideoSummary RenderVideo(const Trajectory& trajectory, const RenderOptions& opti
 VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& candidate,
                               const RenderOptions& options, const std::filesystem::path& out_mp4);
 
-// PNG side-by-side frames at the given reference frame indices, with each panel's tracked value
-// and their difference printed; returns (and writes to out_dir/frames.json) the same numbers.
+// PNG side-by-side frames at the given reference frame indices, each paired with the candidate
+// frame at the same simulation time (PairFramesByTime), with each panel's tracked value and their
+// difference printed; returns (and writes to out_dir/frames.json) the same numbers. The
+// difference is also given relative to the reference's range over the common time window, as
+// owval compare's frame gate measures it. InputError for a frame without a partner.
 nlohmann::json RenderFrames(const Trajectory& reference, const Trajectory& candidate,
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);

@@ -8,8 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "owval/compare/parity.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/scenarios/generators.hpp"
+#include "owval/trajectory/track.hpp"
 
 namespace owval::scenarios {
 
@@ -18,16 +20,26 @@ struct Scenario {
   std::string description;
   std::string generator;  // one_sprig | free_fall | hanging_chain | liquid_column
   std::map<std::string, double> parameters;  // generator parameters (defaults filled in)
-  std::size_t track_particle = 0;            // tracked particle (ignored when track_group is set)
-  std::string track_group;  // "elastic" | "liquid" | "all": track the group centroid
-  std::string track_axis = "y";
+  Track track;  // the tracked quantity of every phase (reconcile, fit, render, frame gate)
   std::string predictor;  // harmonic_spring | free_fall | hanging_chain | hydrostatic_column
   double duration_s = 0.05;
   int log_step = 1;
   std::filesystem::path reference;  // bundled reference trajectory ("" if none)
-  nlohmann::json gates;             // thresholds for compare (see cli/cmd_compare.cpp)
-  nlohmann::json manifest;          // the manifest as read
+  // Reference frames the labelled PNGs show (manifest "frames"; clamped to the run's length).
+  std::vector<std::size_t> sample_frames = {0, 15, 100, 200};
+  compare::ParityGates gates;  // the manifest's "gates" over the defaults (ApplyManifestGates)
+  nlohmann::json manifest;     // the manifest as read
 };
+
+// The manifest's "gates" object onto `gates` (source: manifest). Keys: frame_threshold,
+// period_gap_threshold, amplitude_gap_threshold, min_crossings, centroid_distance_threshold,
+// extent_threshold, final_distance_threshold, particle_distance_threshold; each a positive
+// number. InputError naming `where` and the key for anything else.
+void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
+                        compare::ParityGates* out);
+
+// A manifest file's "track" and "gates" onto parity options (owval compare --manifest).
+void ApplyManifestFile(const std::filesystem::path& manifest, compare::ParityOptions* options);
 
 // Reads data_dir/scenarios/manifests/NAME.json; InputError for an unknown name or bad manifest.
 Scenario LoadScenario(const std::string& name, const std::filesystem::path& data_dir);

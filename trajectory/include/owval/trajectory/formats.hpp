@@ -49,8 +49,8 @@ void WriteSiberneticText(const Trajectory& trajectory, const std::filesystem::pa
                          TextLayout layout = TextLayout::kOpenCL);
 
 struct Hdf5WriteOptions {
-  int compression_level = 4;         // deflate level 0..9
-  std::size_t frames_per_chunk = 16;      // chunking along the frame axis
+  int compression_level = 4;               // deflate level 0..9
+  std::size_t frames_per_chunk = 16;       // chunking along the frame axis
   std::size_t particles_per_chunk = 1024;  // and along the particle axis
 };
 void WriteHdf5(const Trajectory& trajectory, const std::filesystem::path& path,
@@ -64,6 +64,11 @@ FileFormat DetectFormat(const std::filesystem::path& path);
 // Reads any supported trajectory file.
 Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptions& options = {},
                           TextReadReport* report = nullptr);
+// The trajectory file extensions owval writes: ".h5", ".hdf5" (owval HDF5) and ".txt"
+// (Sibernetic text). Checks before any work that `path` has one of them and can be written;
+// InputError naming the path otherwise.
+void CheckTrajectoryOutput(const std::filesystem::path& path);
+
 // Writes by extension: .h5/.hdf5 -> HDF5, anything else -> Sibernetic text in `layout`.
 void WriteTrajectory(const Trajectory& trajectory, const std::filesystem::path& path,
                      TextLayout layout = TextLayout::kOpenCL);

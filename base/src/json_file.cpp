@@ -1,0 +1,35 @@
+#include "owval/base/json_file.hpp"
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+
+namespace owval {
+namespace {
+
+// nlohmann's messages start with "[json.exception.parse_error.101] parse error at line L,
+// column C: "; owval's say the file and line themselves.
+std::string WithoutExceptionTag(const std::string& what) {
+  const auto close = what.find("] ");
+  return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos
+             ? what.substr(close + 2)
+             : what;
+}
+
+}  // namespace
+
+nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // Line of the error: count newlines up to the byte the parser stopped at.
+    std::size_t line = 1;
+    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n';
+    throw InputError(name, line, "not valid JSON: " + WithoutExceptionTag(e.what()));
+  }
+}
+
+nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
+  return ParseJsonText(ReadWholeFile(path), path.string());
+}
+
+}  // namespace owval

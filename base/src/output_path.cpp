@@ -1,0 +1,29 @@
+#include <unistd.h>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+
+namespace owval {
+namespace fs = std::filesystem;
+
+void CheckOutputPath(const fs::path& destination) {
+  if (destination.empty()) throw InputError("output path is empty");
+  std::error_code error;
+  if (fs::is_directory(destination, error))
+    throw InputError(destination.string(), 0, "is a directory; expected a file to write");
+  fs::path parent = destination.parent_path();
+  if (parent.empty()) parent = ".";
+  // The nearest existing ancestor decides whether the missing directories can be created.
+  fs::path existing = parent;
+  while (!fs::exists(existing, error) && existing.has_parent_path() &&
+         existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!fs::is_directory(existing, error))
+    throw InputError(destination.string(), 0,
+                     "cannot be written: " + existing.string() + " is not a directory");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw InputError(destination.string(), 0,
+                     "cannot be written: " + existing.string() + " is not writable");
+}
+
+}  // namespace owval

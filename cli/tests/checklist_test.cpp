@@ -1,0 +1,204 @@
+// Every checklist item's failing case (issue 20): a ready pipeline directory, made once, is
+// copied and one artifact is broken per test; the checklist must name that item.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/file.h>
+
+#include <functional>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+
+namespace owval::testing {
+namespace {
+namespace fs = std::filesystem;
+
+class Checklist : public ::testing::Test {
+ protected:
+  // ctest runs each test in its own process, in parallel: the ready directory is made once per
+  // build of owval (keyed by the executable's time stamp), under a file lock, and then shared.
+  static fs::path Ready() {
+    const auto stamp = fs::last_write_time(OWVAL_EXE).time_since_epoch().count();
+    const fs::path d =
+        fs::temp_directory_path() /
+        ("owval_checklist_ready_" + std::to_string(::getuid()) + "_" + std::to_string(stamp));
+    const int lock = ::open((d.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0600);
+    ::flock(lock, LOCK_EX);
+    if (!fs::exists(d / "complete")) {
+      fs::remove_all(d);
+      const Result r = Owval("pipeline one_sprig -o " + d.string() + " --max-video-frames 20");
+      EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+      if (r.exit_code == 0) std::ofstream(d / "complete") << "made by checklist_test\n";
+    }
+    ::flock(lock, LOCK_UN);
+    ::close(lock);
+    return d;
+  }
+
+  // A copy of the ready directory to break.
+  fs::path Copy(const std::string& name) {
+    const fs::path d = Scratch() / ("checklist_" + name);
+    fs::remove_all(d);
+    fs::copy(Ready(), d, fs::copy_options::recursive);
+    fs::remove(d / "complete");
+    return d;
+  }
+
+  static nlohmann::json Judge(const fs::path& dir, int expected_exit,
+                              const std::string& flags = "") {
+    const Result r = Owval("checklist " + dir.string() + " --json " + flags);
+    EXPECT_EQ(r.exit_code, expected_exit) << r.out << r.err;
+    return nlohmann::json::parse(r.out);
+  }
+
+  static void Write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+
+  static void EditJson(const fs::path& file, const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = nlohmann::json::parse(Slurp(file));
+    edit(j);
+    Write(file, j.dump(2));
+  }
+};
+
+bool ItemPasses(const nlohmann::json& report, int item) {
+  return report["items"][std::size_t(item - 1)]["pass"].get<bool>();
+}
+
+TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
+  const auto j = Judge(Ready(), 0);
+  EXPECT_EQ(j["verdict"], "ready");
+  for (int i = 1; i <= 10; ++i) EXPECT_TRUE(ItemPasses(j, i)) << i;
+  EXPECT_TRUE(j["parity"]["pass"].get<bool>());
+  // Item 1's order cannot be seen in a plain directory, and the report says so.
+  EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("NOT CHECKED"), std::string::npos);
+}
+
+TEST_F(Checklist, Item1FailsOnAnEmptyPrediction) {
+  const fs::path d = Copy("item1");
+  EditJson(d / "prediction.json",
+           [](nlohmann::json& j) { j["predictions"] = nlohmann::json::array(); });
+  const auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_FALSE(ItemPasses(j, 1));
+}
+
+// A git repository holding the directory, its files committed in the given order.
+void CommitInOrder(const fs::path& d, const std::vector<std::vector<std::string>>& commits) {
+  auto git = [&](const std::string& args) {
+    const std::string command = "git -C " + d.string() +
+                                " -c user.name=t -c user.email=t@t -c commit.gpgsign=false " +
+                                args + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << args;
+  };
+  git("init -q");
+  git("commit -q --allow-empty -m base");
+  git("tag base");
+  for (const auto& files : commits) {
+    std::string list;
+    for (const auto& f : files) list += " " + f;
+    git("add" + list);
+    git("commit -q -m step");
+  }
+}
+
+TEST_F(Checklist, Item1ChecksThePredictionWasCommittedBeforeTheTrajectories) {
+  const fs::path late = Copy("item1_late");
+  CommitInOrder(late, {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
+  auto j = Judge(late, 1, "--git-range base..HEAD");
+  EXPECT_FALSE(ItemPasses(j, 1));
+  EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("AFTER"), std::string::npos);
+  const fs::path early = Copy("item1_early");
+  CommitInOrder(early, {{"prediction.json"}, {"reference.h5", "candidate.h5"}, {"."}});
+  j = Judge(early, 0, "--git-range base..HEAD");
+  EXPECT_TRUE(ItemPasses(j, 1)) << j["items"][0].dump();
+  EXPECT_EQ(Owval("checklist " + early.string() + " --git-range nonsense").exit_code, 1);
+}
+
+TEST_F(Checklist, Items2And3MissingOrCorruptAreUnreviewable) {
+  const fs::path d = Copy("item2");
+  fs::remove(d / "reference.h5");
+  auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "unreviewable");
+  EXPECT_FALSE(ItemPasses(j, 2));
+  const fs::path c = Copy("item3");
+  Write(c / "candidate.h5", "not an HDF5 file");
+  j = Judge(c, 1);
+  EXPECT_EQ(j["verdict"], "unreviewable");
+  EXPECT_FALSE(ItemPasses(j, 3));
+}
+
+TEST_F(Checklist, Item4FailsOnASinglePanelVideo) {
+  const fs::path d = Copy("item4");
+  ASSERT_EQ(Owval("render " + (d / "reference.h5").string() + " --max-frames 5 --size 320x320 -o " +
+                  (d / "sxs.mp4").string())
+                .exit_code,
+            0);
+  const auto j = Judge(d, 1);
+  EXPECT_FALSE(ItemPasses(j, 4));
+  EXPECT_NE(j["items"][3]["detail"].get<std::string>().find("not two panels"), std::string::npos);
+}
+
+TEST_F(Checklist, Item5FailsWhenALabelledValueDisagreesWithTheTrajectory) {
+  const fs::path d = Copy("item5");
+  EditJson(d / "frames/frames.json",
+           [](nlohmann::json& j) { j["frames"][1]["candidate_value"] = 99.0; });
+  const auto j = Judge(d, 1);
+  EXPECT_FALSE(ItemPasses(j, 5));
+  EXPECT_TRUE(j["parity"]["pass"].get<bool>());  // the trajectories themselves agree
+}
+
+TEST_F(Checklist, Item5RefusesATrackThatDoesNotExist) {
+  const fs::path d = Copy("item5_track");
+  EditJson(d / "frames/frames.json", [](nlohmann::json& j) { j["track"]["particle"] = 100000000; });
+  const auto j = Judge(d, 1);
+  EXPECT_FALSE(ItemPasses(j, 5));
+  EXPECT_NE(j["items"][4]["detail"].get<std::string>().find("100000000"), std::string::npos);
+}
+
+TEST_F(Checklist, Item6FailsOnAnUnconvergedFit) {
+  const fs::path d = Copy("item6");
+  EditJson(d / "fit/history.json", [](nlohmann::json& j) { j["converged"] = false; });
+  const auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_FALSE(ItemPasses(j, 6));
+}
+
+TEST_F(Checklist, Items7To9FailingLeaveItIncompleteButNotBlocking) {
+  const fs::path d = Copy("items7to9");
+  EditJson(d / "fd_tests.json", [](nlohmann::json& j) { j["tests"][0]["pass"] = false; });
+  Write(d / "parameters.json", "{}");
+  Write(d / "changes.md", "# Changes\n\n" + std::string(100000, ' ') + "\nno list here\n");
+  const auto j = Judge(d, 0);
+  EXPECT_EQ(j["verdict"], "incomplete but not blocking");
+  for (int i : {7, 8, 9}) EXPECT_FALSE(ItemPasses(j, i)) << i;
+  EXPECT_TRUE(ItemPasses(j, 10));
+}
+
+TEST_F(Checklist, Item10ReconcilesThePredictionWithTheReference) {
+  const fs::path d = Copy("item10");
+  EditJson(d / "prediction.json", [](nlohmann::json& j) {
+    for (auto& p : j["predictions"])
+      if (p["quantity"] == "zero_crossing_period") p["value"] = p["value"].get<double>() * 1.2;
+  });
+  fs::remove(d / "reconcile.json");  // recomputed, not read
+  const auto j = Judge(d, 0);
+  EXPECT_FALSE(ItemPasses(j, 10));
+  EXPECT_NE(j["items"][9]["detail"].get<std::string>().find("reference"), std::string::npos);
+}
+
+TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {
+  const fs::path d = Copy("stale_parity");
+  const fs::path run = Scratch() / "stale_parity_run";
+  ASSERT_EQ(
+      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
+          .exit_code,
+      0);
+  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
+  const auto j = Judge(d, 1);  // parity.json from the ready run still says pass
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_NE(j["parity_note"].get<std::string>().find("stale"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace owval::testing

@@ -1,0 +1,47 @@
+#pragma once
+// Running the owval executable from tests: exit code, stdout and stderr of one command.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace owval::testing {
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+inline std::filesystem::path Scratch() {
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("owval_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::string Slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Runs `owval --quiet ARGS` (ARGS as a shell would split them).
+inline Result Owval(const std::string& args) {
+  const auto out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
+  const std::string command =
+      std::string(OWVAL_EXE) + " --quiet " + args + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+}
+
+// Sibernetic's reference runs (../shared/reference). CI always has them: there, with
+// OWVAL_REQUIRE_REFERENCE=1, a missing file fails the test instead of skipping it.
+inline bool ReferenceMissing(const std::filesystem::path& file) {
+  if (std::filesystem::exists(file)) return false;
+  const char* require = std::getenv("OWVAL_REQUIRE_REFERENCE");
+  return !(require && std::string(require) == "1");
+}
+
+}  // namespace owval::testing

@@ -1,0 +1,61 @@
+#pragma once
+// The 8-phase workflow on one built-in scenario, into one report directory whose layout is the PR
+// checklist's (docs/checklist.md): predict -> reference -> inspect -> candidate -> fit -> render
+// -> compare -> checklist. Everything scenario-specific comes from its manifest
+// (scenarios/manifests/NAME.json): the tracked quantity, the predictor, the fitted parameters and
+// their targets, the finite-difference test, the sampled frames and the gates. A phase the
+// manifest does not call for (nothing to fit, no kernel to test) is reported as not applicable.
+//
+//   pipeline::Options options;
+//   options.scenario = "one_sprig";
+//   options.out_dir = "reports/one_sprig";
+//   pipeline::Summary summary;
+//   pipeline::Run(options, &summary);
+//   std::cout << summary.BriefReport();
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "owval/ci/checklist.hpp"
+#include "owval/compare/parity.hpp"
+#include "owval/engine/run.hpp"
+
+namespace owval::pipeline {
+
+struct Options {
+  std::string scenario;             // a built-in scenario name
+  std::filesystem::path data_dir;   // holds scenarios/manifests and bundled references
+  std::filesystem::path out_dir;    // the report directory (created)
+  std::filesystem::path candidate;  // a trajectory file; empty: an owval engine run
+  engine::Integrator integrator = engine::Integrator::kSemiImplicitEuler;  // of the engine run
+  std::size_t max_video_frames = 300;  // sxs.mp4 frames, evenly spaced
+  bool quiet = false;                  // no progress bars
+  // One line per finished phase ("5 fit: ..."); may be empty.
+  std::function<void(const std::string&)> on_phase;
+};
+
+struct Phase {
+  std::string name;        // "1 predict", ..., "8 checklist"
+  bool applicable = true;  // false: the scenario does not call for it (summary says why)
+  std::string summary;     // what it produced or measured
+};
+
+struct Summary {
+  std::vector<Phase> phases;
+  bool prediction_holds = false;  // reconciliation of the prediction with the reference
+  compare::ParityReport parity;
+  ci::ChecklistReport checklist;
+  std::filesystem::path index_html;
+
+  // 0 when the checklist is ready (or incomplete but not blocking) and parity passes, else 1.
+  int exit_code() const;
+  std::string BriefReport() const;
+};
+
+// Runs every phase. InputError for an unknown scenario or unusable candidate, before anything is
+// written when it can be known then.
+void Run(const Options& options, Summary* summary);
+
+}  // namespace owval::pipeline

@@ -1,0 +1,204 @@
+#include "owval/pipeline/pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fit_phase.hpp"
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/predict/predict.hpp"
+#include "owval/render/render.hpp"
+#include "owval/reports/pipeline_report.hpp"
+#include "owval/scenarios/scenario.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::pipeline {
+namespace fs = std::filesystem;
+namespace {
+
+// Everything the phases share: the scenario, the directory, both trajectories and what each
+// phase produced for the report.
+struct Context {
+  Context(const Options& o, Summary* s) : options(o), dir(o.out_dir), summary(s) {}
+  const Options& options;
+  scenarios::Scenario scenario;
+  engine::SiberneticConfig config;
+  fs::path dir;
+  Trajectory reference, candidate;
+  nlohmann::json prediction;
+  reports::PipelineEvidence evidence;
+  Summary* summary;
+};
+
+void WriteJson(const fs::path& path, const nlohmann::json& j) {
+  WriteFileAtomically(path, j.dump(2) + "\n");
+}
+
+void Done(Context& c, const std::string& name, bool applicable, const std::string& outcome) {
+  c.summary->phases.push_back({name, applicable, outcome});
+  c.evidence.phases.push_back({name, applicable, outcome});
+  if (c.options.on_phase)
+    c.options.on_phase(name + ": " + (applicable ? "" : "not applicable: ") + outcome);
+}
+
+engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator) {
+  engine::RunOptions o;
+  o.duration_s = c.scenario.duration_s;
+  o.log_step = c.scenario.log_step;
+  o.integrator = integrator;
+  return o;
+}
+
+void Predict(Context& c) {
+  predict::PredictOptions o;
+  o.scenario = c.scenario.name;
+  o.predictor = c.scenario.predictor;
+  c.prediction = predict::Predict(c.config, engine::PhysicsConstants{}, o);
+  WriteJson(c.dir / "prediction.json", c.prediction);
+  Done(c, "1 predict", true,
+       std::to_string(c.prediction["predictions"].size()) + " quantities in prediction.json");
+}
+
+void Reference(Context& c) {
+  if (!c.scenario.reference.empty()) {
+    c.reference = ReadTrajectory(c.scenario.reference);
+    c.evidence.reference_source =
+        "bundled Sibernetic OpenCL run (" + c.scenario.reference.filename().string() + ")";
+  } else {
+    c.reference = engine::Run(c.config, RunOptionsFor(c, engine::Integrator::kSemiImplicitEuler));
+    c.evidence.reference_source =
+        "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)";
+  }
+  WriteHdf5(c.reference, c.dir / "reference.h5");
+  Done(c, "2 reference", true, "reference.h5 from " + c.evidence.reference_source);
+}
+
+void Inspect(Context& c) {
+  c.evidence.reconcile = predict::Reconcile(c.prediction, c.reference);
+  WriteJson(c.dir / "reconcile.json", c.evidence.reconcile);
+  WriteFileAtomically(c.dir / "reconcile.md", predict::ReconcileMarkdown(c.evidence.reconcile));
+  c.summary->prediction_holds = c.evidence.reconcile.value("pass", false);
+  Done(c, "3 inspect", true,
+       c.summary->prediction_holds ? "the prediction holds on the reference"
+                                   : "a predicted quantity misses the reference (reconcile.md)");
+}
+
+void Candidate(Context& c) {
+  if (!c.options.candidate.empty()) {
+    c.evidence.candidate_source = "given trajectory " + c.options.candidate.string();
+  } else {
+    const bool leapfrog = c.options.integrator == engine::Integrator::kLeapfrog;
+    c.candidate = engine::Run(c.config, RunOptionsFor(c, c.options.integrator));
+    c.evidence.candidate_source = std::string("owval engine on the CPU, PCISPH, ") +
+                                  (leapfrog ? "leapfrog" : "semi-implicit Euler") + " integrator";
+  }
+  WriteHdf5(c.candidate, c.dir / "candidate.h5");
+  Done(c, "4 candidate", true, "candidate.h5 from " + c.evidence.candidate_source);
+}
+
+std::vector<std::size_t> SampleFrames(const Context& c) {
+  std::vector<std::size_t> at;
+  for (std::size_t f : c.scenario.sample_frames)
+    at.push_back(std::min<std::size_t>(f, c.reference.frame_count() - 1));
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  return at;
+}
+
+void Render(Context& c) {
+  render::RenderOptions o;
+  o.boundary = render::BoundaryMode::kTranslucent;
+  o.max_frames = c.options.max_video_frames;
+  o.title = c.scenario.name;
+  o.tracking = c.scenario.track;
+  o.quiet = c.options.quiet;
+  const render::VideoSummary video =
+      render::RenderSideBySide(c.reference, c.candidate, o, c.dir / "sxs.mp4");
+  c.evidence.frames =
+      render::RenderFrames(c.reference, c.candidate, SampleFrames(c), o, c.dir / "frames");
+  Done(c, "6 render", true,
+       "sxs.mp4 (" + std::to_string(video.frames) + " frames) and " +
+           std::to_string(c.evidence.frames["frames"].size()) + " labelled frames");
+}
+
+void Compare(Context& c) {
+  compare::ParityOptions o;
+  o.track = c.scenario.track;
+  o.gates = c.scenario.gates;
+  c.summary->parity = compare::CompareTrajectories(c.reference, c.candidate, o);
+  c.evidence.parity = c.summary->parity;
+  WriteJson(c.dir / "parity.json", c.summary->parity.ToJson());
+  WriteFileAtomically(c.dir / "parity.md", c.summary->parity.ToMarkdown());
+  Done(c, "7 compare", true,
+       c.summary->parity.pass() ? "every applicable parity gate passes"
+                                : "FAIL: " + c.summary->parity.FailedGates());
+}
+
+void Checklist(Context& c) {
+  ci::ChecklistOptions o;
+  o.gates = c.scenario.gates;
+  o.track = c.scenario.track;
+  c.summary->checklist = ci::RunChecklist(c.dir, o);
+  c.evidence.checklist = c.summary->checklist;
+  WriteFileAtomically(c.dir / "checklist.md", c.summary->checklist.ToMarkdown());
+  WriteJson(c.dir / "checklist.json", c.summary->checklist.ToJson());
+  Done(c, "8 checklist", true, ci::VerdictName(c.summary->checklist.verdict));
+}
+
+void WriteDocuments(Context& c) {
+  const reports::Document index = reports::PipelineIndex(c.evidence);
+  WriteFileAtomically(c.dir / "index.md", index.Markdown());
+  WriteFileAtomically(c.dir / "index.html", index.Html());
+  c.summary->index_html = c.dir / "index.html";
+}
+
+// What can be known before any work: the scenario, the directory, the candidate file.
+void Prepare(Context& c) {
+  c.scenario = scenarios::LoadScenario(c.options.scenario, c.options.data_dir);
+  c.config = scenarios::GenerateConfig(c.scenario);
+  c.evidence.scenario = c.scenario.name;
+  c.evidence.description = c.scenario.description;
+  CheckOutputPath(c.dir / "index.html");
+  if (!c.options.candidate.empty()) {
+    c.candidate = ReadTrajectory(c.options.candidate);
+    if (c.candidate.particle_count() != c.config.particle_count())
+      throw InputError(c.options.candidate.string(), 0,
+                       "has " + std::to_string(c.candidate.particle_count()) +
+                           " particles; scenario " + c.scenario.name + " has " +
+                           std::to_string(c.config.particle_count()));
+  }
+  fs::create_directories(c.dir);
+}
+
+}  // namespace
+
+int Summary::exit_code() const { return checklist.exit_code() != 0 || !parity.pass() ? 1 : 0; }
+
+std::string Summary::BriefReport() const {
+  std::string s;
+  for (const Phase& p : phases)
+    s += p.name + ": " + (p.applicable ? "" : "not applicable: ") + p.summary + "\n";
+  return s;
+}
+
+void Run(const Options& options, Summary* summary) {
+  *summary = Summary{};
+  Context c(options, summary);
+  Prepare(c);
+  Predict(c);
+  Reference(c);
+  Inspect(c);
+  Candidate(c);
+  FitPhase fit{c.scenario, c.config, c.reference, c.dir, options.quiet};
+  const std::string fit_outcome = RunFit(fit, &c.evidence.fit);
+  Done(c, "5 fit", c.evidence.fit.has_value(), fit_outcome);
+  std::string fd_outcome;
+  const bool fd_applies = RunFiniteDifferenceTest(fit, &fd_outcome);
+  Done(c, "5 finite differences", fd_applies, fd_outcome);
+  Render(c);
+  Compare(c);
+  WriteFileAtomically(c.dir / "changes.md", reports::ChangesMarkdown(c.evidence));
+  Checklist(c);
+  WriteDocuments(c);
+}
+
+}  // namespace owval::pipeline

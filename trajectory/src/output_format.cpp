@@ -1,0 +1,16 @@
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval {
+
+void CheckTrajectoryOutput(const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext != ".h5" && ext != ".hdf5" && ext != ".txt")
+    throw InputError(path.string(), 0,
+                     "unknown output format '" + ext +
+                         "': owval writes .h5/.hdf5 (HDF5) and .txt (Sibernetic text)");
+  CheckOutputPath(path);
+}
+
+}  // namespace owval
