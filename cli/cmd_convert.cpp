@@ -2,7 +2,9 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -17,7 +19,19 @@ struct ConvertArgs {
 void RunConvert(const ConvertArgs& a) {
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
-  WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
+  const std::string ext = std::filesystem::path(a.out).extension().string();
+  if (ext == ".wcon") {
+    nlohmann::json settings = {{"source", a.in}};
+    for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
+      if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
+    WormTrack track = kinematics::TrackFromTrajectory(t, settings);
+    track.software_version = OWVAL_VERSION;
+    WriteWcon(track, a.out);
+  } else if (ext == ".zarr") {
+    WriteOmeZarr(t, a.out);
+  } else {
+    WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
+  }
   if (!Flags().quiet)
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
                  a.out.c_str());
@@ -25,10 +39,12 @@ void RunConvert(const ConvertArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd =
-      app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
+  CLI::App* cmd = app.add_subcommand("convert",
+                                     "Convert trajectories: opencl/native text <-> HDF5 (.h5); "
+                                     "worm to WCON (.wcon) or OME-Zarr (.zarr)");
   cmd->add_option("input", args->in, "Input trajectory")->required();
-  cmd->add_option("output", args->out, "Output (.h5/.hdf5 = HDF5, else Sibernetic text)")
+  cmd->add_option("output", args->out,
+                  "Output (.h5/.hdf5 = HDF5, .wcon = WCON, .zarr = OME-Zarr, else Sibernetic text)")
       ->required();
   cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));
