@@ -4,6 +4,7 @@
 // message / report).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -34,6 +35,35 @@ TEST(RunMidline, OwvalRunOfTheWormWritesSiberneticsMotionLogByteForByte) {
   EXPECT_EQ(ours, all.substr(0, end));
   EXPECT_TRUE(fs::exists(out / "worm.wcon"));
   fs::remove_all(out);
+}
+
+std::string Output(const std::string& command) {
+  std::string text;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return text;
+  char buffer[4096];
+  for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) text.append(buffer, n);
+  return pclose(pipe) == 0 ? text : "failed: " + command;
+}
+
+TEST(RunMidline, ConvertToWconThenKinematicsAgreesWithTheTrajectory) {
+  const fs::path traj =
+      fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
+  const fs::path exe = fs::path(OWVAL_BINARY_DIR) / "owval";
+  if (!fs::exists(traj) || !fs::exists(exe)) GTEST_SKIP() << "needs " << traj << " and " << exe;
+  const fs::path wcon = fs::temp_directory_path() / "owval_convert_test.wcon";
+  const std::string owval = exe.string() + " --quiet ";
+  ASSERT_EQ(std::system((owval + "convert " + traj.string() + " " + wcon.string()).c_str()), 0);
+  std::string from_wcon = Output(owval + "kinematics --json " + wcon.string());
+  std::string from_traj = Output(owval + "kinematics --json " + traj.string());
+  // Identical but for the "input" line.
+  auto drop_input = [](std::string s) {
+    const std::size_t at = s.find("\"input\"");
+    return at == std::string::npos ? s : s.erase(at, s.find('\n', at) - at);
+  };
+  EXPECT_EQ(drop_input(from_wcon), drop_input(from_traj));
+  EXPECT_NE(from_traj.find("\"wavelength_mm\""), std::string::npos) << from_traj;
+  fs::remove(wcon);
 }
 
 }  // namespace
