@@ -48,15 +48,46 @@ std::optional<double> MeanSpeed(const SkeletonSeries& s, const std::vector<Skele
   return sum / used;
 }
 
-// Mean signed angle between successive segments over the midbody's points (radians).
+// Mean bend angle (radians, signed) over the toolbox's midbody bend partition, points 22-26 of
+// the 49: at each point the angle between the edges to the points kBendEdge before and after it
+// (the toolbox measures bends over edges of about 1/12 of the body: 4 of 48 segments).
+constexpr int kBendEdge = 4;
+constexpr Part kMidbodyBend{22, 26};
+
 double MidbodyBendAngle(const Skeleton& s) {
   double sum = 0;
-  for (int i = kMidbody.first; i <= kMidbody.last; ++i) {
-    const Point2 u{s[i][0] - s[i - 1][0], s[i][1] - s[i - 1][1]};
-    const Point2 v{s[i + 1][0] - s[i][0], s[i + 1][1] - s[i][1]};
+  for (int i = kMidbodyBend.first; i <= kMidbodyBend.last; ++i) {
+    const Point2 u{s[i][0] - s[i - kBendEdge][0], s[i][1] - s[i - kBendEdge][1]};
+    const Point2 v{s[i + kBendEdge][0] - s[i][0], s[i + kBendEdge][1] - s[i][1]};
     sum += std::atan2(u[0] * v[1] - u[1] * v[0], u[0] * v[0] + u[1] * v[1]);
   }
-  return sum / (kMidbody.last - kMidbody.first + 1);
+  return sum / (kMidbodyBend.last - kMidbodyBend.first + 1);
+}
+
+// Why the spectral peak is rejected, or "" when it is accepted.
+std::string Rejection(const internal::SpectralPeak& peak, double zc, double duration_s,
+                      double max_frequency_hz, const Options& o) {
+  std::ostringstream why;
+  if (!peak.bounded)
+    why << "spectral peak at 0 Hz (no undulation)";
+  else if (peak.coarse_frequency < o.min_frequency_hz || peak.coarse_frequency > max_frequency_hz)
+    why << "spectral peak " << peak.coarse_frequency << " Hz outside " << o.min_frequency_hz << ".."
+        << max_frequency_hz << " Hz";
+  else if (peak.trough_ratio > o.max_trough_ratio)
+    why << "peak unclear: a trough beside it reaches " << peak.trough_ratio
+        << " of its height (max " << o.max_trough_ratio << ")";
+  else if (peak.peak_energy_fraction < o.min_peak_energy_fraction)
+    why << "peak weak: it holds " << peak.peak_energy_fraction << " of the energy (min "
+        << o.min_peak_energy_fraction << ")";
+  else if (peak.frequency * duration_s < 1)
+    why << "run holds less than one cycle (" << peak.frequency * duration_s
+        << " cycles at the spectral peak)";
+  else if (zc <= 0)
+    why << "fewer than 3 zero crossings of the bend angle";
+  else if (std::abs(zc - peak.frequency) > o.max_zero_crossing_disagreement * peak.frequency)
+    why << "zero-crossing frequency " << zc << " Hz disagrees with the spectral peak "
+        << peak.frequency << " Hz";
+  return why.str();
 }
 
 void BendFrequency(const SkeletonSeries& s, const std::vector<Skeleton>& body, const Options& o,
@@ -73,18 +104,8 @@ void BendFrequency(const SkeletonSeries& s, const std::vector<Skeleton>& body, c
   r->fft_frequency_hz = peak.frequency;
   const double zc = internal::ZeroCrossingFrequency(angle, dt);
   if (zc > 0) r->zero_crossing_frequency_hz = zc;
-  std::ostringstream why;
-  if (peak.frequency < peak.lowest_frequency)
-    why << "run holds less than one cycle (" << peak.frequency * (s.time_s.size() - 1) * dt
-        << " cycles at the spectral peak)";
-  else if (peak.peak_to_mean < 2)
-    why << "spectral peak holds " << peak.peak_to_mean << "x the mean power (need 2x)";
-  else if (zc <= 0)
-    why << "fewer than 3 zero crossings of the bend angle";
-  else if (std::abs(zc - peak.frequency) > o.max_zero_crossing_disagreement * peak.frequency)
-    why << "zero-crossing frequency " << zc << " Hz disagrees with the spectral peak "
-        << peak.frequency << " Hz";
-  r->frequency_note = why.str();
+  // The toolbox's highest frequency: a 4-frame period (fps / 4).
+  r->frequency_note = Rejection(peak, zc, r->duration_s, 0.25 / dt, o);
   if (r->frequency_note.empty()) r->frequency_hz = peak.frequency;
 }
 

@@ -23,6 +23,23 @@ std::vector<double> PaddedPower(const std::vector<double>& y) {
   return power;
 }
 
+// The toolbox's bandwidth of the peak: nearest local minima of the magnitude on each side.
+void Bandwidth(const std::vector<double>& power, std::size_t best, SpectralPeak* peak) {
+  std::size_t lo = best, hi = best;
+  while (lo > 0 && power[lo - 1] < power[lo]) --lo;
+  while (hi + 1 < power.size() && power[hi + 1] < power[hi]) ++hi;
+  // A side that decays to the spectrum's end is bounded there (after detrending, the DC bin is
+  // near zero); only a peak at DC itself has no bandwidth.
+  peak->bounded = best > 0;
+  peak->trough_ratio = std::sqrt(std::max(power[lo], power[hi]) / power[best]);
+  double total = 0, between = 0;
+  for (std::size_t k = 0; k < power.size(); ++k) {
+    total += power[k];
+    if (k >= lo && k <= hi) between += power[k];
+  }
+  peak->peak_energy_fraction = total > 0 ? between / total : 0;
+}
+
 }  // namespace
 
 // y minus its least-squares line: the rotation to the principal axis leaves a tilt when the body
@@ -72,11 +89,9 @@ bool FindSpectralPeak(const std::vector<double>& raw, double dx, SpectralPeak* p
   if (!(energy > 0)) return false;
   const std::vector<double> power = PaddedPower(y);
   const std::size_t n = 2 * (power.size() - 1);
-  std::size_t best = 1;
-  for (std::size_t k = 1; k < power.size(); ++k)
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < power.size(); ++k)
     if (power[k] > power[best]) best = k;
-  const double mean_power =
-      std::accumulate(power.begin() + 1, power.end(), 0.0) / (power.size() - 1);
   const double bin = 1.0 / (n * dx);
   // Golden-section search of the sine fit's residual within two padded bins of the peak.
   double lo = std::max((best - 2.0) * bin, 0.25 * bin), hi = (best + 2.0) * bin;
@@ -90,7 +105,8 @@ bool FindSpectralPeak(const std::vector<double>& raw, double dx, SpectralPeak* p
   }
   peak->frequency = 0.5 * (lo + hi);
   peak->amplitude = FitSine(y, dx, peak->frequency).amplitude;
-  peak->peak_to_mean = mean_power > 0 ? power[best] / mean_power : 0;
+  peak->coarse_frequency = best * bin;
+  Bandwidth(power, best, peak);
   peak->lowest_frequency = 1.0 / ((y.size() - 1) * dx);
   return true;
 }

@@ -10,7 +10,13 @@ namespace owval::kinematics::internal {
 struct SpectralPeak {
   double frequency = 0;         // cycles per unit of x
   double amplitude = 0;         // of the fitted sine
-  double peak_to_mean = 0;      // power at the coarse peak over the mean power of the spectrum
+  double coarse_frequency = 0;  // the padded FFT's peak bin
+  // open-worm-analysis-toolbox's bandwidth rules (locomotion_bends.py): the nearest spectral
+  // minima on either side of the peak (troughs) must stay below half the peak's magnitude, and
+  // the energy between them must be at least half the total. bounded is false for a peak at DC.
+  bool bounded = false;
+  double trough_ratio = 0;  // larger trough magnitude over the peak magnitude
+  double peak_energy_fraction = 0;
   double lowest_frequency = 0;  // 1 / span of x: one whole cycle in the window
 };
 

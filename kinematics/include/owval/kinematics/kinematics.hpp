@@ -8,11 +8,14 @@
 //    elapsed time (w = 0.25 s for head and tail, 0.5 s for the midbody, as the toolbox), signed
 //    + when the motion points from tail to head (forward), - otherwise; reported as the mean over
 //    the frames whose window fits in the run;
-//  - bend frequency: the midbody bend angle (mean signed angle between successive skeleton
-//    segments over the midbody) over time; the peak of its spectrum (FFT, zero-padded, refined by
-//    a least-squares sine fit) is accepted when the run holds at least one whole cycle, the peak
-//    holds at least twice the mean spectral power, and the zero-crossing frequency agrees within
-//    25% (the cross-check);
+//  - bend frequency: the midbody bend angle (the toolbox's partition, points 22-26, each the
+//    angle between the edges to the points 4 before and after) over time; the peak of its
+//    spectrum (FFT, zero-padded, refined by a least-squares sine fit) is accepted by the
+//    toolbox's rules (locomotion_bends.py): not at 0 Hz, between 1/30 Hz and a 4-frame period,
+//    the troughs either side below half the peak's magnitude, at least half of the energy between
+//    them; owval measures one frequency over the whole run (the toolbox: per frame, in windows
+//    between zero crossings), so it adds: at least one whole cycle in the run, at least 3 zero
+//    crossings, and the zero-crossing frequency within 25% of the peak (the cross-check);
 //  - wavelength: each skeleton rotated to its principal axes, its lateral offset resampled on an
 //    even grid along the axis, the spectral peak along the body (refined the same way); capped at
 //    twice the body length as the toolbox does; mean over frames;
@@ -35,6 +38,9 @@ struct Options {
   double head_tail_window_s = 0.25;              // toolbox's tip speed window
   double midbody_window_s = 0.5;                 // toolbox's body speed window
   double max_zero_crossing_disagreement = 0.25;  // FFT vs zero-crossing frequency, relative
+  double min_frequency_hz = 1.0 / 30;            // toolbox: slower is no undulation
+  double max_trough_ratio = 0.5;                 // toolbox's max_amplitude_pct_bandwidth
+  double min_peak_energy_fraction = 0.5;         // toolbox's peak_energy_threshold
   double swimming_frequency_hz = 1.0;            // regime threshold
   // Below this range of the midbody bend angle the body is taken as not bending (a noise floor:
   // a straight body's angles are rounding noise, whose spectrum has a peak too).
