@@ -2,6 +2,8 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -21,6 +23,7 @@ void RunConvert(const ConvertArgs& a) {
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
   const std::string ext = std::filesystem::path(a.out).extension().string();
   if (ext == ".wcon") {
+    if (!kinematics::IsWorm(t)) throw InputError(a.in, 0, kinematics::kNotAWorm);
     nlohmann::json settings = {{"source", a.in}};
     for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
       if (t.provenance.count(key)) settings[key] = t.provenance.at(key);

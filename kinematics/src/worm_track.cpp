@@ -1,5 +1,6 @@
 #include "owval/kinematics/worm_track.hpp"
 
+#include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -50,7 +51,9 @@ SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
   if (ext == ".wcon" || ext == ".json") return SkeletonsFromTrack(ReadWcon(path));
   TextReadOptions quiet;
   quiet.quiet = true;
-  return SkeletonsFromTrajectory(ReadTrajectory(path, quiet));
+  const Trajectory t = ReadTrajectory(path, quiet);
+  if (!IsWorm(t)) throw InputError(path.string(), 0, kNotAWorm);
+  return SkeletonsFromTrajectory(t);
 }
 
 }  // namespace owval::kinematics

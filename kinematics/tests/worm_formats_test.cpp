@@ -147,6 +147,18 @@ TEST(Wcon, ReaderRefusesBrokenFilesNamingTheField) {
   fs::remove(file);
 }
 
+TEST(Wcon, ATrajectoryWithoutAWormIsRefusedNamingTheFile) {
+  const fs::path sprig =
+      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  try {
+    LoadSkeletons(sprig);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), sprig.string());
+    EXPECT_NE(std::string(e.what()).find("no worm body"), std::string::npos);
+  }
+}
+
 template <typename T>
 void WriteRaw(const fs::path& path, const std::vector<T>& values) {
   std::ofstream(path, std::ios::binary)

@@ -35,6 +35,10 @@ struct Midline {
 // particle.
 int MidlineBin(float type_code);
 
+// The message of the InputError thrown where a worm is needed and IsWorm is false.
+inline constexpr const char* kNotAWorm =
+    "no worm body: fewer than 10 midline bins (elastic type codes 2.1051..2.1149, 2.2051..2.2149)";
+
 // True when the trajectory's elastic particles carry Sibernetic's midline sub-type codes (at least
 // 10 non-empty bins among 51..149): a worm body.
 bool IsWorm(const Trajectory& trajectory);
