@@ -2,6 +2,10 @@
 // measured on the rendered pixels (the box views show it as a small shape).
 #include <gtest/gtest.h>
 
+#include <png.h>
+
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "owval/render/render.hpp"
@@ -53,6 +57,45 @@ TEST(WormView, TheWormFillsAtLeastHalfThePanelHeightAndStaysCentred) {
     std::printf("frame %zu: iso view %d rows\n", frame, iso.rows);
     EXPECT_LT(iso.rows, worm.rows);
   }
+}
+
+// RGBA pixels of a PNG file, through libpng's simplified API.
+std::vector<unsigned char> ReadPng(const fs::path& path, int* width, int* height) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) return {};
+  image.format = PNG_FORMAT_RGBA;
+  std::vector<unsigned char> rgba(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, rgba.data(), 0, nullptr)) return {};
+  *width = int(image.width), *height = int(image.height);
+  return rgba;
+}
+
+TEST(WormView, FramesPngShowsTheWormOverHalfThePanelHeightByDefault) {
+  const fs::path file =
+      fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
+  const fs::path exe = fs::path(OWVAL_BINARY_DIR) / "owval";
+  if (!fs::exists(file) || !fs::exists(exe)) GTEST_SKIP() << "needs " << file << " and " << exe;
+  const fs::path out = fs::temp_directory_path() / "owval_worm_frames_test";
+  fs::remove_all(out);
+  // No --view: a worm trajectory gets the worm view.
+  const std::string command = exe.string() + " --quiet frames " + file.string() + " " +
+                              file.string() + " --at 100 --size 1280x720 -o " + out.string() +
+                              " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  int width = 0, height = 0;
+  const std::vector<unsigned char> rgba = ReadPng(out / "frame_100.png", &width, &height);
+  ASSERT_EQ(width, 1280);
+  // The left panel (reference): columns 0..639.
+  std::vector<unsigned char> left;
+  for (int y = 0; y < height; ++y)
+    left.insert(left.end(), rgba.begin() + std::size_t(y) * width * 4,
+                rgba.begin() + (std::size_t(y) * width + 640) * 4);
+  const Extent worm = ElasticExtent(left, 640, height);
+  std::printf("frame_100.png: the worm spans %d of %d rows (%.0f%%)\n", worm.rows, height,
+              100.0 * worm.rows / height);
+  EXPECT_GE(worm.rows, height / 2);
+  fs::remove_all(out);
 }
 
 }  // namespace
