@@ -2,7 +2,11 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -18,7 +22,20 @@ void RunConvert(const ConvertArgs& a) {
   CheckTrajectoryOutput(a.out);
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
-  WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
+  const std::string ext = std::filesystem::path(a.out).extension().string();
+  if (ext == ".wcon") {
+    if (!kinematics::IsWorm(t)) throw InputError(a.in, 0, kinematics::kNotAWorm);
+    nlohmann::json settings = {{"source", a.in}};
+    for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
+      if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
+    WormTrack track = kinematics::TrackFromTrajectory(t, settings);
+    track.software_version = OWVAL_VERSION;
+    WriteWcon(track, a.out);
+  } else if (ext == ".zarr") {
+    WriteOmeZarr(t, a.out);
+  } else {
+    WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
+  }
   if (!Flags().quiet)
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
                  a.out.c_str());
@@ -26,12 +43,13 @@ void RunConvert(const ConvertArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd =
-      app.add_subcommand("convert", "Convert trajectories: opencl/native text <-> HDF5 (.h5)");
+  CLI::App* cmd = app.add_subcommand("convert",
+                                     "Convert trajectories: opencl/native text <-> HDF5 (.h5); "
+                                     "worm to WCON (.wcon) or OME-Zarr (.zarr)");
   cmd->add_option("input", args->in, "Input trajectory")->required();
-  cmd->add_option(
-         "output", args->out,
-         "Output: .h5/.hdf5 (owval HDF5) or .txt (Sibernetic text); other extensions are refused")
+  cmd->add_option("output", args->out,
+                  "Output by extension: .h5/.hdf5 (owval HDF5), .txt (Sibernetic text), .wcon "
+                  "(WCON, worms), .zarr (OME-Zarr); other extensions are refused")
       ->required();
   cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));

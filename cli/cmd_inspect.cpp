@@ -5,6 +5,8 @@
 #include "command.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/metrics_json.hpp"
+#include "owval/kinematics/kinematics.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
 
@@ -69,14 +71,18 @@ void RunInspect(const InspectArgs& a) {
     subject = "particle " + std::to_string(particle) + " " + a.axis;
   }
   const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, series, {a.start_s, a.end_s});
+  std::optional<kinematics::Report> worm;  // a worm also gets its kinematics (issue 15)
+  if (kinematics::IsWorm(t)) worm = kinematics::Analyse(kinematics::SkeletonsFromTrajectory(t));
   if (a.json) {
     nlohmann::json out = {{"file", a.path},
                           {"layout", read.description},
                           {"signal", subject},
                           {"metrics", compare::ToJson(m)}};
+    if (worm) out["kinematics"] = worm->ToJson();
     std::cout << out.dump(2) << "\n";
   } else {
     PrintTable(m, subject, read);
+    if (worm) std::printf("\nworm kinematics: %s", worm->ToText().c_str());
   }
 }
 

@@ -5,6 +5,7 @@
 #include "command.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/render/render.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
@@ -14,7 +15,7 @@ namespace {
 
 struct RenderArgs {
   std::string trajectory, reference, candidate, out;
-  std::string size = "1280x720", view = "iso", boundary = "hidden", at = "0,15,100,200", title;
+  std::string size = "1280x720", view = "auto", boundary = "hidden", at = "0,15,100,200", title;
   int fps = 30;
   std::size_t max_frames = 0;
   float liquid_opacity = 1.0f;
@@ -42,12 +43,17 @@ std::string LabelFor(const std::string& path, const char* fallback) {
   return stem.empty() ? fallback : stem;
 }
 
-render::RenderOptions Options(const RenderArgs& a) {
+void RequireOut(const RenderArgs& a) {  // before any work starts
+  if (a.out.empty()) throw InputError("-o/--out is required");
+}
+
+// shown: the (reference) trajectory; "auto" frames a worm with the worm view, anything else iso.
+render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
   if (a.out.empty()) throw InputError("-o/--out is required");
   render::RenderOptions o;
   if (std::sscanf(a.size.c_str(), "%dx%d", &o.width, &o.height) != 2)
     throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT, e.g. 1280x720");
-  o.view = a.view;
+  o.view = a.view != "auto" ? a.view : kinematics::IsWorm(shown) ? "worm" : "iso";
   o.boundary = render::ParseBoundaryMode(a.boundary);
   o.fps = a.fps;
   o.max_frames = a.max_frames;
@@ -101,8 +107,10 @@ void Print(const render::VideoSummary& s, const std::string& out, bool json) {
 void AddCommon(CLI::App* cmd, RenderArgs* a) {
   cmd->add_option("-o,--out", a->out, "Output file or directory (required)");
   cmd->add_option("--size", a->size, "WIDTHxHEIGHT of the whole frame (default 1280x720)");
-  cmd->add_option("--view", a->view, "iso, side, top or front")
-      ->check(CLI::IsMember({"iso", "side", "top", "front"}));
+  cmd->add_option("--view", a->view,
+                  "auto (worm for worm trajectories, else iso), iso, side, top, front, or worm "
+                  "(camera on the worm, following its centroid, liquid translucent)")
+      ->check(CLI::IsMember({"auto", "iso", "side", "top", "front", "worm"}));
   cmd->add_option("--boundary", a->boundary, "hidden, translucent or shown")
       ->check(CLI::IsMember({"hidden", "translucent", "shown"}));
   cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1");
@@ -138,16 +146,18 @@ void SetUp(CLI::App& app) {
   sxs->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
   sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)");
   sxs->callback([a] {
-    Print(render::RenderSideBySide(ReadTrajectoryArgument(a->reference),
-                                   ReadTrajectoryArgument(a->candidate), Options(*a), a->out),
-          a->out, a->json);
+    RequireOut(*a);
+    const Trajectory ref = ReadTrajectoryArgument(a->reference);
+    const Trajectory cand = ReadTrajectoryArgument(a->candidate);
+    Print(render::RenderSideBySide(ref, cand, Options(*a, ref), a->out), a->out, a->json);
   });
   cmd->callback([a, cmd] {
     if (cmd->got_subcommand("sxs")) return;
     if (a->trajectory.empty())
       throw InputError("owval render: expected a trajectory (or: owval render sxs REF CAND)");
-    Print(render::RenderVideo(ReadTrajectoryArgument(a->trajectory), Options(*a), a->out), a->out,
-          a->json);
+    RequireOut(*a);
+    const Trajectory t = ReadTrajectoryArgument(a->trajectory);
+    Print(render::RenderVideo(t, Options(*a, t), a->out), a->out, a->json);
   });
   CLI::App* frames =
       app.add_subcommand("frames", "Phase 7: labelled side-by-side PNG frames and frames.json");
@@ -167,9 +177,10 @@ void SetUp(CLI::App& app) {
   frames->callback([a] {
     RenderArgs args = *a;
     if (!args.track_particle && args.track_group.empty()) args.track_particle = 0;
-    const render::RenderOptions options = Options(args);
+    RequireOut(args);
     const Trajectory ref = ReadTrajectoryArgument(a->reference);
     const Trajectory cand = ReadTrajectoryArgument(a->candidate);
+    const render::RenderOptions options = Options(args, ref);
     const std::vector<std::size_t> at = ParseIndexList(a->at, "--at");
     const auto result = render::RenderFrames(ref, cand, at, options, a->out);
     GateFrames(*a, ref, cand, options, at);

@@ -1,14 +1,19 @@
 // owval run: the reference PCISPH engine on a configuration or built-in scenario.
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -28,7 +33,44 @@ struct RunArgs {
   int threads = 0;
   bool json = false;
   bool no_fields = false;
+  bool zarr = false;
 };
+
+// FNV-1a 64 of the configuration file's bytes: identifies the input in WCON provenance.
+std::string ConfigurationHash(const std::string& source) {
+  std::error_code ec;
+  if (!fs::is_regular_file(source, ec)) return "";
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : ReadWholeFile(source)) h = (h ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+// A worm run also writes Sibernetic's worm_motion_log.txt and worm.wcon (and the OME-Zarr when
+// asked): the formats other OpenWorm tools read.
+std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunArgs& a,
+                                          const std::string& source) {
+  std::vector<std::string> written;
+  const fs::path out = a.out;
+  if (a.zarr) {
+    WriteOmeZarr(t, out / "trajectory.zarr");
+    written.push_back((out / "trajectory.zarr").string());
+  }
+  if (!kinematics::IsWorm(t)) return written;
+  kinematics::WriteWormMotionLog(t, out / "worm_motion_log.txt");
+  const nlohmann::json settings = {
+      {"configuration", source}, {"configuration_fnv1a64", ConfigurationHash(source)},
+      {"backend", a.backend},    {"integrator", a.integrator},
+      {"muscles", a.muscles},    {"log_step", a.log_step},
+      {"time_s", a.time_s}};
+  WormTrack track = kinematics::TrackFromTrajectory(t, settings);
+  track.software_version = OWVAL_VERSION;
+  WriteWcon(track, out / "worm.wcon");
+  written.push_back((out / "worm_motion_log.txt").string());
+  written.push_back((out / "worm.wcon").string());
+  return written;
+}
 
 void RunEngine(const RunArgs& a) {
   const engine::SiberneticConfig config = ResolveConfig(a.config);
@@ -57,15 +99,17 @@ void RunEngine(const RunArgs& a) {
   const fs::path out = a.out;
   WriteSiberneticText(t, out / "position_buffer.txt", TextLayout::kOpenCL);
   WriteHdf5(t, out / "trajectory.h5");
-  nlohmann::json result = {
-      {"configuration", config.source},
-      {"steps", summary.steps},
-      {"frames", summary.frames},
-      {"wall_s", summary.wall_s},
-      {"steps_per_s", summary.steps_per_s},
-      {"reference_equivalent", summary.reference_equivalent},
-      {"muscles_driven", summary.muscles_driven},
-      {"outputs", {(out / "position_buffer.txt").string(), (out / "trajectory.h5").string()}}};
+  std::vector<std::string> outputs = {(out / "position_buffer.txt").string(),
+                                      (out / "trajectory.h5").string()};
+  for (const std::string& path : WriteWormOutputs(t, a, config.source)) outputs.push_back(path);
+  nlohmann::json result = {{"configuration", config.source},
+                           {"steps", summary.steps},
+                           {"frames", summary.frames},
+                           {"wall_s", summary.wall_s},
+                           {"steps_per_s", summary.steps_per_s},
+                           {"reference_equivalent", summary.reference_equivalent},
+                           {"muscles_driven", summary.muscles_driven},
+                           {"outputs", outputs}};
   if (a.json) {
     std::cout << result.dump(2) << "\n";
   } else if (!Flags().quiet) {
@@ -99,6 +143,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--threads", a->threads, "OpenMP threads (default: all)");
   cmd->add_flag("--no-fields", a->no_fields,
                 "Record positions only (no velocity, density, pressure): faster");
+  cmd->add_flag("--zarr", a->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
   cmd->add_flag("--json", a->json, "Print a JSON summary");
   cmd->callback([a] { RunEngine(*a); });
 }

@@ -4,14 +4,16 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "worm_gates.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
 namespace {
 
 fs::path Find(const fs::path& dir, const std::string& stem) {
-  for (const char* ext : {".h5", ".txt"})
+  for (const char* ext : {".h5", ".txt", ".txt.gz"})
     if (fs::exists(dir / (stem + ext))) return dir / (stem + ext);
   throw InputError((dir / (stem + ".h5")).string(), 0,
                    "missing (expected " + stem + ".h5 or " + stem + ".txt)");
@@ -59,9 +61,15 @@ std::string GateReport::ToText() const {
 
 GateReport QuickTest(const fs::path& dir) {
   GateReport r;
+  bool worm = false;
   for (const char* stem : {"reference", "candidate"})
-    r.gates.push_back(Run(std::string(stem) + " completed without NaN",
-                          [&](GateResult* g) { NoNaN(Load(dir, stem), g); }));
+    r.gates.push_back(Run(std::string(stem) + " completed without NaN", [&](GateResult* g) {
+      const Trajectory t = Load(dir, stem);
+      worm = worm || kinematics::IsWorm(t);
+      NoNaN(t, g);
+    }));
+  if (worm)
+    for (const GateResult& g : internal::WormQuickTestGates(dir)) r.gates.push_back(g);
   return r;
 }
 
@@ -90,6 +98,8 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity) {
                 std::to_string(p.frames.size()) + " frames within the frame gate";
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();
   }));
+  if (kinematics::IsWorm(cand))
+    for (const GateResult& g : internal::WormValidateGates(ref, cand)) r.gates.push_back(g);
   return r;
 }
 

@@ -98,7 +98,7 @@ TEST(Gates, FramesExitsOneWhenASampledFrameBreaksTheGate) {
 }
 
 TEST(Gates, ConvertRefusesAnExtensionItDoesNotWrite) {
-  for (const char* name : {"out.wcon", "out.zarr", "out"}) {
+  for (const char* name : {"out.xyz", "out.csv", "out"}) {
     const fs::path out = Scratch() / name;
     const Result r = Owval("convert " + kOneSprig + " " + out.string());
     EXPECT_EQ(r.exit_code, 2) << name;

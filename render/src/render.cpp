@@ -14,6 +14,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
 #include "text.hpp"
+#include "worm_camera.hpp"
 
 namespace owval::render {
 namespace {
@@ -114,7 +115,8 @@ class Canvas {
         if (o.boundary == BoundaryMode::kHidden) continue;
         if (o.boundary == BoundaryMode::kTranslucent) alpha = 0.15f;
       } else if (kind == ParticleKind::kLiquid) {
-        alpha = o.liquid_opacity;
+        // The worm view shows the body through its liquid.
+        alpha = o.view == "worm" ? std::min(o.liquid_opacity, 0.3f) : o.liquid_opacity;
       }
       if ((alpha < 1.0f) != translucent) continue;
       const float* x = t.position(frame, p);
@@ -228,10 +230,13 @@ class Canvas {
 
 float PointSize(const Trajectory& t, const RenderOptions& o, int panel_height) {
   if (o.point_size_px > 0) return o.point_size_px;
-  // A particle is about r0 = 1.67 cu across; the box spans its diagonal on screen.
+  // A particle is about r0 = 1.67 cu across; the box (the worm in the worm view) spans its
+  // diagonal on screen.
   const float diagonal =
-      std::sqrt(t.box.extent(0) * t.box.extent(0) + t.box.extent(1) * t.box.extent(1) +
-                t.box.extent(2) * t.box.extent(2));
+      o.view == "worm"
+          ? 2 * internal::WormHalfExtent(t, 0, float(o.width) / float(o.height))
+          : std::sqrt(t.box.extent(0) * t.box.extent(0) + t.box.extent(1) * t.box.extent(1) +
+                      t.box.extent(2) * t.box.extent(2));
   return std::clamp(1.67f / diagonal * float(panel_height) * 1.1f, 2.0f, 24.0f);
 }
 
@@ -303,8 +308,11 @@ class SideBySideFrame {
   std::vector<unsigned char>& Compose(const Trajectory& ref, std::size_t fr, const Trajectory& cand,
                                       std::size_t fc) {
     canvas_.Clear();
-    canvas_.DrawPanel(ref, fr, camera_, 0, panel_, options_, point_size_);
-    canvas_.DrawPanel(cand, fc, camera_, panel_, options_.width - panel_, options_, point_size_);
+    const Camera camera = options_.view == "worm"
+                              ? Camera::ForWorm(ref, fr, float(panel_) / float(options_.height))
+                              : camera_;
+    canvas_.DrawPanel(ref, fr, camera, 0, panel_, options_, point_size_);
+    canvas_.DrawPanel(cand, fc, camera, panel_, options_.width - panel_, options_, point_size_);
     auto& rgba = canvas_.Pixels();
     Label(text_, rgba, options_, 0, options_.reference_label, ref, fr);
     Label(text_, rgba, options_, panel_, options_.candidate_label, cand, fc);
@@ -344,10 +352,10 @@ Camera Camera::FromBox(const Box& box, const std::string& view, float aspect) {
     direction = {1, 0, 0};
   else if (view == "front")
     direction = {0, 0, 1};
-  else if (view == "top")
+  else if (view == "top" || view == "worm")  // worm: ForWorm per frame; the box view as fallback
     direction = {0, 1, 0}, up = {0, 0, -1};
   else
-    throw InputError("unknown view '" + view + "': expected iso, side, top or front");
+    throw InputError("unknown view '" + view + "': expected iso, side, top, front or worm");
   const float fov = kFieldOfViewDeg * 3.14159265f / 180.0f;
   const float distance = radius / std::sin(fov / 2) * 1.05f;
   const Vec3 eye = {centre[0] + direction[0] * distance, centre[1] + direction[1] * distance,
@@ -399,7 +407,7 @@ std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t fram
   CheckSize(o);
   Canvas canvas(o.width, o.height);
   canvas.Clear();
-  const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / float(o.height));
+  const Camera camera = Camera::ForFrame(t, frame, o.view, float(o.width) / float(o.height));
   canvas.DrawPanel(t, frame, camera, 0, o.width, o, PointSize(t, o, o.height));
   return canvas.Pixels();
 }
@@ -418,7 +426,10 @@ VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
   Progress progress("render", frames.size(), o.quiet);
   for (std::size_t k = 0; k < frames.size(); ++k) {
     canvas.Clear();
-    canvas.DrawPanel(t, frames[k], camera, 0, o.width, o, size);
+    canvas.DrawPanel(
+        t, frames[k],
+        o.view == "worm" ? Camera::ForWorm(t, frames[k], float(o.width) / o.height) : camera, 0,
+        o.width, o, size);
     auto& rgba = canvas.Pixels();
     Label(text, rgba, o, 0,
           t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory", t,

@@ -6,11 +6,13 @@ namespace owval {
 
 void CheckTrajectoryOutput(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
-  if (ext != ".h5" && ext != ".hdf5" && ext != ".txt")
+  if (ext != ".h5" && ext != ".hdf5" && ext != ".txt" && ext != ".wcon" && ext != ".zarr")
     throw InputError(path.string(), 0,
                      "unknown output format '" + ext +
-                         "': owval writes .h5/.hdf5 (HDF5) and .txt (Sibernetic text)");
-  CheckOutputPath(path);
+                         "': owval writes .h5/.hdf5 (HDF5), .txt (Sibernetic text), .wcon (WCON) "
+                         "and .zarr (OME-Zarr)");
+  // An OME-Zarr store is a directory: only its parent must be writable.
+  CheckOutputPath(ext == ".zarr" ? path / ".zattrs" : path);
 }
 
 }  // namespace owval

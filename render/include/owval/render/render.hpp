@@ -21,7 +21,7 @@ BoundaryMode ParseBoundaryMode(const std::string& name);  // hidden | translucen
 
 struct RenderOptions {
   int width = 1280, height = 720;  // whole output frame (both panels in side-by-side mode)
-  std::string view = "iso";        // iso | side | top | front
+  std::string view = "iso";        // iso | side | top | front | worm (see Camera::ForWorm)
   BoundaryMode boundary = BoundaryMode::kHidden;
   float liquid_opacity = 1.0f;
   float point_size_px = 0;  // 0: from the frame size and the particle spacing
@@ -43,6 +43,13 @@ struct RenderOptions {
 struct Camera {
   std::array<float, 16> projection, view;  // column-major, as OpenGL takes them
   static Camera FromBox(const Box& box, const std::string& view, float aspect);
+  // The "worm" view: from above (down -y, z up the panel), centred on the non-boundary
+  // particles' centroid at this frame and at the distance that fits them in ~90% of the panel
+  // height (so the camera follows the worm and zooms as it curls).
+  static Camera ForWorm(const Trajectory& trajectory, std::size_t frame, float aspect);
+  // ForWorm when view is "worm", FromBox otherwise.
+  static Camera ForFrame(const Trajectory& trajectory, std::size_t frame, const std::string& view,
+                         float aspect);
   // Pixel (x from left, y from top) where a point lands in a panel of the given size.
   std::array<float, 2> Project(const std::array<float, 3>& point, int width, int height) const;
 };

@@ -1,0 +1,18 @@
+#pragma once
+// The worm's gates (DD001, issue 15), added to quick-test and validate when the run is a worm:
+//  - quick-test: the directory holds a .wcon that a WCON reader accepts;
+//  - validate: Tier-3, each kinematic metric of the candidate against Palyanov et al. 2018's
+//    baseline within +-15% (kinematics/baseline.hpp), and the candidate's kinematics within 5% of
+//    the reference's.
+#include <filesystem>
+#include <vector>
+
+#include "owval/ci/gates.hpp"
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval::ci::internal {
+
+std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory);
+std::vector<GateResult> WormValidateGates(const Trajectory& reference, const Trajectory& candidate);
+
+}  // namespace owval::ci::internal

@@ -1,0 +1,41 @@
+// owval kinematics TRAJ_OR_WCON: the worm's speed, bend frequency, wavelength and amplitude.
+#include <iostream>
+
+#include "command.hpp"
+#include "owval/kinematics/kinematics.hpp"
+#include "owval/kinematics/worm_track.hpp"
+
+namespace owval::cli {
+namespace {
+
+struct KinematicsArgs {
+  std::string input;
+  bool json = false;
+};
+
+void RunKinematics(const KinematicsArgs& a) {
+  const kinematics::Report r = kinematics::Analyse(kinematics::LoadSkeletons(a.input));
+  if (a.json) {
+    nlohmann::json j = r.ToJson();
+    j["input"] = a.input;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << r.ToText();
+  }
+}
+
+void SetUp(CLI::App& app) {
+  auto a = std::make_shared<KinematicsArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "kinematics", "Worm kinematics (Yemini et al. 2013): speed, bend frequency, wavelength");
+  cmd->add_option("input", a->input, "Worm trajectory (any format) or WCON file (.wcon, .json)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--json", a->json, "Print JSON");
+  cmd->callback([a] { RunKinematics(*a); });
+}
+
+const bool registered = RegisterCommand(&SetUp);
+
+}  // namespace
+}  // namespace owval::cli

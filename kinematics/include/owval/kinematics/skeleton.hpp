@@ -1,0 +1,33 @@
+#pragma once
+// The worm's skeleton in its body plane, per frame, head first, in millimetres: what kinematics
+// measure, what WCON stores. From a trajectory it is Sibernetic's midline (midline.hpp) in the
+// (z, x) plane: skeleton x = simulation z, skeleton y = simulation x (the worm_motion_log swap).
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval::kinematics {
+
+using Point2 = std::array<double, 2>;  // (x, y) in mm
+using Skeleton = std::vector<Point2>;
+
+struct SkeletonSeries {
+  std::vector<double> time_s;       // increasing
+  std::vector<Skeleton> skeletons;  // one per time; each head first
+};
+
+// Number of points of the normalised skeleton (Yemini et al. 2013; open-worm-analysis-toolbox).
+constexpr int kNormalisedPoints = 49;
+
+// The non-empty midline bins of every frame, head (bin 51) first, as body-plane points.
+// Throws InputError when the trajectory is not a worm (see IsWorm).
+SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory);
+
+// `points` evenly spaced along the arc length of the polyline, first and last points kept.
+Skeleton ResampleByArcLength(const Skeleton& skeleton, int points = kNormalisedPoints);
+
+double ArcLength(const Skeleton& skeleton);
+
+}  // namespace owval::kinematics

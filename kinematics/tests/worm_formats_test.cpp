@@ -1,0 +1,194 @@
+// WCON and OME-Zarr of Sibernetic's worm run: checked by independent readers (the WCON rules in
+// wcon_schema.json + check_wcon.py with python3-jsonschema; zarr-python for the store) and
+// round-tripped through owval's own reader.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "owval/base/errors.hpp"
+#include "owval/kinematics/kinematics.hpp"
+#include "owval/kinematics/worm_track.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/worm_formats.hpp"
+
+namespace owval::kinematics {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kPython = "/usr/bin/python3";  // Debian's, where python3-zarr/jsonschema live
+const fs::path kTests = fs::path(OWVAL_SOURCE_DIR) / "kinematics/tests";
+
+const Trajectory* Worm() {
+  static const Trajectory* worm = [] {
+    const fs::path p =
+        fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
+    if (!fs::exists(p)) return static_cast<Trajectory*>(nullptr);
+    TextReadOptions quiet;
+    quiet.quiet = true;
+    return new Trajectory(ReadTrajectory(p, quiet));
+  }();
+  return worm;
+}
+
+fs::path Temp(const std::string& name) { return fs::temp_directory_path() / ("owval_" + name); }
+
+int Python(const std::string& args) {
+  const std::string command = kPython.string() + " " + args + " > /dev/null";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int CheckWcon(const fs::path& file) {
+  return Python((kTests / "check_wcon.py").string() + " " + (kTests / "wcon_schema.json").string() +
+                " " + file.string());
+}
+
+WormTrack WormTrackOfReference() {
+  WormTrack t = TrackFromTrajectory(*Worm(), {{"configuration_fnv1a64", "0"}, {"backend", "x"}});
+  t.software_version = "0.1.0";
+  return t;
+}
+
+TEST(Wcon, WormWconPassesTheTrackerCommonsRules) {
+  if (!Worm() || !fs::exists(kPython)) GTEST_SKIP() << "needs the worm reference and python3";
+  const fs::path file = Temp("worm.wcon");
+  const WormTrack track = WormTrackOfReference();
+  EXPECT_EQ(track.time_s.size(), 200u);
+  EXPECT_EQ(track.x_mm.front().size(), 99u);  // every midline bin of this worm has particles
+  WriteWcon(track, file);
+  EXPECT_EQ(CheckWcon(file), 0);
+  fs::remove(file);
+}
+
+TEST(Wcon, TheRulesRejectWhatAStrictReaderWould) {
+  if (!Worm() || !fs::exists(kPython)) GTEST_SKIP() << "needs the worm reference and python3";
+  const fs::path file = Temp("bad.wcon");
+  auto expect_rejected = [&](WormTrack bad, const char* what) {
+    std::ofstream(file) << WconText(bad);  // WconText does not check: the rules must
+    EXPECT_EQ(CheckWcon(file), 1) << what;
+  };
+  WormTrack t = WormTrackOfReference();
+  WormTrack decreasing = t;
+  std::swap(decreasing.time_s[3], decreasing.time_s[4]);
+  expect_rejected(decreasing, "decreasing t");
+  WormTrack unequal = t;
+  unequal.x_mm[5].pop_back();
+  expect_rejected(unequal, "x shorter than y");
+  WormTrack short_cx = t;
+  short_cx.cx_mm.pop_back();
+  short_cx.cy_mm.pop_back();
+  expect_rejected(short_cx, "cx/cy shorter than t");
+  std::ofstream(file) << "{\"units\": {\"t\": \"s\", \"x\": \"mm\"}, \"data\": []}";
+  EXPECT_EQ(CheckWcon(file), 1) << "no unit for y";
+  std::ofstream(file) << "{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"mm\"}, \"owval\": 1, "
+                         "\"data\": {\"id\": \"1\", \"t\": [0], \"x\": [[1]], \"y\": [[2]]}}";
+  EXPECT_EQ(CheckWcon(file), 1) << "custom key without @";
+  fs::remove(file);
+}
+
+TEST(Wcon, RoundTripGivesTheSameTrackAndTheSameKinematics) {
+  if (!Worm()) GTEST_SKIP();
+  const fs::path file = Temp("roundtrip.wcon");
+  const WormTrack track = WormTrackOfReference();
+  WriteWcon(track, file);
+  const WormTrack back = ReadWcon(file);
+  EXPECT_EQ(back.id, track.id);
+  EXPECT_EQ(back.time_s, track.time_s);
+  EXPECT_EQ(back.x_mm, track.x_mm);
+  EXPECT_EQ(back.y_mm, track.y_mm);
+  EXPECT_EQ(back.cx_mm, track.cx_mm);
+  EXPECT_EQ(back.cy_mm, track.cy_mm);
+  EXPECT_EQ(back.software_settings, track.software_settings);
+  const Report from_wcon = Analyse(LoadSkeletons(file));
+  const Report from_trajectory = Analyse(SkeletonsFromTrajectory(*Worm()));
+  EXPECT_EQ(from_wcon.ToJson(), from_trajectory.ToJson());
+  std::printf("%s", from_trajectory.ToText().c_str());
+  fs::remove(file);
+}
+
+TEST(Wcon, ReaderRefusesBrokenFilesNamingTheField) {
+  const fs::path file = Temp("broken.wcon");
+  auto message = [&](const std::string& text) -> std::string {
+    std::ofstream(file) << text;
+    try {
+      ReadWcon(file);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_NE(message("{\"data\": []}").find("units"), std::string::npos);
+  EXPECT_NE(message("{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"furlong\"}, \"data\": "
+                    "[]}")
+                .find("units.y"),
+            std::string::npos);
+  EXPECT_NE(message("{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"mm\"}, \"data\": {\"id\": "
+                    "\"1\", \"t\": [0, 1], \"x\": [[1, 2], [1]], \"y\": [[1, 2], [1, 2]]}}")
+                .find("equal in length"),
+            std::string::npos);
+  EXPECT_NE(message("{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"mm\"}, \"data\": {\"id\": "
+                    "\"1\", \"t\": [1, 0], \"x\": [[1], [1]], \"y\": [[1], [1]]}}")
+                .find("increase"),
+            std::string::npos);
+  EXPECT_NE(message("{not json").find("not JSON"), std::string::npos);
+  // Units are converted, unknown keys ignored, origins applied.
+  std::ofstream(file)
+      << "{\"units\": {\"t\": \"ms\", \"x\": \"um\", \"y\": \"mm\", \"ox\": \"um\", "
+         "\"oy\": \"mm\"}, \"@X\": 5, \"data\": [{\"id\": \"7\", \"t\": [0, 500], "
+         "\"ox\": [100, 100], \"oy\": [0, 0], \"x\": [[1000], [2000]], "
+         "\"y\": [[1], [2]], \"@X\": [1, 2]}]}";
+  const WormTrack t = ReadWcon(file);
+  EXPECT_EQ(t.id, "7");
+  EXPECT_EQ(t.time_s, (std::vector<double>{0, 0.5}));
+  EXPECT_FLOAT_EQ(t.x_mm[1][0], 2.1f);
+  EXPECT_FLOAT_EQ(t.y_mm[1][0], 2.f);
+  fs::remove(file);
+}
+
+TEST(Wcon, ATrajectoryWithoutAWormIsRefusedNamingTheFile) {
+  const fs::path sprig =
+      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  try {
+    LoadSkeletons(sprig);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), sprig.string());
+    EXPECT_NE(std::string(e.what()).find("no worm body"), std::string::npos);
+  }
+}
+
+template <typename T>
+void WriteRaw(const fs::path& path, const std::vector<T>& values) {
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+TEST(OmeZarr, ZarrPythonReadsBackEveryValue) {
+  if (!Worm() || !fs::exists(kPython)) GTEST_SKIP() << "needs the worm reference and python3";
+  const Trajectory& t = *Worm();
+  const fs::path store = Temp("worm.zarr");
+  ZarrWriteOptions options;  // 16 frames per chunk: 200 frames end in a partial chunk
+  WriteOmeZarr(t, store, options);
+  std::vector<float> um(t.positions.size());
+  const float to_um = static_cast<float>(options.simulation_scale_m * 1e6);
+  for (std::size_t i = 0; i < um.size(); ++i) um[i] = t.positions[i] * to_um;
+  WriteRaw(Temp("positions.f32"), um);
+  WriteRaw(Temp("types.f32"), t.type);
+  WriteRaw(Temp("time.f64"), t.time_s);
+  EXPECT_NEAR(um[2], t.positions[2] * 7.4, 1e-3 * um[2]);  // z of particle 0, in um
+  const std::string args = (kTests / "check_zarr.py").string() + " " + store.string() + " " +
+                           Temp("positions.f32").string() + " " + Temp("types.f32").string() + " " +
+                           Temp("time.f64").string() + " " + std::to_string(t.frame_count()) + " " +
+                           std::to_string(t.particle_count());
+  EXPECT_EQ(Python(args), 0) << args;
+  um[12345] += 1.f;  // the check must notice one changed value
+  WriteRaw(Temp("positions.f32"), um);
+  EXPECT_EQ(Python(args), 1);
+  for (const char* f : {"positions.f32", "types.f32", "time.f64"}) fs::remove(Temp(f));
+  fs::remove_all(store);
+}
+
+}  // namespace
+}  // namespace owval::kinematics
