@@ -1,5 +1,5 @@
 #pragma once
-// The numbers one PCISPH step uses, derived once from PhysicsConstants exactly the way Sibernetic's
+// The numbers the SPH phases use, derived once from PhysicsConstants exactly the way Sibernetic's
 // host does (inc/owPhysicsConstant.h, owConfigProperty.cpp:159-253): the base constants are floats,
 // products such as h·s and (h·s)² are formed in float, and only the kernel coefficients go
 // through double before their final cast. A last-bit difference in any of them is enough to make
@@ -22,10 +22,9 @@ struct SphConstants {
   float mass_grad_wspiky;     // m·(−45/(π hS⁶)), negative
   float mass_lap_wviscosity;  // −m·∇Wspiky
   float surface_tension;  // −1.7e-9 · surfTensCoeff (= m·Wpoly6·s), divided by m after the sum
-  float rest_density, delta;
+  float rest_density;
   float elasticity_coefficient, max_muscle_force, non_worm_body_spring_factor;
   float gravity[3];
-  int pcisph_iterations;
 
   static SphConstants From(const PhysicsConstants& c) {
     constexpr double kPi = 3.14159265358979323846;  // M_PI, a double, as in Sibernetic's host
@@ -53,12 +52,10 @@ struct SphConstants {
     const float surf_tens_coeff = k.mass_wpoly6 * k.scale;
     k.surface_tension = float(-c.surface_tension_scale) * surf_tens_coeff;
     k.rest_density = float(c.rest_density);
-    k.delta = float(c.delta);
     k.elasticity_coefficient = float(c.elasticity_coefficient);
     k.max_muscle_force = float(c.max_muscle_force);
     k.non_worm_body_spring_factor = float(c.non_worm_body_spring_factor);
     for (int a = 0; a < 3; ++a) k.gravity[a] = float(c.gravity[a]);
-    k.pcisph_iterations = c.pcisph_iterations;
     return k;
   }
 };
