@@ -8,6 +8,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
 #include "owval/engine/solver.hpp"
 #include "state/particle_state.hpp"
 
@@ -39,10 +40,18 @@ void CheckRunnable(const SiberneticConfig& c, float h_cu) {
   }
 }
 
-std::size_t StepCount(double duration_s, double time_step_s) {
-  // (int)(timelimit / dt) in float, as Sibernetic computes it (owConfigProperty.cpp:136).
+// (int)(timelimit / dt) in float, as Sibernetic computes it (owConfigProperty.cpp:136). A run
+// of no step, or of more steps than any machine finishes, is refused before it starts.
+std::size_t StepCount(const std::string& source, double duration_s, double time_step_s) {
   const float steps = float(duration_s) / float(time_step_s);
-  return steps > 0 ? static_cast<std::size_t>(steps) : 0;
+  constexpr float kMaxSteps = 1e12f;
+  if (!(steps >= 1 && steps <= kMaxSteps)) {
+    std::ostringstream msg;
+    msg << "duration " << duration_s << " s with time step " << time_step_s << " s gives " << steps
+        << " steps: expected 1 to " << kMaxSteps;
+    throw InputError(source, 0, msg.str());
+  }
+  return static_cast<std::size_t>(steps);
 }
 
 void RecordFrame(const Solver& solver, double time_s, bool fields, Trajectory* t) {
@@ -114,6 +123,8 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
     }
   }
   CanonicalBackend(options.backend);  // an unknown name fails before any other check
+  ValidateConstants(constants);
+  const std::size_t steps = StepCount(config.source, options.duration_s, constants.time_step_s);
   CheckRunnable(config, float(constants.h_cu));
   RunOptions solver_options = options;
   solver_options.constants = constants;
@@ -131,7 +142,6 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
   t.provenance["muscle_signal"] =
       sum.muscles_driven ? "main_sim.MuscleSimulation swimming/crawling waves (owval closed form)"
                          : "none (all activations zero)";
-  const std::size_t steps = StepCount(options.duration_s, constants.time_step_s);
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < steps; ++k) {
     solver.Step();

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
 #include "pcisph/pcisph.hpp"
 #include "state/particle_state.hpp"
 
@@ -74,6 +75,7 @@ std::string CanonicalBackend(const std::string& name) { return Find(name).name; 
 
 std::unique_ptr<Solver> MakeSolver(const SiberneticConfig& config, const RunOptions& options) {
   const BackendEntry& backend = Find(options.backend);
+  ValidateConstants(options.constants);
   return backend.make(config, options, ThreadsFor(config, options.threads));
 }
 
