@@ -6,6 +6,8 @@
 // a many-particle run drift away from the reference within a few hundred steps.
 #include <cmath>
 
+#include "kernels/fma.hpp"
+#include "kernels/kernels.hpp"
 #include "owval/engine/config.hpp"
 
 namespace owval::engine::internal {
@@ -27,7 +29,6 @@ struct SphConstants {
   float gravity[3];
 
   static SphConstants From(const PhysicsConstants& c) {
-    constexpr double kPi = 3.14159265358979323846;  // M_PI, a double, as in Sibernetic's host
     SphConstants k{};
     k.h_cu = float(c.h_cu);
     k.h2_cu = k.h_cu * k.h_cu;
@@ -44,8 +45,8 @@ struct SphConstants {
     k.scale6 = scale2 * scale2 * scale2;
     k.mass_kg = float(c.mass_kg);
     const double mass = double(k.mass_kg), hs = double(k.hs_m);
-    const double wpoly6 = 315.0 / (64.0 * kPi * std::pow(hs, 9.0));
-    const double grad_wspiky = -45.0 / (kPi * std::pow(hs, 6.0));
+    const double wpoly6 = Wpoly6Coefficient(hs);
+    const double grad_wspiky = SpikyGradientCoefficient(hs);
     k.mass_wpoly6 = float(mass * wpoly6);
     k.mass_grad_wspiky = float(mass * grad_wspiky);
     k.mass_lap_wviscosity = float(mass * -grad_wspiky);
@@ -59,12 +60,5 @@ struct SphConstants {
     return k;
   }
 };
-
-// a·b + c rounded once. PoCL builds Sibernetic's kernels with clang's default for OpenCL C,
-// fp-contract=on: within one expression a product feeding an addition becomes llvm.fmuladd, which
-// the x86 back end emits as an FMA instruction. The kernels here call Fma exactly where that
-// happens (the ~60 sites of sphFluid.cl) and nowhere else; the engine is compiled with
-// -ffp-contract=off so the C++ compiler adds no fusions of its own.
-inline float Fma(float a, float b, float c) { return std::fma(a, b, c); }
 
 }  // namespace owval::engine::internal

@@ -92,19 +92,14 @@ void Pcisph::PredictDensity() {
   for (std::size_t n = 0; n < s.active.size(); ++n) {
     const std::int32_t i = s.active[n];
     const Float4 xi = predicted_[i];
-    const Neighbour* slots = s.slots(i);
-    float sum = 0;
-    // Same neighbour list as x(t), distances from the predicted positions, summed in cu.
-    for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
-      const Float4& xj = predicted_[slots[k].index];
+    // Same neighbour list as x(t), distances from the predicted positions, summed in cu and
+    // scaled to m⁶ after the sum.
+    const float sum = Wpoly6Sum(k_.h2_cu, s.slots(i), [&](const Neighbour& slot) {
+      const Float4& xj = predicted_[slot.index];
       const float dx = xi.x - xj.x, dy = xi.y - xj.y, dz = xi.z - xj.z;
-      const float d2 = Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:903-906
-      if (d2 < k_.h2_cu) {
-        const float q = k_.h2_cu - d2;
-        sum = Fma(q * q, q, sum);
-      }
-    }
-    predicted_density_[i] = k_.mass_wpoly6 * std::max(sum * k_.scale6, k_.hs6);
+      return Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:903-906
+    });
+    predicted_density_[i] = Wpoly6Density(k_, sum * k_.scale6);
   }
 }
 

@@ -1,5 +1,7 @@
 #include "phases/pressure_force.hpp"
 
+#include "kernels/kernels.hpp"
+
 namespace owval::engine::internal {
 
 void ComputePressureAcceleration(const SphConstants& k, const ParticleState& s,
@@ -19,10 +21,11 @@ void ComputePressureAcceleration(const SphConstants& k, const ParticleState& s,
       const std::int32_t j = slots[m].index;
       // Below hS/4 a fixed short-range repulsion replaces the pressure term
       // (sphFluid.cl:1000-1010).
+      // ∇Wspiky's shape (h − r)²; −(a·a) and (−a)·a are the same float.
       const float t =
-          r < quarter
-              ? -(quarter - r) * (quarter - r) * 0.5f * short_range_pressure / density[j]
-              : -(k.hs_m - r) * (k.hs_m - r) * 0.5f * (s.pressure[i] + s.pressure[j]) / density[j];
+          r < quarter ? -SpikyGradientShape(quarter, r) * 0.5f * short_range_pressure / density[j]
+                      : -SpikyGradientShape(k.hs_m, r) * 0.5f * (s.pressure[i] + s.pressure[j]) /
+                            density[j];
       const Float4 xj = s.position[j];  // direction from x(t), not x* (gotcha 7)
       sum[0] += t * ((xi.x - xj.x) * k.scale) / r;
       sum[1] += t * ((xi.y - xj.y) * k.scale) / r;
