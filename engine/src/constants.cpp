@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "owval/base/errors.hpp"
 
@@ -13,7 +14,7 @@ namespace {
 // Getter and setter of one PhysicsConstants field, as the table's function pointers.
 #define OWVAL_FIELD(field)                                                                       \
   [](const PhysicsConstants& c) { return double(c.field); }, [](PhysicsConstants& c, double v) { \
-    c.field = static_cast<decltype(PhysicsConstants::field)>(v);                                 \
+    c.field = static_cast<std::remove_cvref_t<decltype(c.field)>>(v);                            \
   }
 #define OWVAL_COMPONENT(array, a)                       \
   [](const PhysicsConstants& c) { return c.array[a]; }, \
@@ -23,43 +24,63 @@ using R = ConstantRule;
 
 // Sibernetic's names from owConfigProperty.cpp:160-224 (physics sheet §1).
 const ConstantInfo kTable[] = {
-    {"mass_kg", "mass", "kg", "particle mass m (owPhysicsConstant.h:54)", R::kPositive,
+    {"mass_kg", "mass", "kg", "particle mass m (owPhysicsConstant.h:54)", R::kPositive, nullptr,
      OWVAL_FIELD(mass_kg)},
     {"rest_density", "rho0", "kg/m^3", "rest density rho0 of PCISPH's pressure correction",
-     R::kPositive, OWVAL_FIELD(rest_density)},
+     R::kPositive, nullptr, OWVAL_FIELD(rest_density)},
     {"time_step_s", "timeStep", "s", "time step dt (delta is not recomputed from it)", R::kPositive,
-     OWVAL_FIELD(time_step_s)},
+     nullptr, OWVAL_FIELD(time_step_s)},
     {"simulation_scale", "simulationScale", "m/cu", "metres per configuration unit s", R::kPositive,
-     OWVAL_FIELD(simulation_scale)},
-    {"h_cu", "h", "cu", "smoothing radius h (hash cells are 2h wide)", R::kPositive,
+     nullptr, OWVAL_FIELD(simulation_scale)},
+    {"h_cu", "h", "cu", "smoothing radius h (hash cells are 2h wide)", R::kPositive, nullptr,
      OWVAL_FIELD(h_cu)},
     {"r0_cu", "r0", "cu", "wall and membrane interaction radius r0 (Sibernetic: h/2)", R::kPositive,
-     OWVAL_FIELD(r0_cu)},
+     nullptr, OWVAL_FIELD(r0_cu)},
     {"elasticity_coefficient", "elasticityCoefficient", "1/s^2",
-     "spring stiffness k per unit mass between worm-body particles", R::kNonNegative,
+     "spring stiffness k per unit mass between worm-body particles", R::kNonNegative, nullptr,
      OWVAL_FIELD(elasticity_coefficient)},
     {"max_muscle_force", "max_muscle_force", "m/s^2",
      "muscle pull per unit activation (Sibernetic applies it as an acceleration)", R::kNonNegative,
-     OWVAL_FIELD(max_muscle_force)},
-    {"gravity_x", "gravity_x", "m/s^2", "gravity, x component", R::kFinite,
+     nullptr, OWVAL_FIELD(max_muscle_force)},
+    {"gravity_x", "gravity_x", "m/s^2", "gravity, x component", R::kFinite, nullptr,
      OWVAL_COMPONENT(gravity, 0)},
-    {"gravity_y", "gravity_y", "m/s^2", "gravity, y component", R::kFinite,
+    {"gravity_y", "gravity_y", "m/s^2", "gravity, y component", R::kFinite, nullptr,
      OWVAL_COMPONENT(gravity, 1)},
-    {"gravity_z", "gravity_z", "m/s^2", "gravity, z component", R::kFinite,
+    {"gravity_z", "gravity_z", "m/s^2", "gravity, z component", R::kFinite, nullptr,
      OWVAL_COMPONENT(gravity, 2)},
     {"pcisph_iterations", "maxIteration", "1", "PCISPH prediction-correction passes per step",
-     R::kIntegerAtLeastOne, OWVAL_FIELD(pcisph_iterations)},
+     R::kIntegerAtLeastOne, nullptr, OWVAL_FIELD(pcisph_iterations)},
     {"delta", nullptr, "Pa/(kg/m^3)",
      "PCISPH pressure scaling delta (Sibernetic fixes it from the default dt)", R::kNonNegative,
-     OWVAL_FIELD(delta)},
+     nullptr, OWVAL_FIELD(delta)},
     {"surface_tension_scale", nullptr, "1",
-     "factor of surfTensCoeff in the cohesion term (sphFluid.cl:645-655)", R::kNonNegative,
+     "factor of surfTensCoeff in the cohesion term (sphFluid.cl:645-655)", R::kNonNegative, nullptr,
      OWVAL_FIELD(surface_tension_scale)},
     {"viscosity", "viscosity", "Pa s", "viscosity (never used by Sibernetic's kernels)",
-     R::kNonNegative, OWVAL_FIELD(viscosity)},
+     R::kNonNegative, nullptr, OWVAL_FIELD(viscosity)},
     {"non_worm_body_spring_factor", nullptr, "1",
      "stiffness factor of springs not between two worm-body particles (sphFluid.cl:723-731)",
-     R::kNonNegative, OWVAL_FIELD(non_worm_body_spring_factor)},
+     R::kNonNegative, nullptr, OWVAL_FIELD(non_worm_body_spring_factor)},
+    {"xpbd_iterations", nullptr, "1", "XPBD constraint projection passes per step (K)",
+     R::kIntegerAtLeastOne, "xpbd", OWVAL_FIELD(xpbd.iterations)},
+    {"xpbd_density_compliance", nullptr, "s^2", "XPBD compliance of C = rho/rho_rest - 1 (0: hard)",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.density_compliance)},
+    {"xpbd_bond_compliance_scale", nullptr, "1",
+     "XPBD bond compliance = scale / k_eff, k_eff the bond's Sibernetic stiffness", R::kNonNegative,
+     "xpbd", OWVAL_FIELD(xpbd.bond_compliance_scale)},
+    {"xpbd_rest_density", nullptr, "kg/m^3",
+     "XPBD rest density; 0: the mean initial density of the configuration's interior liquid",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.rest_density)},
+    {"xpbd_floor_restitution", nullptr, "1", "XPBD restitution at the box's floor", R::kFraction,
+     "xpbd", OWVAL_FIELD(xpbd.floor_restitution)},
+    {"xpbd_muscle_strength", nullptr, "1", "XPBD muscle bond k(t) = k (1 + activation strength)",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.muscle_strength)},
+    {"xpbd_viscosity", nullptr, "1", "XPBD: 1 adds Sibernetic's viscosity force", R::kSwitch,
+     "xpbd", OWVAL_FIELD(xpbd.viscosity)},
+    {"xpbd_surface_tension", nullptr, "1", "XPBD: 1 adds Sibernetic's cohesion force", R::kSwitch,
+     "xpbd", OWVAL_FIELD(xpbd.surface_tension)},
+    {"xpbd_pressure_force", nullptr, "1", "XPBD: 1 adds the SPH pressure-gradient force",
+     R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.pressure_force)},
 };
 
 #undef OWVAL_FIELD
@@ -94,6 +115,10 @@ std::string CheckConstant(const ConstantInfo& constant, double value) {
       return value >= 1 && value <= 1000 && value == std::floor(value)
                  ? ""
                  : "a whole number in 1..1000";
+    case R::kSwitch:
+      return value == 0 || value == 1 ? "" : "0 or 1";
+    case R::kFraction:
+      return value >= 0 && value <= 1 ? "" : "a number in [0, 1]";
   }
   return "";
 }
@@ -128,6 +153,7 @@ std::string PhysicsConstants::DifferencesFromDefaults() const {
   const PhysicsConstants d;
   std::ostringstream s;
   for (const ConstantInfo& c : kTable) {
+    if (c.scheme) continue;
     const double a = c.get(*this), b = c.get(d);
     if (a != b)
       s << (s.tellp() > 0 ? ", " : "") << c.name << " = " << a << " (default " << b << ")";

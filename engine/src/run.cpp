@@ -97,14 +97,21 @@ void Provenance(const SiberneticConfig& config, const RunOptions& o, const Physi
                 const Solver& solver, Trajectory* t) {
   const bool equivalent = solver.reference_equivalent();
   t->provenance["producer"] = "owval engine " + solver.name();
-  t->provenance["engine_reference"] =
-      "Sibernetic PCISPH (openworm/sibernetic 8d2df73) re-implemented on the CPU";
-  t->provenance["integrator"] =
-      o.integrator == Integrator::kLeapfrog ? "leapfrog" : "semi-implicit euler";
+  if (solver.name() == "pcisph") {
+    t->provenance["engine_reference"] =
+        "Sibernetic PCISPH (openworm/sibernetic 8d2df73) re-implemented on the CPU";
+    t->provenance["integrator"] =
+        o.integrator == Integrator::kLeapfrog ? "leapfrog" : "semi-implicit euler";
+  } else {
+    t->provenance["engine_reference"] =
+        "not Sibernetic's scheme: " + solver.name() + " over Sibernetic's configuration";
+  }
   t->provenance["configuration"] = config.source;
   t->provenance["reference_equivalent"] = equivalent ? "true" : "false";
   const std::string differences = c.DifferencesFromDefaults();
   t->provenance["constants"] = differences.empty() ? "Sibernetic defaults" : differences;
+  const std::string parameters = solver.parameters();
+  if (!parameters.empty()) t->provenance["scheme_parameters"] = parameters;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "owval/engine/constants.hpp"
 #include "pcisph/pcisph.hpp"
 #include "state/particle_state.hpp"
+#include "xpbd/xpbd.hpp"
 
 namespace owval::engine {
 namespace {
@@ -25,6 +26,11 @@ const std::vector<BackendEntry>& Backends() {
        {"owval"},
        [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
          return std::make_unique<internal::Pcisph>(c, o.constants, o.integrator, threads);
+       }},
+      {"xpbd",
+       {},
+       [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
+         return std::make_unique<internal::Xpbd<float>>(c, o.constants, threads);
        }},
   };
   return table;

@@ -29,11 +29,18 @@ TEST(Constants, EveryEntrySetsItsOwnFieldAndOnlyIt) {
   for (const ConstantInfo& info : PhysicsConstantTable()) {
     EXPECT_TRUE(names.insert(info.name).second) << "duplicate " << info.name;
     PhysicsConstants c;
-    const double value = info.get(c) + 2;  // valid for every rule from the defaults
+    // A valid value other than the default, for each rule.
+    const double value = info.rule == ConstantRule::kSwitch     ? 1 - info.get(c)
+                         : info.rule == ConstantRule::kFraction ? 0.5
+                                                                : info.get(c) + 2;
     SetConstant(&c, info.name, value);
     EXPECT_EQ(info.get(c), value) << info.name;
-    // Exactly this constant differs from the defaults now.
+    // Exactly this constant differs from the defaults now; scheme parameters are not listed.
     const std::string differences = c.DifferencesFromDefaults();
+    if (info.scheme) {
+      EXPECT_EQ(differences, "") << info.name;
+      continue;
+    }
     EXPECT_EQ(differences.rfind(std::string(info.name) + " = ", 0), 0u) << differences;
     EXPECT_EQ(differences.find(','), std::string::npos) << differences;
     EXPECT_NE(info.unit, nullptr);

@@ -70,7 +70,21 @@ struct PhysicsConstants {
   double non_worm_body_spring_factor =
       0.25;  // sphFluid.cl: springs not between two worm-body particles
 
-  // A short description of where the constants differ from Sibernetic's defaults ("" if none).
+  // The XPBD scheme's parameters (engine/src/xpbd, docs/xpbd.md); PCISPH ignores them.
+  struct Xpbd {
+    int iterations = 4;                // constraint projection passes per step (K)
+    double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2 per unit mass
+    double bond_compliance_scale = 1;  // alpha of a bond = scale / k_eff (k_eff in s^-2)
+    double rest_density = 0;           // kg/m^3; 0: the configuration's interior liquid's
+    double floor_restitution = 0;      // normal velocity kept (reversed) at the box's floor
+    double muscle_strength = 1;        // bond k(t) = k (1 + activation * strength)
+    int viscosity = 1;                 // 1: add Sibernetic's viscosity force, 0: none
+    int surface_tension = 1;           // 1: add Sibernetic's cohesion force, 0: none
+    int pressure_force = 0;            // 1: add the SPH pressure-gradient force, 0: none
+  } xpbd;
+
+  // A short description of where the constants differ from Sibernetic's defaults ("" if none);
+  // scheme-specific parameters (xpbd) are not listed.
   std::string DifferencesFromDefaults() const;
 };
 

@@ -20,6 +20,8 @@ enum class ConstantRule {
   kPositive,           // finite and > 0 (time step, mass, rest density, h, r0, scale)
   kNonNegative,        // finite and >= 0 (stiffnesses, coefficients, delta)
   kIntegerAtLeastOne,  // a whole number in [1, 1000] (iteration counts)
+  kSwitch,             // 0 or 1
+  kFraction,           // a number in [0, 1]
 };
 
 struct ConstantInfo {
@@ -28,6 +30,7 @@ struct ConstantInfo {
   const char* unit;             // "kg", "m/s^2", "cu" (configuration units), "1", ...
   const char* doc;              // one line: what it is and where Sibernetic uses it
   ConstantRule rule;
+  const char* scheme;  // nullptr: Sibernetic's physics, used by every scheme; else the one scheme
   double (*get)(const PhysicsConstants&);
   void (*set)(PhysicsConstants&, double);
 };

@@ -40,6 +40,9 @@ class Solver {
   // Muscle activations (kMuscleCount values) the next step uses.
   virtual std::span<float> muscle_activation() = 0;
 
+  // The scheme's own parameters as "name = value, ..." for a run's provenance ("" if none).
+  virtual std::string parameters() const { return ""; }
+
   // Index of the first moving (non-boundary) particle with a non-finite position, or -1.
   virtual std::int64_t FirstNonFinite() const;
 };
