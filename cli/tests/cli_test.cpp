@@ -188,4 +188,21 @@ TEST(CliRun, OwvalIsAnAliasOfPcisph) {
   EXPECT_EQ(nlohmann::json::parse(r.out)["backend"], "pcisph");
 }
 
+TEST(CliRun, XpbdBackendRunsAndIsNotReferenceEquivalent) {
+  const fs::path out = Scratch() / "xpbd_backend";
+  const Result r = Owval(
+      "run one_sprig --time 0.001 --backend xpbd --set xpbd_iterations=2 --json "
+      "--out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["backend"], "xpbd");
+  EXPECT_EQ(j["reference_equivalent"], false);
+  EXPECT_EQ(j["steps"], 50);
+  EXPECT_EQ(Owval("run one_sprig --time 0.001 --backend xpbd --set xpbd_iterations=0 --out " +
+                  out.string())
+                .exit_code,
+            2);
+}
+
 }  // namespace

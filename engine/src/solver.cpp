@@ -30,6 +30,10 @@ const std::vector<BackendEntry>& Backends() {
       {"xpbd",
        {},
        [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
+         if (o.integrator != Integrator::kSemiImplicitEuler)
+           throw InputError(
+               "backend xpbd derives velocities from positions: it takes no "
+               "--integrator (leapfrog is PCISPH's)");
          return std::make_unique<internal::Xpbd<float>>(c, o.constants, threads);
        }},
   };

@@ -129,6 +129,8 @@ TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   EXPECT_EQ(t.provenance.at("producer"), "owval engine xpbd");
   EXPECT_NE(t.provenance.at("scheme_parameters").find("iterations = 2"), std::string::npos);
   EXPECT_THROW(SetConstant(&o.constants, "xpbd_viscosity", 2), InputError);
+  o.integrator = Integrator::kLeapfrog;  // PCISPH's integrator: refused, not ignored
+  EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 #pragma once
-// XPBD constraint projections on a few particles, free of any solver state so that each can be
-// checked by hand [MMC16]. Positions in configuration units (cu); every particle has the same
-// mass m, so inverse masses are in units of 1/m (1 for a moving particle, 0 for a fixed one) and
-// a compliance α (s²·m⁻¹·...) enters as α̃ = α/dt² in the same units.
+// XPBD constraint projections, free of any solver state so that each can be checked by hand
+// [MMC16]. Positions in configuration units (cu); every particle has the same mass m, so inverse
+// masses are in units of 1/m (1 for a moving particle, 0 for a fixed one) and a compliance α
+// (per unit mass: s² for a bond whose stiffness is given per unit mass in s⁻²) enters as
+// α̃ = α/dt².
 //
 //   [MMC16] M. Macklin, M. Müller, N. Chentanez. XPBD: position-based simulation of compliant
 //           constrained dynamics. Motion in Games 2016, pp. 49-54 (eqs. 17-18).
