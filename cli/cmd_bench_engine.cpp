@@ -11,6 +11,7 @@
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/engine/solver.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -20,6 +21,7 @@ struct BenchEngineArgs {
   std::string config = "demo1";
   std::size_t steps = 1000;
   std::string json_out;
+  std::string backend = "pcisph";
 };
 
 engine::SiberneticConfig Load(const std::string& name) {
@@ -30,8 +32,10 @@ engine::SiberneticConfig Load(const std::string& name) {
   return ResolveConfig(name);
 }
 
-nlohmann::json Measure(const engine::SiberneticConfig& config, std::size_t steps, int threads) {
+nlohmann::json Measure(const engine::SiberneticConfig& config, std::size_t steps, int threads,
+                       const std::string& backend) {
   engine::RunOptions o;
+  o.backend = backend;
   o.constants = engine::PhysicsConstants{};
   o.duration_s = double(steps) * o.constants.time_step_s * 1.0000001;
   o.log_step = int(steps) + 1;  // one frame: measure the physics, not the recording
@@ -60,12 +64,14 @@ nlohmann::json Measure(const engine::SiberneticConfig& config, std::size_t steps
 
 void RunBench(const BenchEngineArgs& a) {
   const engine::SiberneticConfig config = Load(a.config);
-  nlohmann::json out = {{"benchmark", "engine"},
-                        {"configuration", config.source},
-                        {"particles", config.particle_count()},
-                        {"moving_particles", config.elastic_count() + config.liquid_count()},
-                        {"single_thread", Measure(config, a.steps, 1)},
-                        {"all_threads", Measure(config, a.steps, omp_get_max_threads())}};
+  nlohmann::json out = {
+      {"benchmark", "engine"},
+      {"configuration", config.source},
+      {"particles", config.particle_count()},
+      {"moving_particles", config.elastic_count() + config.liquid_count()},
+      {"backend", engine::CanonicalBackend(a.backend)},
+      {"single_thread", Measure(config, a.steps, 1, a.backend)},
+      {"all_threads", Measure(config, a.steps, omp_get_max_threads(), a.backend)}};
   std::cout << out.dump(2) << "\n";
   if (!a.json_out.empty()) WriteFileAtomically(a.json_out, out.dump(2) + "\n");
 }
@@ -78,6 +84,7 @@ void SetUp(CLI::App& app) {
                   "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
   cmd->add_option("--steps", a->steps, "Steps to time");
   cmd->add_option("--json-out", a->json_out, "Also write the JSON result here");
+  cmd->add_option("--backend", a->backend, "Solver to time (pcisph, xpbd; default pcisph)");
   cmd->callback([a] { RunBench(*a); });
 }
 

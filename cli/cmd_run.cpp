@@ -1,4 +1,5 @@
-// owval run: the reference PCISPH engine on a configuration or built-in scenario.
+// owval run: the engine (PCISPH, Sibernetic's scheme, unless --backend says otherwise) on a
+// configuration or built-in scenario.
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "owval/engine/run.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/engine/solver.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
@@ -85,6 +87,8 @@ void RunEngine(const RunArgs& a) {
                                                  : engine::MuscleSignal::kAuto;
   options.threads = a.threads;
   options.record_fields = !a.no_fields;
+  options.backend = engine::CanonicalBackend(a.backend);  // unknown: exit 2 naming the known ones
+  options.dump_dir = a.out;
   for (const std::string& assignment : a.set) SetConstantAssignment(assignment, &options.constants);
   Progress progress("run", 0, Flags().quiet);
   options.on_step = [&](std::size_t done, std::size_t total) {
@@ -107,6 +111,7 @@ void RunEngine(const RunArgs& a) {
                            {"frames", summary.frames},
                            {"wall_s", summary.wall_s},
                            {"steps_per_s", summary.steps_per_s},
+                           {"backend", options.backend},
                            {"reference_equivalent", summary.reference_equivalent},
                            {"muscles_driven", summary.muscles_driven},
                            {"outputs", outputs}};
@@ -128,7 +133,11 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--log-step", a->log_step, "Steps between frames")->check(CLI::PositiveNumber);
   cmd->add_option("--out", a->out, "Output directory (position_buffer.txt and trajectory.h5)")
       ->required();
-  cmd->add_option("--backend", a->backend, "pcisph")->check(CLI::IsMember({"pcisph"}));
+  std::string backends;
+  for (const std::string& name : engine::KnownBackends())
+    backends += (backends.empty() ? "" : ", ") + name;
+  cmd->add_option("--backend", a->backend,
+                  "Time-step scheme: " + backends + " (default pcisph; owval = pcisph)");
   cmd->add_option("--integrator", a->integrator, "euler (Sibernetic's default) or leapfrog")
       ->check(CLI::IsMember({"euler", "leapfrog"}));
   cmd->add_option("--muscles", a->muscles,

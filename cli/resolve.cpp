@@ -5,8 +5,8 @@
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
 #include "owval/scenarios/scenario.hpp"
-#include "owval/sgd/engine_simulator.hpp"
 
 namespace owval::cli {
 
@@ -25,7 +25,7 @@ void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstan
   } catch (const std::exception&) {
     throw InputError("--set " + assignment + ": expected a number after '='");
   }
-  sgd::SetConstant(constants, assignment.substr(0, eq), value);
+  engine::SetConstant(constants, assignment.substr(0, eq), value);
 }
 
 Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& layout,

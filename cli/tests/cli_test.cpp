@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -168,6 +169,41 @@ TEST(CliFit, ExternalCommandModeFitsOneSprigThroughOwvalRun) {
   EXPECT_TRUE(h["converged"].get<bool>());
   EXPECT_LE(h["iterations"].size(), 7u);
   EXPECT_NEAR(h["final"]["parameters"]["elasticity_coefficient"].get<double>(), 3e8, 3e8 * 0.01);
+}
+
+TEST(CliRun, UnknownBackendIsExitTwoListingTheKnownOnes) {
+  const fs::path out = Scratch() / "unknown_backend";
+  const Result r = Owval("run one_sprig --time 0.0001 --backend nosuch --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown backend 'nosuch'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pcisph"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(out / "position_buffer.txt"));
+}
+
+TEST(CliRun, OwvalIsAnAliasOfPcisph) {
+  const fs::path out = Scratch() / "alias_backend";
+  const Result r =
+      Owval("run one_sprig --time 0.0001 --backend owval --json --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["backend"], "pcisph");
+}
+
+TEST(CliRun, XpbdBackendRunsAndIsNotReferenceEquivalent) {
+  const fs::path out = Scratch() / "xpbd_backend";
+  const Result r = Owval(
+      "run one_sprig --time 0.001 --backend xpbd --set xpbd_iterations=2 --json "
+      "--out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["backend"], "xpbd");
+  EXPECT_EQ(j["reference_equivalent"], false);
+  EXPECT_EQ(j["steps"], 50);
+  EXPECT_EQ(Owval("run one_sprig --time 0.001 --backend xpbd --set xpbd_iterations=0 --out " +
+                  out.string())
+                .exit_code,
+            2);
 }
 
 }  // namespace

@@ -1,21 +1,19 @@
 // Run(): configuration in, trajectory out.
 #include "owval/engine/run.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
-#include "pcisph/pcisph.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/engine/solver.hpp"
+#include "state/particle_state.hpp"
 
 namespace owval::engine {
 namespace {
-
-using internal::Pcisph;
 
 // Moving particles must start inside the box (within float rounding of its faces). Boundary
 // particles never move and only need a cell: Sibernetic's hash truncates toward zero, so a wall
@@ -42,59 +40,78 @@ void CheckRunnable(const SiberneticConfig& c, float h_cu) {
   }
 }
 
-std::size_t StepCount(double duration_s, double time_step_s) {
-  // (int)(timelimit / dt) in float, as Sibernetic computes it (owConfigProperty.cpp:136).
+// (int)(timelimit / dt) in float, as Sibernetic computes it (owConfigProperty.cpp:136). A run
+// of no step, or of more steps than any machine finishes, is refused before it starts.
+std::size_t StepCount(const std::string& source, double duration_s, double time_step_s) {
   const float steps = float(duration_s) / float(time_step_s);
-  return steps > 0 ? static_cast<std::size_t>(steps) : 0;
+  constexpr float kMaxSteps = 1e12f;
+  if (!(steps >= 1 && steps <= kMaxSteps)) {
+    std::ostringstream msg;
+    msg << "duration " << duration_s << " s with time step " << time_step_s << " s gives " << steps
+        << " steps: expected 1 to " << kMaxSteps;
+    throw InputError(source, 0, msg.str());
+  }
+  return static_cast<std::size_t>(steps);
 }
 
-void RecordFrame(const Pcisph& solver, double time_s, bool fields, Trajectory* t) {
-  const auto& s = solver.state();
-  const std::size_t n = s.size();
+void RecordFrame(const Solver& solver, double time_s, bool fields, Trajectory* t) {
+  const std::span<const Float4> x = solver.positions();
   t->time_s.push_back(time_s);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& x = s.position[i];
-    t->positions.insert(t->positions.end(), {x.x, x.y, x.z});
-  }
+  for (const Float4& p : x) t->positions.insert(t->positions.end(), {p.x, p.y, p.z});
   if (!fields) return;
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool boundary = internal::IsBoundary(s.position[i].w);
-    const auto& v = s.velocity[i];  // a boundary's slot holds its normal: it does not move
-    if (boundary) {
+  const std::span<const Float4> v = solver.velocities();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    // A boundary's slot holds its normal: it does not move.
+    if (internal::IsBoundary(x[i].w)) {
       t->velocities.insert(t->velocities.end(), {0.0f, 0.0f, 0.0f});
     } else {
-      t->velocities.insert(t->velocities.end(), {v.x, v.y, v.z});
+      t->velocities.insert(t->velocities.end(), {v[i].x, v[i].y, v[i].z});
     }
   }
-  const std::vector<float> density = solver.DensityOfAll();
+  const std::vector<float> density = solver.Density();
   t->density.insert(t->density.end(), density.begin(), density.end());
-  t->pressure.insert(t->pressure.end(), s.pressure.begin(), s.pressure.end());
+  const std::span<const float> pressure = solver.pressure();
+  t->pressure.insert(t->pressure.end(), pressure.begin(), pressure.end());
 }
 
-std::string DumpState(const Pcisph& solver, std::size_t step) {
-  const std::string path = "owval_nan_dump_step" + std::to_string(step) + ".txt";
-  std::ofstream out(path);
-  out << "# owval engine state at step " << step
+// Writes the solver's state into dir (atomically) and returns the file's path; "" without dir.
+std::string DumpState(const Solver& solver, std::size_t step, const std::filesystem::path& dir) {
+  if (dir.empty()) return "";
+  const std::filesystem::path path = dir / ("owval_nan_dump_step" + std::to_string(step) + ".txt");
+  std::ostringstream out;
+  out << "# owval engine (" << solver.name() << ") state at step " << step
       << ": index x y z type vx vy vz density pressure\n";
-  const auto& s = solver.state();
-  for (std::size_t i = 0; i < s.size(); ++i)
-    out << i << ' ' << s.position[i].x << ' ' << s.position[i].y << ' ' << s.position[i].z << ' '
-        << s.position[i].w << ' ' << s.velocity[i].x << ' ' << s.velocity[i].y << ' '
-        << s.velocity[i].z << ' ' << s.density[i] << ' ' << s.pressure[i] << '\n';
-  return path;
+  const std::span<const Float4> x = solver.positions(), v = solver.velocities();
+  const std::vector<float> density = solver.Density();
+  const std::span<const float> pressure = solver.pressure();
+  for (std::size_t i = 0; i < x.size(); ++i)
+    out << i << ' ' << x[i].x << ' ' << x[i].y << ' ' << x[i].z << ' ' << x[i].w << ' ' << v[i].x
+        << ' ' << v[i].y << ' ' << v[i].z << ' ' << (i < density.size() ? density[i] : NAN) << ' '
+        << (i < pressure.size() ? pressure[i] : NAN) << '\n';
+  std::filesystem::create_directories(dir);
+  WriteFileAtomically(path, out.str());
+  return path.string();
 }
 
 void Provenance(const SiberneticConfig& config, const RunOptions& o, const PhysicsConstants& c,
-                bool equivalent, Trajectory* t) {
-  t->provenance["producer"] = "owval engine pcisph";
-  t->provenance["engine_reference"] =
-      "Sibernetic PCISPH (openworm/sibernetic 8d2df73) re-implemented on the CPU";
-  t->provenance["integrator"] =
-      o.integrator == Integrator::kLeapfrog ? "leapfrog" : "semi-implicit euler";
+                const Solver& solver, Trajectory* t) {
+  const bool equivalent = solver.reference_equivalent();
+  t->provenance["producer"] = "owval engine " + solver.name();
+  if (solver.name() == "pcisph") {
+    t->provenance["engine_reference"] =
+        "Sibernetic PCISPH (openworm/sibernetic 8d2df73) re-implemented on the CPU";
+    t->provenance["integrator"] =
+        o.integrator == Integrator::kLeapfrog ? "leapfrog" : "semi-implicit euler";
+  } else {
+    t->provenance["engine_reference"] =
+        "not Sibernetic's scheme: " + solver.name() + " over Sibernetic's configuration";
+  }
   t->provenance["configuration"] = config.source;
   t->provenance["reference_equivalent"] = equivalent ? "true" : "false";
   const std::string differences = c.DifferencesFromDefaults();
   t->provenance["constants"] = differences.empty() ? "Sibernetic defaults" : differences;
+  const std::string parameters = solver.parameters();
+  if (!parameters.empty()) t->provenance["scheme_parameters"] = parameters;
 }
 
 }  // namespace
@@ -112,17 +129,15 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
                              "(pass --apply-physical-parameters to apply them)");
     }
   }
+  CanonicalBackend(options.backend);  // an unknown name fails before any other check
+  ValidateConstants(constants);
+  const std::size_t steps = StepCount(config.source, options.duration_s, constants.time_step_s);
   CheckRunnable(config, float(constants.h_cu));
-  const bool equivalent = constants.DifferencesFromDefaults().empty() &&
-                          options.integrator == Integrator::kSemiImplicitEuler;
-  sum.reference_equivalent = equivalent;
-  // A few hundred moving particles do not pay for a second thread's fork/join and barrier costs
-  // (and a busy machine makes those barriers stall): one thread unless there is real work.
-  const std::size_t moving = config.elastic_count() + config.liquid_count();
-  const int threads = options.threads > 0 ? options.threads
-                      : moving < 4096     ? 1
-                                          : omp_get_max_threads();
-  Pcisph solver(config, constants, options.integrator, threads);
+  RunOptions solver_options = options;
+  solver_options.constants = constants;
+  const std::unique_ptr<Solver> made = MakeSolver(config, solver_options);
+  Solver& solver = *made;
+  sum.reference_equivalent = solver.reference_equivalent();
   sum.muscles_driven = options.muscle_signal == MuscleSignal::kSwimmingWaves ||
                        (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
   Trajectory t;
@@ -130,11 +145,10 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
   t.time_step_s = constants.time_step_s;
   t.log_step = std::max(1, options.log_step);
   for (const Row4& p : config.position) t.type.push_back(p[3]);
-  Provenance(config, options, constants, equivalent, &t);
+  Provenance(config, options, constants, solver, &t);
   t.provenance["muscle_signal"] =
       sum.muscles_driven ? "main_sim.MuscleSimulation swimming/crawling waves (owval closed form)"
                          : "none (all activations zero)";
-  const std::size_t steps = StepCount(options.duration_s, constants.time_step_s);
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < steps; ++k) {
     solver.Step();
@@ -145,10 +159,11 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
     }
     const std::int64_t bad = solver.FirstNonFinite();
     if (bad >= 0) {
-      const std::string dump = DumpState(solver, k);
+      const std::string dump = DumpState(solver, k, options.dump_dir);
       throw InputError(config.source, 0,
                        "NaN at step " + std::to_string(k) + " in particle " + std::to_string(bad) +
-                           " (state dumped to " + dump + ")");
+                           (dump.empty() ? " (no state dump: no dump directory given)"
+                                         : " (state dumped to " + dump + ")"));
     }
     if (k % std::size_t(t.log_step) == 0)
       RecordFrame(solver, double(k) * constants.time_step_s, options.record_fields, &t);

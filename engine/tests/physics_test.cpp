@@ -38,25 +38,6 @@ TEST(Kernels, ConstantsMatchSiberneticsHostValuesToTheLastBit) {
   EXPECT_NEAR(k.mass_wpoly6 * k.hs6, 207.53, 0.01);
 }
 
-TEST(Kernels, Poly6IsNormalisedAndSpikyGradientIsAntisymmetric) {
-  // ∫ Wpoly6 dV over the ball of radius hS = 1 (numerically, in units of hS).
-  const double kPi = 3.14159265358979;
-  double integral = 0;
-  const int n = 2000;
-  for (int i = 0; i < n; ++i) {
-    const double r = (i + 0.5) / n;
-    integral += 315.0 / (64 * kPi) * std::pow(1 - r * r, 3) * 4 * kPi * r * r / n;
-  }
-  EXPECT_NEAR(integral, 1.0, 1e-4);
-  // ∇W_spiky(x_i − x_j) = −∇W_spiky(x_j − x_i): pairwise pressure forces cancel.
-  const double r[3] = {0.3, -0.2, 0.5}, len = std::sqrt(0.38);
-  for (int a = 0; a < 3; ++a) {
-    const double g_ij = -45 / kPi * std::pow(1 - len, 2) * r[a] / len;
-    const double g_ji = -45 / kPi * std::pow(1 - len, 2) * -r[a] / len;
-    EXPECT_DOUBLE_EQ(g_ij, -g_ji);
-  }
-}
-
 TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(1.0f, 29.0f);

@@ -1,11 +1,13 @@
 #pragma once
-// The numbers one PCISPH step uses, derived once from PhysicsConstants exactly the way Sibernetic's
+// The numbers the SPH phases use, derived once from PhysicsConstants exactly the way Sibernetic's
 // host does (inc/owPhysicsConstant.h, owConfigProperty.cpp:159-253): the base constants are floats,
 // products such as h·s and (h·s)² are formed in float, and only the kernel coefficients go
 // through double before their final cast. A last-bit difference in any of them is enough to make
 // a many-particle run drift away from the reference within a few hundred steps.
 #include <cmath>
 
+#include "kernels/fma.hpp"
+#include "kernels/kernels.hpp"
 #include "owval/engine/config.hpp"
 
 namespace owval::engine::internal {
@@ -22,13 +24,11 @@ struct SphConstants {
   float mass_grad_wspiky;     // m·(−45/(π hS⁶)), negative
   float mass_lap_wviscosity;  // −m·∇Wspiky
   float surface_tension;  // −1.7e-9 · surfTensCoeff (= m·Wpoly6·s), divided by m after the sum
-  float rest_density, delta;
+  float rest_density;
   float elasticity_coefficient, max_muscle_force, non_worm_body_spring_factor;
   float gravity[3];
-  int pcisph_iterations;
 
   static SphConstants From(const PhysicsConstants& c) {
-    constexpr double kPi = 3.14159265358979323846;  // M_PI, a double, as in Sibernetic's host
     SphConstants k{};
     k.h_cu = float(c.h_cu);
     k.h2_cu = k.h_cu * k.h_cu;
@@ -45,29 +45,20 @@ struct SphConstants {
     k.scale6 = scale2 * scale2 * scale2;
     k.mass_kg = float(c.mass_kg);
     const double mass = double(k.mass_kg), hs = double(k.hs_m);
-    const double wpoly6 = 315.0 / (64.0 * kPi * std::pow(hs, 9.0));
-    const double grad_wspiky = -45.0 / (kPi * std::pow(hs, 6.0));
+    const double wpoly6 = Wpoly6Coefficient(hs);
+    const double grad_wspiky = SpikyGradientCoefficient(hs);
     k.mass_wpoly6 = float(mass * wpoly6);
     k.mass_grad_wspiky = float(mass * grad_wspiky);
     k.mass_lap_wviscosity = float(mass * -grad_wspiky);
     const float surf_tens_coeff = k.mass_wpoly6 * k.scale;
     k.surface_tension = float(-c.surface_tension_scale) * surf_tens_coeff;
     k.rest_density = float(c.rest_density);
-    k.delta = float(c.delta);
     k.elasticity_coefficient = float(c.elasticity_coefficient);
     k.max_muscle_force = float(c.max_muscle_force);
     k.non_worm_body_spring_factor = float(c.non_worm_body_spring_factor);
     for (int a = 0; a < 3; ++a) k.gravity[a] = float(c.gravity[a]);
-    k.pcisph_iterations = c.pcisph_iterations;
     return k;
   }
 };
-
-// a·b + c rounded once. PoCL builds Sibernetic's kernels with clang's default for OpenCL C,
-// fp-contract=on: within one expression a product feeding an addition becomes llvm.fmuladd, which
-// the x86 back end emits as an FMA instruction. The kernels here call Fma exactly where that
-// happens (the ~60 sites of sphFluid.cl) and nowhere else; the engine is compiled with
-// -ffp-contract=off so the C++ compiler adds no fusions of its own.
-inline float Fma(float a, float b, float c) { return std::fma(a, b, c); }
 
 }  // namespace owval::engine::internal

@@ -12,38 +12,48 @@
 //   neighbours → density → non-pressure forces → springs
 //   → 3 × {predict positions, predicted density, correct pressure, pressure acceleration}
 //   → integrate → membranes.
-// Neighbours, density, forces, springs, walls, integrators and membranes are shared phases
-// (neighbours/, phases/); the pressure loop is what makes this scheme PCISPH and lives here.
+// Neighbours, density, forces, springs, walls, the pressure acceleration, integrators and
+// membranes are shared phases (neighbours/, phases/); the prediction-correction loop, its state
+// (x*, ρ*, a_p) and its constants (δ, iteration count) make this scheme PCISPH and live here.
 // Only moving particles and the boundary particles in their neighbour lists are computed;
 // boundary particles elsewhere influence nobody, so the result is the same as computing all.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "kernels/sph_constants.hpp"
 #include "neighbours/neighbour_grid.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/engine/solver.hpp"
+#include "pcisph/pcisph_constants.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
 
 namespace owval::engine::internal {
 
-class Pcisph {
+class Pcisph final : public Solver {
  public:
   Pcisph(const SiberneticConfig& config, const PhysicsConstants& constants, Integrator integrator,
          int threads);
 
   // Advances one step. Step 0 integrates nothing (Sibernetic's iterationCount == 0), but the
   // membrane pass already moves liquid.
-  void Step();
-  std::size_t steps_done() const { return step_; }
-  const ParticleState& state() const { return state_; }
+  void Step() override;
+  std::size_t steps_done() const override { return step_; }
+  std::string name() const override { return "pcisph"; }
+  // Sibernetic's defaults with its default (semi-implicit Euler) integrator.
+  bool reference_equivalent() const override { return reference_equivalent_; }
+  std::span<const Float4> positions() const override { return state_.position; }
+  std::span<const Float4> velocities() const override { return state_.velocity; }
   // Density of every particle (boundary ones far from the action included), for output.
-  std::vector<float> DensityOfAll() const;
+  std::vector<float> Density() const override;
+  std::span<const float> pressure() const override { return state_.pressure; }
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
-  std::vector<float>& muscle_activation() { return matter_.muscle_activation; }
-  // Index of the first moving particle with a non-finite position, or -1.
-  std::int64_t FirstNonFinite() const;
+  std::span<float> muscle_activation() override { return matter_.muscle_activation; }
+  std::int64_t FirstNonFinite() const override;
+
+  const ParticleState& state() const { return state_; }
 
  private:
   // [SP09] §3: p = 0 and a_p = 0 before the pressure loop (sphFluid.cl:664-666).
@@ -54,16 +64,20 @@ class Pcisph {
   void PredictDensity();
   // p += max(0, δ·(ρ* − ρ0)): only the increment is clamped.
   void CorrectPressure();
-  // a_p from p and ρ*, with x(t) distances and directions; a fixed short-range repulsion below
-  // hS/4.
-  void ComputePressureAcceleration();
 
   SphConstants k_;
+  PcisphConstants pcisph_;
   Integrator integrator_;
   int threads_;
+  bool reference_equivalent_;
   ParticleState state_;
   NeighbourGrid grid_;
   ElasticMatter matter_;
+  // PCISPH's own per-particle quantities: x* (cu), ρ* (kg/m³) and the pressure acceleration a_p
+  // (m/s²) of the pressure loop.
+  std::vector<Float4> predicted_;
+  std::vector<float> predicted_density_;
+  std::vector<Float4> pressure_acceleration_;
   std::vector<Float4> membrane_scratch_;
   std::size_t step_ = 0;
 };

@@ -5,15 +5,9 @@
 namespace owval::engine::internal {
 
 float DensitySum(const SphConstants& k, const Neighbour* slots) {
-  float sum = 0;
-  for (int n = 0; n < kSlots && slots[n].index >= 0; ++n) {
-    const float r2 = slots[n].distance_m * slots[n].distance_m;
-    if (r2 < k.hs2_m2) {
-      const float q = k.hs2_m2 - r2;
-      sum = Fma(q * q, q, sum);  // sphFluid.cl:499
-    }
-  }
-  return sum;
+  // r² from the listed distance, in metres; the sum fused as at sphFluid.cl:499.
+  return Wpoly6Sum(k.hs2_m2, slots,
+                   [](const Neighbour& slot) { return slot.distance_m * slot.distance_m; });
 }
 
 void ComputeDensity(const SphConstants& k, ParticleState* state, int threads) {
@@ -21,7 +15,7 @@ void ComputeDensity(const SphConstants& k, ParticleState* state, int threads) {
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t n = 0; n < s.active.size(); ++n) {
     const std::int32_t i = s.active[n];
-    s.density[i] = k.mass_wpoly6 * std::max(DensitySum(k, s.slots(i)), k.hs6);
+    s.density[i] = Wpoly6Density(k, DensitySum(k, s.slots(i)));
   }
 }
 
@@ -35,7 +29,7 @@ std::vector<float> DensityOfAll(const SphConstants& k, const NeighbourGrid& grid
       continue;
     }
     grid.FindNeighbours(state, std::int32_t(i), slots);
-    density[i] = k.mass_wpoly6 * std::max(DensitySum(k, slots), k.hs6);
+    density[i] = Wpoly6Density(k, DensitySum(k, slots));
   }
   return density;
 }

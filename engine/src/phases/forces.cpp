@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "kernels/kernels.hpp"
+
 namespace owval::engine::internal {
 namespace {
 
@@ -27,9 +29,11 @@ Float4 NonPressureAcceleration(const SphConstants& k, const ParticleState& s, st
     // A boundary's velocity slot holds its wall normal: its velocity counts as zero.
     const Float4 vj = IsBoundary(xj.w) ? Float4{} : s.velocity[j];
     const float dv[3] = {vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
-    for (int a = 0; a < 3; ++a) viscosity[a] += ((c * dv[a]) * (k.hs_m - r)) / 1000.0f;
-    const float q = k.hs2_m2 - r * r;
-    const float coefficient = k.surface_tension * (q * q * q);
+    // ∇²Wviscosity's shape; its coefficient is in mass_lap_wviscosity.
+    const float laplacian = ViscosityLaplacianShape(k.hs_m, r);
+    for (int a = 0; a < 3; ++a) viscosity[a] += ((c * dv[a]) * laplacian) / 1000.0f;
+    // Cohesion weighs the offset by Wpoly6's shape (sphFluid.cl:645-655).
+    const float coefficient = k.surface_tension * Wpoly6Shape(k.hs2_m2, r * r);
     const float dx[3] = {xi.x - xj.x, xi.y - xj.y, xi.z - xj.z};
     for (int a = 0; a < 3; ++a) surface_tension[a] = Fma(coefficient, dx[a], surface_tension[a]);
   }

@@ -5,8 +5,9 @@
 namespace owval::engine::internal {
 namespace {
 
-Float4 TotalAcceleration(const ParticleState& s, std::int32_t i) {
-  const Float4 a = s.acceleration[i], ap = s.pressure_acceleration[i];
+Float4 TotalAcceleration(const ParticleState& s, const std::vector<Float4>& pressure_acceleration,
+                         std::int32_t i) {
+  const Float4 a = s.acceleration[i], ap = pressure_acceleration[i];
   return {a.x + ap.x, a.y + ap.y, a.z + ap.z, 0};
 }
 
@@ -14,13 +15,13 @@ Float4 TotalAcceleration(const ParticleState& s, std::int32_t i) {
 // last acceleration; after the first step, `advance(a, a_last, &v, &x)` gives the new velocity
 // and position, which the wall correction then adjusts.
 template <typename Advance>
-void IntegrateMoving(const SphConstants& k, ParticleState* state, bool first_step, int threads,
-                     Advance advance) {
+void IntegrateMoving(const SphConstants& k, const std::vector<Float4>& pressure_acceleration,
+                     ParticleState* state, bool first_step, int threads, Advance advance) {
   ParticleState& s = *state;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t n = 0; n < s.moving.size(); ++n) {
     const std::int32_t i = s.moving[n];
-    const Float4 a = TotalAcceleration(s, i), last = s.last_acceleration[i];
+    const Float4 a = TotalAcceleration(s, pressure_acceleration, i), last = s.last_acceleration[i];
     s.last_acceleration[i] = a;
     if (first_step) continue;
     Float4 v = s.velocity[i], x = s.position[i];
@@ -33,10 +34,11 @@ void IntegrateMoving(const SphConstants& k, ParticleState* state, bool first_ste
 
 }  // namespace
 
-void IntegrateSemiImplicitEuler(const SphConstants& k, ParticleState* state, bool first_step,
-                                int threads) {
+void IntegrateSemiImplicitEuler(const SphConstants& k,
+                                const std::vector<Float4>& pressure_acceleration,
+                                ParticleState* state, bool first_step, int threads) {
   const float dt = k.time_step_s, to_cu = k.inverse_scale;
-  IntegrateMoving(k, state, first_step, threads,
+  IntegrateMoving(k, pressure_acceleration, state, first_step, threads,
                   [dt, to_cu](const Float4& a, const Float4&, Float4* v, Float4* x) {
                     // sphFluid.cl:1417-1418, both additions contracted; /s is the float
                     // reciprocal.
@@ -60,11 +62,12 @@ void MovePositionsLeapfrog(const SphConstants& k, ParticleState* state, int thre
   }
 }
 
-void IntegrateLeapfrogVelocities(const SphConstants& k, ParticleState* state, bool first_step,
-                                 int threads) {
+void IntegrateLeapfrogVelocities(const SphConstants& k,
+                                 const std::vector<Float4>& pressure_acceleration,
+                                 ParticleState* state, bool first_step, int threads) {
   const float dt = k.time_step_s;
   // Positions already moved (MovePositionsLeapfrog): only the velocity changes here.
-  IntegrateMoving(k, state, first_step, threads,
+  IntegrateMoving(k, pressure_acceleration, state, first_step, threads,
                   [dt](const Float4& a, const Float4& last, Float4* v, Float4*) {
                     *v = {v->x + (last.x + a.x) * dt / 2.f, v->y + (last.y + a.y) * dt / 2.f,
                           v->z + (last.z + a.z) * dt / 2.f, v->w};

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/kernels.hpp"
+
 namespace owval::engine::internal {
 namespace {
 
@@ -92,7 +94,7 @@ Float4 MembraneCorrection(const SphConstants& k, const ElasticMatter& matter,
   Vec3 normal{0, 0, 0};
   float weight_sum = 0, weighted_depth = 0;
   for (int m = 0; m < found; ++m) {
-    const float w = std::max(0.0f, (k.r0_cu - distances[m]) / k.r0_cu);
+    const float w = BoundaryWeight(k.r0_cu, distances[m]);
     normal = {Fma(normals[m].x, w, normal.x), Fma(normals[m].y, w, normal.y),
               Fma(normals[m].z, w, normal.z)};  // sphFluid.cl:1265-1267
     weight_sum += w;

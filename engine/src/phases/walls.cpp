@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/kernels.hpp"
+
 namespace owval::engine::internal {
 
 void CorrectAtWalls(const SphConstants& k, const ParticleState& s, std::int32_t i, Float4* x,
@@ -16,7 +18,7 @@ void CorrectAtWalls(const SphConstants& k, const ParticleState& s, std::int32_t 
     const Float4& xb = s.position[b];
     const float dx = x->x - xb.x, dy = x->y - xb.y, dz = x->z - xb.z;
     const float dist = std::sqrt(Fma(dz, dz, Fma(dy, dy, dx * dx)));  // sphFluid.cl:786-789
-    const float w = std::max(0.0f, (k.r0_cu - dist) / k.r0_cu);       // [IAGT10] eq. 10
+    const float w = BoundaryWeight(k.r0_cu, dist);                    // [IAGT10] eq. 10
     const Float4& nb = s.velocity[b];  // a boundary's velocity slot holds its wall normal
     normal.x = Fma(nb.x, w, normal.x);
     normal.y = Fma(nb.y, w, normal.y);

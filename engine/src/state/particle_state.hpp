@@ -1,14 +1,13 @@
 #pragma once
-// Particle state shared by every solver phase: one array per quantity, indexed by the
-// configuration's row number (Sibernetic's "original" order).
+// Particle state shared by every solver and phase: one array per quantity, indexed by the
+// configuration's row number (Sibernetic's "original" order). A scheme's own quantities (PCISPH's
+// predicted positions, for one) live in its solver, not here.
 #include <cstdint>
 #include <vector>
 
-namespace owval::engine::internal {
+#include "owval/engine/float4.hpp"
 
-struct Float4 {
-  float x = 0, y = 0, z = 0, w = 0;
-};
+namespace owval::engine::internal {
 
 inline bool IsBoundary(float type) { return static_cast<int>(type) == 3; }
 inline bool IsLiquid(float type) { return static_cast<int>(type) == 1; }
@@ -26,14 +25,13 @@ struct Neighbour {
 };
 
 struct ParticleState {
-  std::vector<Float4> position;      // x(t) in cu; w = type code
-  std::vector<Float4> velocity;      // m/s; boundary rows: inward wall normal (4 components)
-  std::vector<Float4> predicted;     // x* during the pressure iterations (cu)
-  std::vector<Float4> acceleration;  // non-pressure acceleration a_i (m/s²)
-  std::vector<Float4> pressure_acceleration;
+  std::vector<Float4> position;           // x(t) in cu; w = type code
+  std::vector<Float4> velocity;           // m/s; boundary rows: inward wall normal (4 components)
+  std::vector<Float4> acceleration;       // non-pressure acceleration a_i (m/s²)
   std::vector<Float4> last_acceleration;  // a used by the last integration (leapfrog)
-  std::vector<float> density, predicted_density, pressure;
-  std::vector<Neighbour> neighbours;  // kSlots per particle
+  std::vector<float> density;             // kg/m³
+  std::vector<float> pressure;            // Pa
+  std::vector<Neighbour> neighbours;      // kSlots per particle
 
   // Particles that move, and those the step must compute: moving ones plus the boundary
   // particles in their neighbour lists (boundary particles elsewhere affect nobody).
@@ -46,12 +44,9 @@ struct ParticleState {
   void Resize(std::size_t n) {
     position.resize(n);
     velocity.resize(n);
-    predicted.resize(n);
     acceleration.resize(n);
-    pressure_acceleration.resize(n);
     last_acceleration.resize(n);
     density.assign(n, 0);
-    predicted_density.assign(n, 0);
     pressure.assign(n, 0);
     neighbours.assign(n * kSlots, Neighbour{});
   }

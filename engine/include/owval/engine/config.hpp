@@ -2,9 +2,9 @@
 // Sibernetic's configuration format (design notes §3; sibernetic_physics.md §2):
 //   optional [physical parameters]  lines "name: value" (parsed, never applied by the original)
 //   [simulation box]                6 numbers: xmin xmax ymin ymax zmin zmax (cu)
-//   [position] / [velocity]         rows "x y z type" (TAB-separated; short rows repeat the last field)
-//   [connection]                    32 rows per elastic particle: partner rest_length_cu muscle extra
-//   [membranes]                     rows "i j k" (elastic particle ids)
+//   [position] / [velocity]         rows "x y z type" (TAB-separated; short rows repeat the last
+//   field) [connection]                    32 rows per elastic particle: partner rest_length_cu
+//   muscle extra [membranes]                     rows "i j k" (elastic particle ids)
 //   [particleMemIndex]              7 rows per elastic particle (-1 = none)
 //   [end]
 // Elastic particles come first; rows are in file order.
@@ -18,7 +18,7 @@
 
 namespace owval::engine {
 
-inline constexpr int kConnectionSlots = 32;       // per elastic particle
+inline constexpr int kConnectionSlots = 32;  // per elastic particle
 inline constexpr int kMembraneSlotsPerParticle = 7;
 inline constexpr int kNeighbourSlots = 32;
 
@@ -32,7 +32,8 @@ struct SiberneticConfig {
   std::vector<Row4> connection;  // partner (float, -1 empty), rest length (cu), muscle id, extra
   std::vector<std::array<int, 3>> membranes;
   std::vector<int> particle_mem_index;  // kMembraneSlotsPerParticle per elastic particle
-  // [physical parameters] as parsed with Sibernetic's rule (unsigned numbers; see physics sheet §1).
+  // [physical parameters] as parsed with Sibernetic's rule (unsigned numbers; see physics sheet
+  // §1).
   std::map<std::string, double> physical_parameters;
 
   std::size_t particle_count() const { return position.size(); }
@@ -51,28 +52,45 @@ SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::strin
 void WriteSiberneticConfig(const SiberneticConfig& config, const std::filesystem::path& path);
 
 // Sibernetic's defaults (inc/owPhysicsConstant.h), float values as its host code produces them.
+// Each field is named, documented and checked in one table (owval/engine/constants.hpp).
 struct PhysicsConstants {
   double mass_kg = 2.0e-12;
-  double rest_density = 1000.0;          // rho0, kg/m^3
+  double rest_density = 1000.0;  // rho0, kg/m^3
   double time_step_s = 2.0e-5;
   double simulation_scale = 7.39999905e-06;  // metres per configuration unit
-  double h_cu = 3.34;                    // smoothing radius
-  double r0_cu = 1.67;                   // h / 2
-  double elasticity_coefficient = 3.0e8;  // 4 * 1.5e-4 / mass, s^-2
-  double max_muscle_force = 4000.0;       // used as m/s^2
+  double h_cu = 3.34;                        // smoothing radius
+  double r0_cu = 1.67;                       // h / 2
+  double elasticity_coefficient = 3.0e8;     // 4 * 1.5e-4 / mass, s^-2
+  double max_muscle_force = 4000.0;          // used as m/s^2
   std::array<double, 3> gravity = {0.0, -9.8, 0.0};
   int pcisph_iterations = 3;
   double delta = 0.178311437;             // PCISPH pressure scaling (fixed from default dt)
   double surface_tension_scale = 1.7e-9;  // coefficient in the cohesion term
   double viscosity = 4e-6;                // never used by Sibernetic's kernels
-  double non_worm_body_spring_factor = 0.25;  // sphFluid.cl: springs not between two worm-body particles
+  double non_worm_body_spring_factor =
+      0.25;  // sphFluid.cl: springs not between two worm-body particles
 
-  // A short description of where the constants differ from Sibernetic's defaults ("" if none).
+  // The XPBD scheme's parameters (engine/src/xpbd, docs/xpbd.md); PCISPH ignores them.
+  struct Xpbd {
+    int iterations = 4;                // constraint projection passes per step (K)
+    double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2 per unit mass
+    double bond_compliance_scale = 1;  // alpha of a bond = scale / k_eff (k_eff in s^-2)
+    double rest_density = 0;           // kg/m^3; 0: the configuration's interior liquid's
+    double floor_restitution = 0;      // normal velocity kept (reversed) at the box's floor
+    double muscle_strength = 1;        // bond k(t) = k (1 + activation * strength)
+    int viscosity = 1;                 // 1: add Sibernetic's viscosity force, 0: none
+    int surface_tension = 1;           // 1: add Sibernetic's cohesion force, 0: none
+    int pressure_force = 0;            // 1: add the SPH pressure-gradient force, 0: none
+  } xpbd;
+
+  // A short description of where the constants differ from Sibernetic's defaults ("" if none);
+  // scheme-specific parameters (xpbd) are not listed.
   std::string DifferencesFromDefaults() const;
 };
 
-// Applies [physical parameters] to constants (what Sibernetic does NOT do). Returns the names
-// applied; unknown names are returned in `ignored`.
+// Applies [physical parameters] to constants (what Sibernetic does NOT do), by the Sibernetic
+// names of the constants' table. Returns the names applied; unknown names are returned in
+// `ignored`; a value the table's rule refuses is an InputError naming the file and parameter.
 std::vector<std::string> ApplyPhysicalParameters(const SiberneticConfig& config,
                                                  PhysicsConstants* constants,
                                                  std::vector<std::string>* ignored = nullptr);

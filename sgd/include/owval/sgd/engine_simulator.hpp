@@ -9,9 +9,9 @@
 
 namespace owval::sgd {
 
-// Sets a PhysicsConstants field by name (elasticity_coefficient, time_step_s, rest_density,
-// mass_kg, simulation_scale, gravity_x|y|z, max_muscle_force, delta, surface_tension_scale,
-// non_worm_body_spring_factor). Throws InputError for an unknown name.
+// Sets a PhysicsConstants field by name: engine::SetConstant, the engine's one table of
+// constants (owval/engine/constants.hpp). Throws InputError for an unknown name or a value the
+// table's rule refuses.
 void SetConstant(engine::PhysicsConstants* constants, const std::string& name, double value);
 
 // Runs the engine on `config` with `base` options, the fitted parameters set by name.

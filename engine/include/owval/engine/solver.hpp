@@ -1,0 +1,62 @@
+#pragma once
+// One time-step scheme behind one interface: what Run records, dumps and checks, whatever the
+// scheme. A solver owns its particle state; it is built by MakeSolver from a configuration and
+// the run's options, the scheme chosen by RunOptions::backend (a name, see KnownBackends()).
+// The layout follows SPlisHSPlasH's (a class per scheme with step(), sharing kernels, neighbour
+// search and forces): PCISPH lives in engine/src/pcisph/, a later scheme adds its own folder.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "owval/engine/config.hpp"
+#include "owval/engine/float4.hpp"
+#include "owval/engine/run.hpp"
+
+namespace owval::engine {
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+
+  // Advances one time step of the constants' time_step_s.
+  virtual void Step() = 0;
+  // Steps done since construction.
+  virtual std::size_t steps_done() const = 0;
+  // The backend name that built this solver ("pcisph", ...).
+  virtual std::string name() const = 0;
+  // True when the run reproduces Sibernetic's OpenCL output (same scheme, same constants).
+  virtual bool reference_equivalent() const = 0;
+
+  // Per particle, in the configuration's row order.
+  virtual std::span<const Float4> positions() const = 0;   // cu; w = type code
+  virtual std::span<const Float4> velocities() const = 0;  // m/s; boundary rows: wall normal
+  // Density (kg/m^3) of every particle at the current positions; empty when the scheme has none.
+  virtual std::vector<float> Density() const = 0;
+  // Pressure (Pa) of every particle; empty when the scheme has none.
+  virtual std::span<const float> pressure() const = 0;
+  // Muscle activations (kMuscleCount values) the next step uses.
+  virtual std::span<float> muscle_activation() = 0;
+
+  // The scheme's own parameters as "name = value, ..." for a run's provenance ("" if none).
+  virtual std::string parameters() const { return ""; }
+
+  // Index of the first moving (non-boundary) particle with a non-finite position, or -1.
+  virtual std::int64_t FirstNonFinite() const;
+};
+
+// The canonical names of the built-in backends, in the order `owval run --help` lists them.
+std::vector<std::string> KnownBackends();
+
+// The canonical name of a backend name or alias ("owval" -> "pcisph"). Throws InputError naming
+// the known backends for any other name.
+std::string CanonicalBackend(const std::string& name);
+
+// Builds the solver options.backend names for the configuration, with options.constants (the
+// caller applies [physical parameters] first), options.integrator and options.threads as given
+// (0 = OpenMP default). Throws InputError for an unknown backend or non-physical constants.
+std::unique_ptr<Solver> MakeSolver(const SiberneticConfig& config, const RunOptions& options);
+
+}  // namespace owval::engine

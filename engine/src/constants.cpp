@@ -1,0 +1,187 @@
+// The physics constants' table and everything that names a constant: --set, [physical
+// parameters], validation and the provenance's list of differences.
+#include "owval/engine/constants.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+
+#include "owval/base/errors.hpp"
+
+namespace owval::engine {
+namespace {
+
+// Getter and setter of one PhysicsConstants field, as the table's function pointers.
+#define OWVAL_FIELD(field)                                                                       \
+  [](const PhysicsConstants& c) { return double(c.field); }, [](PhysicsConstants& c, double v) { \
+    c.field = static_cast<std::remove_cvref_t<decltype(c.field)>>(v);                            \
+  }
+#define OWVAL_COMPONENT(array, a)                       \
+  [](const PhysicsConstants& c) { return c.array[a]; }, \
+      [](PhysicsConstants& c, double v) { c.array[a] = v; }
+
+using R = ConstantRule;
+
+// Sibernetic's names from owConfigProperty.cpp:160-224 (physics sheet §1).
+const ConstantInfo kTable[] = {
+    {"mass_kg", "mass", "kg", "particle mass m (owPhysicsConstant.h:54)", R::kPositive, nullptr,
+     OWVAL_FIELD(mass_kg)},
+    {"rest_density", "rho0", "kg/m^3", "rest density rho0 of PCISPH's pressure correction",
+     R::kPositive, nullptr, OWVAL_FIELD(rest_density)},
+    {"time_step_s", "timeStep", "s", "time step dt (delta is not recomputed from it)", R::kPositive,
+     nullptr, OWVAL_FIELD(time_step_s)},
+    {"simulation_scale", "simulationScale", "m/cu", "metres per configuration unit s", R::kPositive,
+     nullptr, OWVAL_FIELD(simulation_scale)},
+    {"h_cu", "h", "cu", "smoothing radius h (hash cells are 2h wide)", R::kPositive, nullptr,
+     OWVAL_FIELD(h_cu)},
+    {"r0_cu", "r0", "cu", "wall and membrane interaction radius r0 (Sibernetic: h/2)", R::kPositive,
+     nullptr, OWVAL_FIELD(r0_cu)},
+    {"elasticity_coefficient", "elasticityCoefficient", "1/s^2",
+     "spring stiffness k per unit mass between worm-body particles", R::kNonNegative, nullptr,
+     OWVAL_FIELD(elasticity_coefficient)},
+    {"max_muscle_force", "max_muscle_force", "m/s^2",
+     "muscle pull per unit activation (Sibernetic applies it as an acceleration)", R::kNonNegative,
+     nullptr, OWVAL_FIELD(max_muscle_force)},
+    {"gravity_x", "gravity_x", "m/s^2", "gravity, x component", R::kFinite, nullptr,
+     OWVAL_COMPONENT(gravity, 0)},
+    {"gravity_y", "gravity_y", "m/s^2", "gravity, y component", R::kFinite, nullptr,
+     OWVAL_COMPONENT(gravity, 1)},
+    {"gravity_z", "gravity_z", "m/s^2", "gravity, z component", R::kFinite, nullptr,
+     OWVAL_COMPONENT(gravity, 2)},
+    {"pcisph_iterations", "maxIteration", "1", "PCISPH prediction-correction passes per step",
+     R::kIntegerAtLeastOne, nullptr, OWVAL_FIELD(pcisph_iterations)},
+    {"delta", nullptr, "Pa/(kg/m^3)",
+     "PCISPH pressure scaling delta (Sibernetic fixes it from the default dt)", R::kNonNegative,
+     nullptr, OWVAL_FIELD(delta)},
+    {"surface_tension_scale", nullptr, "1",
+     "factor of surfTensCoeff in the cohesion term (sphFluid.cl:645-655)", R::kNonNegative, nullptr,
+     OWVAL_FIELD(surface_tension_scale)},
+    {"viscosity", "viscosity", "Pa s", "viscosity (never used by Sibernetic's kernels)",
+     R::kNonNegative, nullptr, OWVAL_FIELD(viscosity)},
+    {"non_worm_body_spring_factor", nullptr, "1",
+     "stiffness factor of springs not between two worm-body particles (sphFluid.cl:723-731)",
+     R::kNonNegative, nullptr, OWVAL_FIELD(non_worm_body_spring_factor)},
+    {"xpbd_iterations", nullptr, "1", "XPBD constraint projection passes per step (K)",
+     R::kIntegerAtLeastOne, "xpbd", OWVAL_FIELD(xpbd.iterations)},
+    {"xpbd_density_compliance", nullptr, "s^2", "XPBD compliance of C = rho/rho_rest - 1 (0: hard)",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.density_compliance)},
+    {"xpbd_bond_compliance_scale", nullptr, "1",
+     "XPBD bond compliance = scale / k_eff, k_eff the bond's Sibernetic stiffness", R::kNonNegative,
+     "xpbd", OWVAL_FIELD(xpbd.bond_compliance_scale)},
+    {"xpbd_rest_density", nullptr, "kg/m^3",
+     "XPBD rest density; 0: the mean initial density of the configuration's interior liquid",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.rest_density)},
+    {"xpbd_floor_restitution", nullptr, "1", "XPBD restitution at the box's floor", R::kFraction,
+     "xpbd", OWVAL_FIELD(xpbd.floor_restitution)},
+    {"xpbd_muscle_strength", nullptr, "1", "XPBD muscle bond k(t) = k (1 + activation strength)",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.muscle_strength)},
+    {"xpbd_viscosity", nullptr, "1", "XPBD: 1 adds Sibernetic's viscosity force", R::kSwitch,
+     "xpbd", OWVAL_FIELD(xpbd.viscosity)},
+    {"xpbd_surface_tension", nullptr, "1", "XPBD: 1 adds Sibernetic's cohesion force", R::kSwitch,
+     "xpbd", OWVAL_FIELD(xpbd.surface_tension)},
+    {"xpbd_pressure_force", nullptr, "1", "XPBD: 1 adds the SPH pressure-gradient force",
+     R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.pressure_force)},
+};
+
+#undef OWVAL_FIELD
+#undef OWVAL_COMPONENT
+
+std::string KnownNames() {
+  std::string known;
+  for (const ConstantInfo& c : kTable) known += (known.empty() ? "" : ", ") + std::string(c.name);
+  return known;
+}
+
+}  // namespace
+
+std::span<const ConstantInfo> PhysicsConstantTable() { return kTable; }
+
+const ConstantInfo* FindConstant(const std::string& name) {
+  for (const ConstantInfo& c : kTable)
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
+std::string CheckConstant(const ConstantInfo& constant, double value) {
+  const float f = static_cast<float>(value);  // what the engine computes with
+  switch (constant.rule) {
+    case R::kFinite:
+      return std::isfinite(f) ? "" : "a finite number (as a float)";
+    case R::kPositive:
+      return std::isfinite(f) && f > 0 ? "" : "a finite number > 0 (as a float)";
+    case R::kNonNegative:
+      return std::isfinite(f) && f >= 0 ? "" : "a finite number >= 0 (as a float)";
+    case R::kIntegerAtLeastOne:
+      return value >= 1 && value <= 1000 && value == std::floor(value)
+                 ? ""
+                 : "a whole number in 1..1000";
+    case R::kSwitch:
+      return value == 0 || value == 1 ? "" : "0 or 1";
+    case R::kFraction:
+      return value >= 0 && value <= 1 ? "" : "a number in [0, 1]";
+  }
+  return "";
+}
+
+void SetConstant(PhysicsConstants* constants, const std::string& name, double value) {
+  const ConstantInfo* c = FindConstant(name);
+  if (!c)
+    throw InputError("unknown engine constant '" + name + "': expected one of " + KnownNames());
+  const std::string expected = CheckConstant(*c, value);
+  if (!expected.empty()) {
+    std::ostringstream msg;
+    msg << "engine constant " << name << " = " << value << " is not physical: expected " << expected
+        << " (" << c->unit << ")";
+    throw InputError(msg.str());
+  }
+  c->set(*constants, value);
+}
+
+void ValidateConstants(const PhysicsConstants& constants) {
+  for (const ConstantInfo& c : kTable) {
+    const double value = c.get(constants);
+    const std::string expected = CheckConstant(c, value);
+    if (expected.empty()) continue;
+    std::ostringstream msg;
+    msg << "engine constant " << c.name << " = " << value << " is not physical: expected "
+        << expected << " (" << c.unit << ")";
+    throw InputError(msg.str());
+  }
+}
+
+std::string PhysicsConstants::DifferencesFromDefaults() const {
+  const PhysicsConstants d;
+  std::ostringstream s;
+  for (const ConstantInfo& c : kTable) {
+    if (c.scheme) continue;
+    const double a = c.get(*this), b = c.get(d);
+    if (a != b)
+      s << (s.tellp() > 0 ? ", " : "") << c.name << " = " << a << " (default " << b << ")";
+  }
+  return s.str();
+}
+
+std::vector<std::string> ApplyPhysicalParameters(const SiberneticConfig& config,
+                                                 PhysicsConstants* constants,
+                                                 std::vector<std::string>* ignored) {
+  std::vector<std::string> applied;
+  for (const auto& [name, value] : config.physical_parameters) {
+    const ConstantInfo* match = nullptr;
+    for (const ConstantInfo& c : kTable)
+      if (c.sibernetic_name && name == c.sibernetic_name) match = &c;
+    if (!match) {
+      if (ignored) ignored->push_back(name);
+      continue;
+    }
+    const std::string expected = CheckConstant(*match, value);
+    if (!expected.empty())
+      throw InputError(config.source, 0,
+                       "[physical parameters] " + name + " (" + match->name +
+                           ") is not physical: expected " + expected);
+    match->set(*constants, value);
+    applied.push_back(name);
+  }
+  return applied;
+}
+
+}  // namespace owval::engine

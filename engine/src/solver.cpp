@@ -1,0 +1,92 @@
+// The backend table: names, aliases and the factory of each built-in scheme.
+#include "owval/engine/solver.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+
+#include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
+#include "pcisph/pcisph.hpp"
+#include "state/particle_state.hpp"
+#include "xpbd/xpbd.hpp"
+
+namespace owval::engine {
+namespace {
+
+struct BackendEntry {
+  const char* name;
+  std::vector<const char*> aliases;
+  std::unique_ptr<Solver> (*make)(const SiberneticConfig&, const RunOptions&, int threads);
+};
+
+const std::vector<BackendEntry>& Backends() {
+  static const std::vector<BackendEntry> table = {
+      {"pcisph",
+       {"owval"},
+       [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
+         return std::make_unique<internal::Pcisph>(c, o.constants, o.integrator, threads);
+       }},
+      {"xpbd",
+       {},
+       [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
+         if (o.integrator != Integrator::kSemiImplicitEuler)
+           throw InputError(
+               "backend xpbd derives velocities from positions: it takes no "
+               "--integrator (leapfrog is PCISPH's)");
+         return std::make_unique<internal::Xpbd<float>>(c, o.constants, threads);
+       }},
+  };
+  return table;
+}
+
+const BackendEntry& Find(const std::string& name) {
+  for (const BackendEntry& b : Backends()) {
+    if (name == b.name) return b;
+    for (const char* alias : b.aliases)
+      if (name == alias) return b;
+  }
+  std::string known;
+  for (const BackendEntry& b : Backends()) {
+    known += known.empty() ? "" : ", ";
+    known += b.name;
+    for (const char* alias : b.aliases) known += std::string(" (alias ") + alias + ")";
+  }
+  throw InputError("unknown backend '" + name + "': expected one of " + known);
+}
+
+// A few hundred moving particles do not pay for a second thread's fork/join and barrier costs
+// (and a busy machine makes those barriers stall): one thread unless there is real work.
+int ThreadsFor(const SiberneticConfig& config, int requested) {
+  if (requested > 0) return requested;
+  const std::size_t moving = config.elastic_count() + config.liquid_count();
+  return moving < 4096 ? 1 : omp_get_max_threads();
+}
+
+}  // namespace
+
+std::int64_t Solver::FirstNonFinite() const {
+  const std::span<const Float4> x = positions();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (internal::IsBoundary(x[i].w)) continue;
+    if (!std::isfinite(x[i].x) || !std::isfinite(x[i].y) || !std::isfinite(x[i].z))
+      return std::int64_t(i);
+  }
+  return -1;
+}
+
+std::vector<std::string> KnownBackends() {
+  std::vector<std::string> names;
+  for (const BackendEntry& b : Backends()) names.push_back(b.name);
+  return names;
+}
+
+std::string CanonicalBackend(const std::string& name) { return Find(name).name; }
+
+std::unique_ptr<Solver> MakeSolver(const SiberneticConfig& config, const RunOptions& options) {
+  const BackendEntry& backend = Find(options.backend);
+  ValidateConstants(options.constants);
+  return backend.make(config, options, ThreadsFor(config, options.threads));
+}
+
+}  // namespace owval::engine

@@ -1,0 +1,293 @@
+#include "xpbd/xpbd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "kernels/kernels.hpp"
+#include "phases/density.hpp"
+#include "phases/forces.hpp"
+#include "phases/membranes.hpp"
+#include "phases/pressure_force.hpp"
+#include "phases/walls.hpp"
+#include "state/initial_state.hpp"
+
+namespace owval::engine::internal {
+namespace {
+
+// Sibernetic's forces with the switched-off ones' coefficients zeroed: the shared phase then
+// adds exactly zero for them.
+SphConstants ForceConstants(const SphConstants& k, const PhysicsConstants::Xpbd& p) {
+  SphConstants forces = k;
+  if (!p.viscosity) forces.mass_lap_wviscosity = 0;
+  if (!p.surface_tension) forces.surface_tension = 0;
+  return forces;
+}
+
+}  // namespace
+
+template <typename T>
+Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants, int threads)
+    : k_(SphConstants::From(constants)),
+      k_forces_(ForceConstants(k_, constants.xpbd)),
+      parameters_(constants.xpbd),
+      delta_(float(constants.delta)),
+      threads_(threads),
+      box_(config.box),
+      grid_(config.box, k_),
+      matter_(ElasticMatterOf(config, k_)) {
+  LoadParticles(config, &state_);
+  grid_.SetStatic(state_);
+  const std::size_t n = state_.size();
+  moving_.assign(n, 0);
+  for (std::int32_t i : state_.moving) moving_[i] = 1;
+  x_.resize(n);
+  v_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Float4 &x = state_.position[i], &v = state_.velocity[i];
+    x_[i] = {T(x.x), T(x.y), T(x.z)};
+    v_[i] = moving_[i] ? Vec3<T>{T(v.x), T(v.y), T(v.z)} : Vec3<T>{0, 0, 0};
+  }
+  p_ = x_;
+  dp_.assign(n, {0, 0, 0});
+  density_lambda_.assign(n, 0);
+  density_dlambda_.assign(n, 0);
+  pressure_acceleration_.assign(n, Float4{});
+  for (std::size_t e = 0; e < matter_.particle_count; ++e) {
+    for (int slot = 0; slot < kSpringSlots; ++slot) {
+      const Row4& c = config.connection[e * kSpringSlots + slot];
+      if (c[0] < 0) break;
+      const std::int32_t j = static_cast<std::int32_t>(c[0]);
+      const bool body = IsWormBody(config.position[e][3]) && IsWormBody(config.position[j][3]);
+      const double k =
+          constants.elasticity_coefficient * (body ? 1.0 : constants.non_worm_body_spring_factor);
+      bonds_.push_back({std::int32_t(e), j, T(c[1]), T(k), static_cast<int>(c[2])});
+    }
+  }
+  bond_lambda_.assign(bonds_.size(), 0);
+  grid_.Refresh(&state_, threads_);
+  const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
+  rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
+  kernel_ = {T(h), T(h * h), T(constants.mass_kg / (rest_density_ * s * s * s)),
+             T(Wpoly6Coefficient(h)), T(SpikyGradientCoefficient(h))};
+}
+
+// The mean initial density, m/s³·(W(0) + ΣW) with the constraint's own kernel and lists, of the
+// liquid particles with at least 20 listed neighbours (the interior); Sibernetic's ρ0 when the
+// configuration has no such liquid.
+template <typename T>
+double Xpbd<T>::DerivedRestDensity() const {
+  const double h = k_.h_cu, poly6 = Wpoly6Coefficient(h), s = k_.scale;
+  double sum = 0;
+  int count = 0;
+  for (std::int32_t i : state_.moving) {
+    if (!IsLiquid(state_.position[i].w)) continue;
+    const Neighbour* slots = state_.slots(i);
+    int listed = 0;
+    double w = poly6 * h * h * h * h * h * h;  // W(0)
+    for (; listed < kSlots && slots[listed].index >= 0; ++listed) {
+      const Float4 &a = state_.position[i], &b = state_.position[slots[listed].index];
+      const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+      const double q = h * h - (dx * dx + dy * dy + dz * dz);
+      if (q > 0) w += poly6 * q * q * q;
+    }
+    if (listed < 20) continue;
+    sum += k_.mass_kg / (s * s * s) * w;
+    ++count;
+  }
+  return count > 0 ? sum / count : double(k_.rest_density);
+}
+
+template <typename T>
+void Xpbd<T>::Step() {
+  const bool first = step_ == 0;
+  grid_.Refresh(&state_, threads_);
+  ComputeDensity(k_, &state_, threads_);
+  if (!first) {
+    ComputeForces();
+    Predict();
+    std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
+    std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+    for (int pass = 0; pass < parameters_.iterations; ++pass) {
+      ProjectDensity();
+      ProjectBonds();
+      ProjectBoundaries();
+    }
+    UpdateVelocities();
+  }
+  InteractWithMembranes();
+  ++step_;
+}
+
+template <typename T>
+void Xpbd<T>::ComputeForces() {
+  ComputeViscosityGravitySurfaceTension(k_forces_, &state_, threads_);
+  if (!parameters_.pressure_force) return;
+  // One equation-of-state pass with PCISPH's δ: p = max(0, δ(ρ − ρ0)).
+  for (std::int32_t i : state_.active)
+    state_.pressure[i] = std::max(0.0f, delta_ * (state_.density[i] - k_.rest_density));
+  ComputePressureAcceleration(k_, state_, state_.density, k_.rest_density * delta_,
+                              &pressure_acceleration_, threads_);
+}
+
+template <typename T>
+void Xpbd<T>::Predict() {
+  const T dt = T(k_.time_step_s), to_cu = T(1) / T(k_.scale);
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t n = 0; n < state_.moving.size(); ++n) {
+    const std::int32_t i = state_.moving[n];
+    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
+    const T acceleration[3] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
+    for (int d = 0; d < 3; ++d) {
+      v_[i][d] += dt * acceleration[d];
+      p_[i][d] = x_[i][d] + dt * v_[i][d] * to_cu;
+    }
+  }
+}
+
+// Jacobi over the particles [MM13 eqs. 9-12] with XPBD's compliance: every Δλ_i from the same
+// positions, then Δp_i = Σ_j (Δλ_i + Δλ_j)·V0∇W(p_i − p_j), a fixed neighbour counting only its
+// own constraint's share.
+template <typename T>
+void Xpbd<T>::ProjectDensity() {
+  const T dt = T(k_.time_step_s);
+  const T alpha_tilde = T(parameters_.density_compliance) / (dt * dt);
+  const std::vector<std::int32_t>& moving = state_.moving;
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t n = 0; n < moving.size(); ++n) {
+    const std::int32_t i = moving[n];
+    const Neighbour* slots = state_.slots(i);
+    T w = kernel_.W(0);
+    Vec3<T> gradient_i{0, 0, 0};
+    T norm2 = 0;
+    for (int m = 0; m < kSlots && slots[m].index >= 0; ++m) {
+      const std::int32_t j = slots[m].index;
+      const Vec3<T> d{p_[i][0] - p_[j][0], p_[i][1] - p_[j][1], p_[i][2] - p_[j][2]};
+      w += kernel_.W(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const Vec3<T> g = kernel_.Gradient(d);
+      for (int a = 0; a < 3; ++a) gradient_i[a] += g[a];
+      if (moving_[j]) norm2 += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    }
+    norm2 += gradient_i[0] * gradient_i[0] + gradient_i[1] * gradient_i[1] +
+             gradient_i[2] * gradient_i[2];
+    const T c = kernel_.rest_volume * w - 1;  // both directions: C < 0 pulls neighbours in
+    const T denominator = norm2 + alpha_tilde;
+    const T dlambda =
+        denominator > 0 ? (-c - alpha_tilde * density_lambda_[i]) / denominator : T(0);
+    density_dlambda_[i] = dlambda;
+    density_lambda_[i] += dlambda;
+  }
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t n = 0; n < moving.size(); ++n) {
+    const std::int32_t i = moving[n];
+    const Neighbour* slots = state_.slots(i);
+    Vec3<T> dp{0, 0, 0};
+    for (int m = 0; m < kSlots && slots[m].index >= 0; ++m) {
+      const std::int32_t j = slots[m].index;
+      const Vec3<T> d{p_[i][0] - p_[j][0], p_[i][1] - p_[j][1], p_[i][2] - p_[j][2]};
+      const Vec3<T> g = kernel_.Gradient(d);
+      const T lambda = density_dlambda_[i] + (moving_[j] ? density_dlambda_[j] : T(0));
+      for (int a = 0; a < 3; ++a) dp[a] += lambda * g[a];
+    }
+    dp_[i] = dp;
+  }
+  for (std::int32_t i : moving)
+    for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
+}
+
+// Gauss-Seidel over the bonds in file order; a bond moves only its own row's particle, as
+// Sibernetic's spring force acts only on it (pairs listed both ways move both).
+template <typename T>
+void Xpbd<T>::ProjectBonds() {
+  const T dt = T(k_.time_step_s);
+  for (std::size_t b = 0; b < bonds_.size(); ++b) {
+    const Bond& bond = bonds_[b];
+    T k = bond.stiffness;
+    if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
+      const float activation = matter_.muscle_activation[bond.muscle - 1];
+      if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
+    }
+    if (!(k > 0)) continue;
+    const T alpha_tilde = T(parameters_.bond_compliance_scale) / (k * dt * dt);
+    Vec3<T> partner = p_[bond.partner];
+    ProjectDistance(&p_[bond.particle], &partner, T(1), T(0), bond.rest_cu, alpha_tilde,
+                    &bond_lambda_[b]);
+  }
+}
+
+// Sibernetic's wall correction on the predicted positions [IAGT10], then the box's faces.
+template <typename T>
+void Xpbd<T>::ProjectBoundaries() {
+  const T low[3] = {T(box_.xmin), T(box_.ymin), T(box_.zmin)};
+  const T high[3] = {T(box_.xmax), T(box_.ymax), T(box_.zmax)};
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t n = 0; n < state_.moving.size(); ++n) {
+    const std::int32_t i = state_.moving[n];
+    const Float4 before{float(p_[i][0]), float(p_[i][1]), float(p_[i][2]), state_.position[i].w};
+    Float4 after = before;
+    CorrectAtWalls(k_, state_, i, &after, nullptr);
+    // Only a wall's push changes p: the float copy's rounding must not reach a double run.
+    if (after.x != before.x || after.y != before.y || after.z != before.z) {
+      p_[i][0] += T(after.x) - T(before.x);
+      p_[i][1] += T(after.y) - T(before.y);
+      p_[i][2] += T(after.z) - T(before.z);
+    }
+    for (int a = 0; a < 3; ++a) p_[i][a] = std::clamp(p_[i][a], low[a], high[a]);
+  }
+}
+
+template <typename T>
+void Xpbd<T>::UpdateVelocities() {
+  const T dt = T(k_.time_step_s), scale = T(k_.scale);
+  const T floor = T(box_.ymin) + T(k_.r0_cu), restitution = T(parameters_.floor_restitution);
+  for (std::int32_t i : state_.moving) {
+    for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / dt;
+    if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
+    x_[i] = p_[i];
+    Float4& x = state_.position[i];
+    Float4& v = state_.velocity[i];
+    x = {float(x_[i][0]), float(x_[i][1]), float(x_[i][2]), x.w};
+    v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
+  }
+}
+
+// Sibernetic's membrane pass (liquid pushed out along the membranes' plane normals), applied to
+// the float copy; the moves are carried into the solver's positions.
+template <typename T>
+void Xpbd<T>::InteractWithMembranes() {
+  if (matter_.membranes.empty()) return;
+  std::vector<Float4> before(state_.position);
+  internal::InteractWithMembranes(k_, matter_, &state_, &membrane_scratch_, threads_);
+  for (std::int32_t i : state_.moving) {
+    const Float4 &a = before[i], &b = state_.position[i];
+    x_[i][0] += T(b.x) - T(a.x);
+    x_[i][1] += T(b.y) - T(a.y);
+    x_[i][2] += T(b.z) - T(a.z);
+  }
+}
+
+template <typename T>
+std::vector<float> Xpbd<T>::Density() const {
+  return internal::DensityOfAll(k_, grid_, state_);
+}
+
+template <typename T>
+std::string Xpbd<T>::parameters() const {
+  std::ostringstream s;
+  s << "iterations = " << parameters_.iterations
+    << ", density_compliance = " << parameters_.density_compliance
+    << ", bond_compliance_scale = " << parameters_.bond_compliance_scale
+    << ", rest_density = " << rest_density_ << (parameters_.rest_density > 0 ? "" : " (derived)")
+    << ", floor_restitution = " << parameters_.floor_restitution
+    << ", muscle_strength = " << parameters_.muscle_strength
+    << ", viscosity = " << parameters_.viscosity
+    << ", surface_tension = " << parameters_.surface_tension
+    << ", pressure_force = " << parameters_.pressure_force
+    << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
+  return s.str();
+}
+
+template class Xpbd<float>;
+template class Xpbd<double>;
+
+}  // namespace owval::engine::internal

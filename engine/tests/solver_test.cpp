@@ -1,0 +1,96 @@
+// The solver interface: backends by name, the factory, and what Run does through it.
+#include "owval/engine/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "owval/base/errors.hpp"
+
+namespace owval::engine {
+namespace {
+namespace fs = std::filesystem;
+
+SiberneticConfig TwoLiquidParticlesAt(float x1, float x2) {
+  SiberneticConfig c;
+  c.source = "two_particles";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{x1, 50, 50, 1.1f}, {x2, 50, 50, 1.1f}};
+  c.velocity.assign(2, {0, 0, 0, 0});
+  return c;
+}
+
+TEST(Backends, PcisphIsBuiltInAndOwvalIsItsAlias) {
+  const auto known = KnownBackends();
+  ASSERT_FALSE(known.empty());
+  EXPECT_EQ(known[0], "pcisph");
+  EXPECT_EQ(CanonicalBackend("pcisph"), "pcisph");
+  EXPECT_EQ(CanonicalBackend("owval"), "pcisph");
+}
+
+TEST(Backends, UnknownNameIsInputErrorListingTheKnownOnes) {
+  try {
+    CanonicalBackend("metal");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("unknown backend 'metal'"), std::string::npos) << what;
+    for (const std::string& name : KnownBackends())
+      EXPECT_NE(what.find(name), std::string::npos) << what;
+  }
+  RunOptions o;
+  o.backend = "metal";
+  EXPECT_THROW(MakeSolver(TwoLiquidParticlesAt(40, 60), o), InputError);
+  EXPECT_THROW(engine::Run(TwoLiquidParticlesAt(40, 60), o), InputError);
+}
+
+TEST(Solver, FactoryBuildsAPcisphThatStepsAndExposesItsState) {
+  RunOptions o;
+  o.backend = "owval";
+  const auto solver = MakeSolver(TwoLiquidParticlesAt(40, 60), o);
+  EXPECT_EQ(solver->name(), "pcisph");
+  EXPECT_TRUE(solver->reference_equivalent());
+  ASSERT_EQ(solver->positions().size(), 2u);
+  EXPECT_EQ(solver->positions()[1].x, 60.0f);
+  solver->Step();
+  solver->Step();
+  EXPECT_EQ(solver->steps_done(), 2u);
+  EXPECT_LT(solver->positions()[0].y, 50.0f);  // falling
+  EXPECT_EQ(solver->Density().size(), 2u);
+  EXPECT_EQ(solver->pressure().size(), 2u);
+  EXPECT_EQ(solver->FirstNonFinite(), -1);
+  o.integrator = Integrator::kLeapfrog;
+  EXPECT_FALSE(MakeSolver(TwoLiquidParticlesAt(40, 60), o)->reference_equivalent());
+}
+
+TEST(RunDump, NaNStateDumpGoesToTheDumpDirectory) {
+  // Two particles at one point: the pressure term's direction is 0/0 at the first integration.
+  const fs::path dir = fs::temp_directory_path() / ("owval_dump_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  RunOptions o;
+  o.duration_s = 10 * 2e-5;
+  o.dump_dir = dir;
+  try {
+    engine::Run(TwoLiquidParticlesAt(50, 50), o);
+    FAIL() << "no NaN";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("NaN at step 1"), std::string::npos) << what;
+    EXPECT_NE(what.find(dir.string()), std::string::npos) << what;
+  }
+  EXPECT_TRUE(fs::exists(dir / "owval_nan_dump_step1.txt"));
+  o.dump_dir.clear();
+  try {
+    engine::Run(TwoLiquidParticlesAt(50, 50), o);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no state dump"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists("owval_nan_dump_step1.txt"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace owval::engine

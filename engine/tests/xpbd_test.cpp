@@ -1,0 +1,137 @@
+// The XPBD substrate against hand-computed positions on two or three particles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "kernels/kernels.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/engine/solver.hpp"
+#include "xpbd/projections.hpp"
+#include "xpbd/xpbd.hpp"
+
+namespace owval::engine::internal {
+namespace {
+
+TEST(XpbdDistance, HardConstraintMovesBothEndsByInverseMass) {
+  Vec3<double> a{0, 0, 0}, b{2, 0, 0};
+  double lambda = 0;
+  // C = 1, Δλ = −C/(w_a + w_b) = −0.5; a moves +0.5 toward b, b moves −0.5.
+  EXPECT_DOUBLE_EQ(ProjectDistance(&a, &b, 1.0, 1.0, 1.0, 0.0, &lambda), -0.5);
+  EXPECT_DOUBLE_EQ(a[0], 0.5);
+  EXPECT_DOUBLE_EQ(b[0], 1.5);
+  EXPECT_DOUBLE_EQ(lambda, -0.5);
+  // One-sided (b fixed): a takes the whole correction.
+  Vec3<double> c{0, 0, 0}, d{0, 3, 0};
+  double mu = 0;
+  ProjectDistance(&c, &d, 1.0, 0.0, 1.0, 0.0, &mu);
+  EXPECT_DOUBLE_EQ(c[1], 2.0);
+  EXPECT_DOUBLE_EQ(d[1], 3.0);
+}
+
+TEST(XpbdDistance, ComplianceSoftensAndVanishingComplianceIsTheHardConstraint) {
+  // α̃ = 1: Δλ = −1/(1 + 1 + 1) = −1/3.
+  Vec3<double> a{0, 0, 0}, b{2, 0, 0};
+  double lambda = 0;
+  ProjectDistance(&a, &b, 1.0, 1.0, 1.0, 1.0, &lambda);
+  EXPECT_NEAR(a[0], 1.0 / 3, 1e-15);
+  EXPECT_NEAR(b[0], 5.0 / 3, 1e-15);
+  // A second pass uses the accumulated λ: Δλ = (−C − α̃λ)/(2 + α̃) with C = 1/3.
+  const double second = ProjectDistance(&a, &b, 1.0, 1.0, 1.0, 1.0, &lambda);
+  EXPECT_NEAR(second, (-1.0 / 3 + 1.0 / 3) / 3, 1e-15);
+  for (double alpha : {1e-3, 1e-6, 1e-9}) {
+    Vec3<double> p{0, 0, 0}, q{2, 0, 0};
+    double l = 0;
+    ProjectDistance(&p, &q, 1.0, 1.0, 1.0, alpha, &l);
+    EXPECT_NEAR(q[0] - p[0], 1.0, alpha) << alpha;  // error ∝ α̃ → 0
+  }
+}
+
+// One elastic particle hanging from a boundary anchor, every other term off.
+SiberneticConfig AnchoredParticle(float stretch_cu) {
+  SiberneticConfig c;
+  c.source = "anchored";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 40 + 10 + stretch_cu, 50, 2.1f}, {50, 40, 50, 3.0f}};
+  c.velocity = {{0, 0, 0, 0}, {0, 1, 0, 0}};
+  c.connection.assign(32, {-1, 0, 0, 0});
+  c.connection[0] = {1, 10, 0, 0};
+  c.particle_mem_index.assign(7, -1);
+  return c;
+}
+
+PhysicsConstants Quiet() {
+  PhysicsConstants k;
+  k.gravity = {0, 0, 0};
+  k.xpbd.viscosity = 0;
+  k.xpbd.surface_tension = 0;
+  k.xpbd.iterations = 1;
+  return k;
+}
+
+TEST(XpbdSolver, AnchoredSpringFollowsTheImplicitEulerRecurrenceFor1000Steps) {
+  // One-sided bond, w = 1, α̃ = 1/(k dt²): u' = (u + dt·v/s)/(1 + k dt²), v' = (u' − u)·s/dt,
+  // exactly implicit Euler for u'' = −k u; its energy ½(v² + k(s u)²) never grows.
+  const PhysicsConstants k = Quiet();
+  Xpbd<double> solver(AnchoredParticle(0.5f), k, 1);
+  const double dt = float(k.time_step_s), s = float(k.simulation_scale);
+  const double stiffness = k.elasticity_coefficient * k.non_worm_body_spring_factor;
+  double u = double(float(50.5)) - 50, v = 0, energy0 = 0.5 * stiffness * (s * u) * (s * u);
+  solver.Step();  // step 0 moves nothing
+  double last_energy = energy0;
+  for (int n = 0; n < 1000; ++n) {
+    solver.Step();
+    const double next = (u + dt * v / s) / (1 + stiffness * dt * dt);
+    v = (next - u) * s / dt;
+    u = next;
+    ASSERT_NEAR(solver.exact_positions()[0][1] - 50, u, 1e-9) << n;
+    const double energy = 0.5 * (v * v + stiffness * (s * u) * (s * u));
+    ASSERT_LE(energy, last_energy * (1 + 1e-12)) << n;
+    last_energy = energy;
+  }
+  EXPECT_LT(last_energy, energy0);  // XPBD's first-order damping, as documented
+}
+
+TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount) {
+  // Two liquid particles 1.5 cu apart, nothing else: one projection from rest.
+  SiberneticConfig c;
+  c.source = "pair";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
+  c.velocity.assign(2, {0, 0, 0, 0});
+  PhysicsConstants k = Quiet();
+  k.xpbd.rest_density = 1000;
+  Xpbd<double> solver(c, k, 1);
+  solver.Step();
+  solver.Step();
+  const double h = float(k.h_cu), s = float(k.simulation_scale), r = 1.5;
+  const double v0 = k.mass_kg / (1000 * s * s * s);  // rest volume, cu³
+  const double w = Wpoly6Coefficient(h) * (std::pow(h * h, 3) + std::pow(h * h - r * r, 3));
+  const double constraint = v0 * w - 1;
+  const double g = v0 * SpikyGradientCoefficient(h) * (h - r) * (h - r);  // along x_i − x_j
+  const double dlambda = -constraint / (2 * g * g);
+  // Δx_0 = (Δλ_0 + Δλ_1)·g·(−1) (x_0 − x_1 points along −x).
+  const double dx0 = -2 * dlambda * g;
+  EXPECT_NEAR(solver.exact_positions()[0][0], 50 + dx0, 1e-9);
+  EXPECT_NEAR(solver.exact_positions()[1][0], 51.5 - dx0, 1e-9);
+  EXPECT_LT(constraint, 0);  // below rest density: the pair is pulled together (both directions)
+  EXPECT_GT(dx0, 0);
+}
+
+TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
+  RunOptions o;
+  o.backend = "xpbd";
+  o.duration_s = 5 * 2e-5;
+  SetConstant(&o.constants, "xpbd_iterations", 2);
+  RunSummary summary;
+  const Trajectory t = engine::Run(AnchoredParticle(0.5f), o, &summary);
+  EXPECT_FALSE(summary.reference_equivalent);
+  EXPECT_EQ(t.provenance.at("producer"), "owval engine xpbd");
+  EXPECT_NE(t.provenance.at("scheme_parameters").find("iterations = 2"), std::string::npos);
+  EXPECT_THROW(SetConstant(&o.constants, "xpbd_viscosity", 2), InputError);
+  o.integrator = Integrator::kLeapfrog;  // PCISPH's integrator: refused, not ignored
+  EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);
+}
+
+}  // namespace
+}  // namespace owval::engine::internal
