@@ -1,6 +1,6 @@
 # The two commands of the README. Both install what they need first (scripts/install-deps.sh is
 # idempotent), configure and build with the default CMake preset.
-.PHONY: demo test deps build debug-test format
+.PHONY: demo test deps build debug-test format format-check
 
 deps:
 	./scripts/install-deps.sh
@@ -20,5 +20,11 @@ debug-test: deps
 	cmake --build --preset debug
 	ctest --preset debug
 
+# Sources only: build trees (build/, build-debug/, build-fuzz/) hold generated files.
+SOURCES = find . -path './build*' -prune -o -path ./.git -prune -o \( -name '*.cpp' -o -name '*.hpp' \) -print
+
 format:
-	find . -path ./build -prune -o \( -name '*.cpp' -o -name '*.hpp' \) -print | xargs clang-format -i
+	$(SOURCES) | xargs clang-format -i
+
+format-check:
+	$(SOURCES) | xargs clang-format --dry-run --Werror

@@ -1,6 +1,8 @@
 // The worm's gates on Sibernetic's 0.6 s worm run, used as both reference and candidate.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 
 #include "owval/ci/gates.hpp"
@@ -16,7 +18,9 @@ const fs::path kWorm =
     fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
 
 fs::path WormDirectory() {
-  const fs::path dir = fs::temp_directory_path() / "owval_worm_gates_test";
+  // One directory per test process: ctest runs tests in parallel.
+  const fs::path dir =
+      fs::temp_directory_path() / ("owval_worm_gates_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   fs::create_symlink(kWorm, dir / "reference.txt.gz");
