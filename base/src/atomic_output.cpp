@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
@@ -59,6 +60,7 @@ void WriteFileAtomically(const fs::path& destination, const std::string& content
 }
 
 std::string ReadWholeFile(const fs::path& path) {
+  RequireRegularFile(path);  // before open(): a FIFO would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   std::error_code error;

@@ -2,9 +2,9 @@
 // Sibernetic's configuration format (design notes §3; sibernetic_physics.md §2):
 //   optional [physical parameters]  lines "name: value" (parsed, never applied by the original)
 //   [simulation box]                6 numbers: xmin xmax ymin ymax zmin zmax (cu)
-//   [position] / [velocity]         rows "x y z type" (TAB-separated; short rows repeat the last field)
-//   [connection]                    32 rows per elastic particle: partner rest_length_cu muscle extra
-//   [membranes]                     rows "i j k" (elastic particle ids)
+//   [position] / [velocity]         rows "x y z type" (TAB-separated; short rows repeat the last
+//   field) [connection]                    32 rows per elastic particle: partner rest_length_cu
+//   muscle extra [membranes]                     rows "i j k" (elastic particle ids)
 //   [particleMemIndex]              7 rows per elastic particle (-1 = none)
 //   [end]
 // Elastic particles come first; rows are in file order.
@@ -18,7 +18,7 @@
 
 namespace owval::engine {
 
-inline constexpr int kConnectionSlots = 32;       // per elastic particle
+inline constexpr int kConnectionSlots = 32;  // per elastic particle
 inline constexpr int kMembraneSlotsPerParticle = 7;
 inline constexpr int kNeighbourSlots = 32;
 
@@ -32,7 +32,8 @@ struct SiberneticConfig {
   std::vector<Row4> connection;  // partner (float, -1 empty), rest length (cu), muscle id, extra
   std::vector<std::array<int, 3>> membranes;
   std::vector<int> particle_mem_index;  // kMembraneSlotsPerParticle per elastic particle
-  // [physical parameters] as parsed with Sibernetic's rule (unsigned numbers; see physics sheet §1).
+  // [physical parameters] as parsed with Sibernetic's rule (unsigned numbers; see physics sheet
+  // §1).
   std::map<std::string, double> physical_parameters;
 
   std::size_t particle_count() const { return position.size(); }
@@ -43,9 +44,19 @@ struct SiberneticConfig {
 
 // Reads and validates a configuration. Throws InputError("file:line: ...") on malformed input,
 // a missing [simulation box], position/velocity count mismatch, elastic particles not first,
-// a connection block that is not 32 rows per elastic particle, a partner that does not exist.
+// a connection block that is not 32 rows per elastic particle, a partner that does not exist,
+// a membrane vertex that is not elastic, [membranes] without [particleMemIndex], a
+// [particleMemIndex] value naming no membrane, an index no int holds, and a box whose neighbour
+// grid (NeighbourGridCells with Sibernetic's default h) exceeds the memory budget: the sizes
+// are checked before the engine allocates anything from them.
 SiberneticConfig ReadSiberneticConfig(const std::filesystem::path& path);
 SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::string& name);
+
+// Cells of the neighbour grid over `box` with cells of 2h (as the engine's NeighbourGrid counts
+// them: from 0 to each maximum, two spare), saturating at SIZE_MAX.
+std::size_t NeighbourGridCells(const Box& box, double h_cu);
+// Bytes the grid keeps per cell (start offsets of static, moving and merged lists, and a count).
+inline constexpr std::size_t kNeighbourGridBytesPerCell = 16;
 
 // Writes a configuration Sibernetic itself can load (TAB-separated, [end] terminated), atomically.
 void WriteSiberneticConfig(const SiberneticConfig& config, const std::filesystem::path& path);
@@ -53,19 +64,20 @@ void WriteSiberneticConfig(const SiberneticConfig& config, const std::filesystem
 // Sibernetic's defaults (inc/owPhysicsConstant.h), float values as its host code produces them.
 struct PhysicsConstants {
   double mass_kg = 2.0e-12;
-  double rest_density = 1000.0;          // rho0, kg/m^3
+  double rest_density = 1000.0;  // rho0, kg/m^3
   double time_step_s = 2.0e-5;
   double simulation_scale = 7.39999905e-06;  // metres per configuration unit
-  double h_cu = 3.34;                    // smoothing radius
-  double r0_cu = 1.67;                   // h / 2
-  double elasticity_coefficient = 3.0e8;  // 4 * 1.5e-4 / mass, s^-2
-  double max_muscle_force = 4000.0;       // used as m/s^2
+  double h_cu = 3.34;                        // smoothing radius
+  double r0_cu = 1.67;                       // h / 2
+  double elasticity_coefficient = 3.0e8;     // 4 * 1.5e-4 / mass, s^-2
+  double max_muscle_force = 4000.0;          // used as m/s^2
   std::array<double, 3> gravity = {0.0, -9.8, 0.0};
   int pcisph_iterations = 3;
   double delta = 0.178311437;             // PCISPH pressure scaling (fixed from default dt)
   double surface_tension_scale = 1.7e-9;  // coefficient in the cohesion term
   double viscosity = 4e-6;                // never used by Sibernetic's kernels
-  double non_worm_body_spring_factor = 0.25;  // sphFluid.cl: springs not between two worm-body particles
+  double non_worm_body_spring_factor =
+      0.25;  // sphFluid.cl: springs not between two worm-body particles
 
   // A short description of where the constants differ from Sibernetic's defaults ("" if none).
   std::string DifferencesFromDefaults() const;
