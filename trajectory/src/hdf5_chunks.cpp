@@ -186,6 +186,7 @@ bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
   // Whole components per chunk (as WriteHdf5 writes) keep the placement a row copy.
   if (!shape || (rank == 3 && (*shape)[2] != dims[2])) return false;
   const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path);
+  if (!out) return true;  // a dry run: the chunk index walked, nothing decoded
   const std::string_view bytes = file_bytes->bytes();
   std::size_t chunk_bytes = sizeof(float);
   for (hsize_t d : *shape) chunk_bytes *= d;
@@ -194,7 +195,7 @@ bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
   std::vector<std::unique_ptr<ZlibChunkDecoder>> decoders(
       static_cast<std::size_t>(omp_get_max_threads()));
   for (auto& d : decoders) d = std::make_unique<ZlibChunkDecoder>();
-#pragma omp parallel
+#pragma omp parallel if (chunks.size() > 1)
   {
     std::vector<unsigned char> inflated;
     ZlibChunkDecoder& decoder = *decoders[static_cast<std::size_t>(omp_get_thread_num())];

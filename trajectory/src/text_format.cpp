@@ -206,8 +206,11 @@ void ReserveForText(Rows& r, const Header& h, std::size_t bytes) {
   const std::size_t rows = bytes / 24 + h.particles();  // Sibernetic's rows take 24 to 32 bytes
   const std::size_t floats =
       r.expanded ? SaturatingProduct(1 + rows / h.moving(), h.particles() * 3) : rows * 3;
-  // An estimate: the OpenCL layout's expansion is checked against the budget frame by frame.
-  r.xyz.reserve(std::min(floats, MemoryBudgetBytes() / sizeof(float)));
+  // An estimate, capped at 8 floats per byte of text (demo1's buffer expands to 6: 343 moving
+  // rows a frame, 17,841 particles): a header whose counts would expand a small file further
+  // grows the vector instead, and that growth is checked against the memory budget frame by frame.
+  r.xyz.reserve(std::min({floats, SaturatingProduct(bytes, 8) + 3 * h.particles(),
+                          MemoryBudgetBytes() / sizeof(float)}));
   AdviseHugePages(r.xyz.data(), r.xyz.capacity() * sizeof(float));
 }
 
