@@ -17,7 +17,7 @@
 namespace owval::fuzz {
 
 // A budget well under libFuzzer's default -rss_limit_mb=2048: readers must refuse larger inputs.
-inline constexpr std::size_t kFuzzMemoryBudgetBytes = std::size_t{256} << 20;
+inline constexpr std::size_t kFuzzMemoryBudgetBytes = std::size_t{64} << 20;
 
 inline void SetUpOnce() {
   static const bool done = [] {

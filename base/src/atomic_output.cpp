@@ -40,16 +40,19 @@ std::ofstream& AtomicOutput::stream() {
   return stream_;
 }
 
-void AtomicOutput::Commit() {
+void AtomicOutput::Commit() { CommitAs(destination_); }
+
+void AtomicOutput::CommitAs(const fs::path& destination) {
   if (stream_.is_open()) {
     stream_.flush();
-    if (!stream_) throw InputError(destination_.string(), 0, "write failed (disk full?)");
+    if (!stream_) throw InputError(destination.string(), 0, "write failed (disk full?)");
     stream_.close();
+    if (stream_.fail()) throw InputError(destination.string(), 0, "write failed (disk full?)");
   }
   std::error_code error;
-  fs::rename(temporary_, destination_, error);
+  fs::rename(temporary_, destination, error);
   if (error)
-    throw InputError(destination_.string(), 0, "cannot rename into place: " + error.message());
+    throw InputError(destination.string(), 0, "cannot rename into place: " + error.message());
   committed_ = true;
 }
 

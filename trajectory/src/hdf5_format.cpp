@@ -276,7 +276,10 @@ void CheckFinite(const char* dataset, std::size_t first, const std::string& path
 
 namespace {
 
-Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes, bool dry) {
+// dry: every libhdf5 call, nothing decoded (the contained run); frames: read the per-frame
+// datasets (false: metadata, types and times only, for Hdf5FrameReader).
+Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes, bool dry,
+                             bool frames = true) {
   if (H5Fis_hdf5(name.c_str()) <= 0)
     throw InputError(name, 0, "not a readable HDF5 file (truncated or wrong format)");
   Handle file(H5Fopen(name.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
@@ -293,28 +296,48 @@ Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes,
     throw InputError(name, 0, "HDF5: /type is empty: expected at least one particle");
   t.time_s =
       ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, &bytes, file_bytes, true, dry);
-  const hsize_t frames = t.time_s.size(), particles = t.type.size();
-  t.positions = floats("positions", {frames, particles, 3}, true);
-  t.velocities = floats("velocities", {frames, particles, 3}, false);
-  t.density = floats("density", {frames, particles}, false);
-  t.pressure = floats("pressure", {frames, particles}, false);
+  const hsize_t count = t.time_s.size(), particles = t.type.size();
+  if (frames) {
+    t.positions = floats("positions", {count, particles, 3}, true);
+    t.velocities = floats("velocities", {count, particles, 3}, false);
+    t.density = floats("density", {count, particles}, false);
+    t.pressure = floats("pressure", {count, particles}, false);
+  }
   ReadProvenance(file, t, name, file_bytes);
+  // A trajectory cut short by an interrupted run (TrajectoryWriter::Abort) says so.
+  if (H5Aexists(file, "partial") > 0) t.provenance["partial"].assign(1, '1');
   return t;
 }
 
 }  // namespace
 
+namespace internal {
+
+void DryRunHdf5Contained(const std::string& path) {
+  SilenceHdf5Errors();
+  RequireRegularFile(path);
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path);
+  RunContained(path, "HDF5: libhdf5", [&] { ReadHdf5InProcess(path, file_bytes, true); });
+}
+
+Trajectory ReadHdf5Metadata(const std::string& path) {
+  Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
+  CheckFinite("type", FirstNonFinite(t.type), path);
+  CheckFinite("time", FirstNonFinite(t.time_s), path);
+  return t;
+}
+
+}  // namespace internal
+
 Trajectory ReadHdf5(const std::filesystem::path& path) {
   SilenceHdf5Errors();
   KeepChunkBuffersOnHeap();
   const std::string name = path.string();
-  RequireRegularFile(path);
-  const std::uintmax_t file_bytes = std::filesystem::file_size(path);
   // Containment (docs/fuzzing.md): libhdf5 1.10.8 crashes on some corrupt metadata that no check
   // can see first, so every libhdf5 call is made once in a child process; only when that dry run
   // succeeds does owval make them in process and decode the chunks.
-  RunContained(name, "HDF5: libhdf5", [&] { ReadHdf5InProcess(name, file_bytes, true); });
-  Trajectory t = ReadHdf5InProcess(name, file_bytes, false);
+  internal::DryRunHdf5Contained(name);
+  Trajectory t = ReadHdf5InProcess(name, std::filesystem::file_size(path), false);
   CheckFinite("type", FirstNonFinite(t.type), name);
   CheckFinite("time", FirstNonFinite(t.time_s), name);
   CheckFinite("positions", FirstNonFinite(t.positions), name);

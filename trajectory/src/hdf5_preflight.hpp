@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "owval/trajectory/trajectory.hpp"
+
 namespace owval::internal {
 
 struct DatasetShape {
@@ -38,5 +40,11 @@ std::optional<DatasetShape> InspectDataset(hid_t file, const char* name, const s
 // `out` (count values of mem_type). Throws InputError naming the file and attribute otherwise.
 void ReadNumericAttribute(hid_t object, const char* name, hid_t mem_type, void* out, hssize_t count,
                           const std::string& path);
+
+// Makes every libhdf5 call ReadHdf5 makes, decoding nothing, in a forked child (RunContained):
+// throws InputError when the file is refused or crashes libhdf5. Defined in hdf5_format.cpp.
+void DryRunHdf5Contained(const std::string& path);
+// Box, time step, log step, types, times and provenance, positions not read (after a dry run).
+Trajectory ReadHdf5Metadata(const std::string& path);
 
 }  // namespace owval::internal

@@ -14,6 +14,7 @@
 #include "owval/base/memory_budget.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "text_rows.hpp"
 
 namespace owval {
 namespace {
@@ -446,7 +447,7 @@ Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadO
   return ParseSiberneticText(file.text(), path.string(), options, report);
 }
 
-namespace {
+namespace internal {
 
 void AppendNumber(std::string& out, float value) {
   char buffer[32];
@@ -466,27 +467,29 @@ void AppendRow(std::string& out, const float* xyz, float type) {
   out.push_back('\n');
 }
 
-std::string HeaderText(const Trajectory& t) {
+std::string TextHeader(const Box& box, const std::vector<float>& type, double time_step_s,
+                       int log_step) {
   std::string out;
-  for (float v : {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax}) {
+  for (float v : {box.xmin, box.xmax, box.ymin, box.ymax, box.zmin, box.zmax}) {
     AppendNumber(out, v);
     out.push_back('\n');
   }
   for (ParticleKind kind :
        {ParticleKind::kElastic, ParticleKind::kLiquid, ParticleKind::kBoundary}) {
-    out += std::to_string(t.count(kind));
+    out += std::to_string(
+        std::count_if(type.begin(), type.end(), [kind](float t) { return KindOf(t) == kind; }));
     out.push_back('\n');
   }
   char dt[32];
-  auto [end, ec] = std::to_chars(dt, dt + sizeof dt, t.time_step_s, std::chars_format::general, 6);
+  auto [end, ec] = std::to_chars(dt, dt + sizeof dt, time_step_s, std::chars_format::general, 6);
   out.append(dt, end);
   out.push_back('\n');
-  out += std::to_string(t.log_step);
+  out += std::to_string(log_step);
   out.push_back('\n');
   return out;
 }
 
-}  // namespace
+}  // namespace internal
 
 void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path,
                          TextLayout layout) {
@@ -500,11 +503,11 @@ void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path,
                          "cannot write the opencl layout: boundary particles must come last");
   }
   AtomicOutput out(path);
-  std::string buffer = HeaderText(t);
+  std::string buffer = internal::TextHeader(t.box, t.type, t.time_step_s, t.log_step);
   buffer.reserve(1 << 22);
   for (std::size_t f = 0; f < t.frame_count(); ++f) {
     const std::size_t rows = (f == 0 || layout == TextLayout::kNative) ? n : moving;
-    for (std::size_t i = 0; i < rows; ++i) AppendRow(buffer, t.position(f, i), t.type[i]);
+    for (std::size_t i = 0; i < rows; ++i) internal::AppendRow(buffer, t.position(f, i), t.type[i]);
     if (buffer.size() > (1 << 22)) {
       out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
       buffer.clear();
