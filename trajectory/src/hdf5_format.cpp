@@ -28,7 +28,7 @@ namespace {
 
 using internal::Handle;
 
-void SilenceHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void SilenceHdf5Errors() { internal::PrepareHdf5(); }
 
 void Check(herr_t status, const std::string& file, const std::string& what) {
   if (status < 0) throw InputError(file, 0, "HDF5: " + what);

@@ -30,7 +30,7 @@ class Hdf5Writer : public TrajectoryWriter {
         name_(destination.string()),
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    PrepareHdf5();
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
     H5Pset_obj_track_times(fcpl, false);
     file_ = H5Fcreate(out_.temporary_path().c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
@@ -217,6 +217,7 @@ namespace owval {
 
 Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path.string()) {
   // The same checks as ReadHdf5, every libhdf5 call made first in a child (hdf5_preflight.hpp).
+  internal::PrepareHdf5();
   internal::DryRunHdf5Contained(path_);
   const Trajectory meta = internal::ReadHdf5Metadata(path_);
   header_.box = meta.box;

@@ -3,14 +3,18 @@
 // garbage, never a crash or an allocation sized by a lying header.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <sstream>
 
 #include "owval/base/errors.hpp"
@@ -301,6 +305,52 @@ TEST(HostileHdf5, IdenticalTrajectoriesGiveIdenticalBytes) {
   sb << ib.rdbuf();
   EXPECT_GT(sa.str().size(), 1000u);
   EXPECT_TRUE(sa.str() == sb.str());
+}
+
+}  // namespace
+}  // namespace owval
+
+namespace owval {
+namespace {
+
+// Issue 18 item 3: a full disk while writing HDF5 crashed at exit in libhdf5 (H5F__close_cb). Here
+// RLIMIT_FSIZE stands in for the full disk (writes past 64 KiB fail with EFBIG); the write must
+// be refused with an InputError, leave no file under either name, and the process must exit
+// cleanly afterwards (libhdf5 closes its files at exit).
+int WriteIntoAFullDisk(const fs::path& path, bool hdf5) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{64 << 10, 64 << 10};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    int code = 10;
+    try {
+      Trajectory t = Small(20000);  // 720 KB of positions, 2 MB of text
+      std::mt19937 rng(3);          // noise, so deflate cannot shrink it under the limit
+      for (float& x : t.positions) x = float(rng() % 100000) * 1e-3f;
+      if (hdf5) {
+        WriteHdf5(t, path);
+      } else {
+        WriteSiberneticText(t, path);
+      }
+    } catch (const InputError&) {
+      code = fs::exists(path) ? 11 : 0;
+      for (const auto& e : fs::directory_iterator(path.parent_path()))
+        if (e.path().filename().string().find(".tmp.") != std::string::npos) code = 12;
+    }
+    std::exit(code);  // not _exit: libhdf5's exit handlers must run, as in owval
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 100 + WTERMSIG(status);
+}
+
+TEST(HostileOutput, AFullDiskRefusesTheWriteAndLeavesNoFile) {
+  const fs::path dir = TempPath("full");
+  fs::create_directories(dir);
+  EXPECT_EQ(WriteIntoAFullDisk(dir / "t.h5", true), 0) << "10: no error, 11: file left, "
+                                                          "12: temporary left, 100+: signal";
+  EXPECT_EQ(WriteIntoAFullDisk(dir / "t.txt", false), 0);
 }
 
 }  // namespace
