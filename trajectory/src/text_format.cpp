@@ -19,8 +19,6 @@
 namespace owval {
 namespace {
 
-constexpr int kHeaderLines = 11;
-
 // A cursor over the file text that knows its line number, for error messages.
 class TextCursor {
  public:
