@@ -8,7 +8,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev libomp-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libx264-dev ffmpeg
   libosmesa6-dev libfreetype-dev fonts-dejavu-core libpng-dev
-  clang-format
+  libdeflate-dev zlib1g-dev
+  clang-format clang libclang-rt-14-dev
   python3-zarr python3-jsonschema  # tests only: WCON schema checks, OME-Zarr read back
 )
 missing=()

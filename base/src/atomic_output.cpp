@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
@@ -39,16 +40,19 @@ std::ofstream& AtomicOutput::stream() {
   return stream_;
 }
 
-void AtomicOutput::Commit() {
+void AtomicOutput::Commit() { CommitAs(destination_); }
+
+void AtomicOutput::CommitAs(const fs::path& destination) {
   if (stream_.is_open()) {
     stream_.flush();
-    if (!stream_) throw InputError(destination_.string(), 0, "write failed (disk full?)");
+    if (!stream_) throw InputError(destination.string(), 0, "write failed (disk full?)");
     stream_.close();
+    if (stream_.fail()) throw InputError(destination.string(), 0, "write failed (disk full?)");
   }
   std::error_code error;
-  fs::rename(temporary_, destination_, error);
+  fs::rename(temporary_, destination, error);
   if (error)
-    throw InputError(destination_.string(), 0, "cannot rename into place: " + error.message());
+    throw InputError(destination.string(), 0, "cannot rename into place: " + error.message());
   committed_ = true;
 }
 
@@ -59,6 +63,7 @@ void WriteFileAtomically(const fs::path& destination, const std::string& content
 }
 
 std::string ReadWholeFile(const fs::path& path) {
+  RequireRegularFile(path);  // before open(): a FIFO would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   std::error_code error;

@@ -8,11 +8,14 @@
 #include <cstdint>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 
 namespace owval {
 
 MappedFile::MappedFile(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY);
+  RequireRegularFile(path);  // a FIFO would block open() until a writer appears
+  // O_NONBLOCK: should the path turn into a FIFO after the check, open() still returns.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   struct stat info {};
   if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {

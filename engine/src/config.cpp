@@ -2,13 +2,17 @@
 // matter, see sibernetic_physics.md §1-2) and writing.
 #include "owval/engine/config.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <regex>
 #include <sstream>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
 
 namespace owval::engine {
 namespace {
@@ -39,6 +43,8 @@ Section SectionOf(const std::string& line) {
     if (line == name) return section;
   return Section::kNone;
 }
+
+constexpr std::size_t kMaxParameterLineChars = 1024;
 
 class Reader {
  public:
@@ -85,15 +91,68 @@ class Reader {
 
 // Sibernetic accepts "name: value" where value is an unsigned decimal that may carry an exponent
 // only after a decimal point, with an optional trailing // comment (owHelper.cpp:83-91).
-void ParsePhysicalParameter(const std::string& line, SiberneticConfig* config) {
+void ParsePhysicalParameter(const std::string& line, const Reader& reader,
+                            SiberneticConfig* config) {
+  // std::regex matches recursively: a 100,000-character line would overflow the stack.
+  if (line.size() > kMaxParameterLineChars)
+    reader.Fail("[physical parameters] line longer than " + std::to_string(kMaxParameterLineChars) +
+                " characters");
   static const std::regex rule(
       R"(^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*([0-9]+(\.[0-9]*([eE][-+]?[0-9]+)?)?)\s*(//.*)?$)");
   std::smatch m;
-  if (std::regex_match(line, m, rule))
-    config->physical_parameters.emplace(m[1].str(), std::stod(m[2].str()));
+  if (!std::regex_match(line, m, rule)) return;
+  const double value = std::strtod(m[2].str().c_str(), nullptr);  // no throw on 1.0e999
+  if (!std::isfinite(value))
+    reader.Fail("[physical parameters] " + m[1].str() + " is not a finite number");
+  config->physical_parameters.emplace(m[1].str(), value);
 }
 
-int ToIndex(float v) { return static_cast<int>(v); }  // C truncation, as the kernels do
+// C truncation, as the kernels do; a value no int holds (1e30) is refused, not converted.
+int ToIndex(const Reader& reader, float v, const char* what) {
+  if (!(v > -2147483648.0f && v < 2147483648.0f))
+    reader.Fail(std::string(what) + " " + std::to_string(v) +
+                " is not a particle or membrane index");
+  return static_cast<int>(v);
+}
+
+// [simulation box]: finite (the reader refuses NaN and Inf), not inverted, and small enough that
+// the neighbour grid over it fits in memory.
+void ValidateBox(const Box& b, const std::string& name) {
+  if (b.xmax < b.xmin || b.ymax < b.ymin || b.zmax < b.zmin)
+    throw InputError(name, 0, "[simulation box]: a maximum is below its minimum");
+  const PhysicsConstants defaults;
+  const std::size_t cells = NeighbourGridCells(b, defaults.h_cu);
+  const std::size_t limit = std::min<std::size_t>(std::numeric_limits<int>::max(),
+                                                  MemoryBudgetBytes() / kNeighbourGridBytesPerCell);
+  if (cells > limit)
+    throw InputError(
+        name, 0,
+        "[simulation box] " + std::to_string(b.xmax) + " x " + std::to_string(b.ymax) + " x " +
+            std::to_string(b.zmax) + " cu needs a neighbour grid of " + std::to_string(cells) +
+            " cells (2h = " + std::to_string(2 * defaults.h_cu) + " cu each), over the limit of " +
+            std::to_string(limit) + " (memory budget, --max-memory)");
+}
+
+// [membranes] and [particleMemIndex]: every index names something that exists.
+void ValidateMembranes(const SiberneticConfig& c, const std::string& name, std::size_t elastic) {
+  for (const auto& m : c.membranes)
+    for (int v : m)
+      if (v < 0 || static_cast<std::size_t>(v) >= elastic)
+        throw InputError(name, 0,
+                         "membrane vertex " + std::to_string(v) + " is not an elastic particle");
+  if (!c.membranes.empty() && c.particle_mem_index.empty())
+    throw InputError(name, 0,
+                     "[membranes] without [particleMemIndex]: expected 7 membrane slots per "
+                     "elastic particle");
+  for (std::size_t r = 0; r < c.particle_mem_index.size(); ++r) {
+    const int m = c.particle_mem_index[r];
+    if (m < -1 || (m >= 0 && static_cast<std::size_t>(m) >= c.membranes.size()))
+      throw InputError(name, 0,
+                       "[particleMemIndex] row " + std::to_string(r) + " names membrane " +
+                           std::to_string(m) + ", which does not exist (" +
+                           std::to_string(c.membranes.size()) + " membranes; -1 = none)");
+  }
+}
 
 void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen, bool end_seen,
               std::size_t lines) {
@@ -121,10 +180,11 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
                          std::to_string(elastic * kConnectionSlots) + ")");
   for (std::size_t r = 0; r < c.connection.size(); ++r) {
     const float partner = c.connection[r][0];
-    if (partner >= 0 && static_cast<std::size_t>(ToIndex(partner)) >= c.particle_count())
+    // Truncation: int(partner) >= n exactly when partner >= n, and no cast of 1e30 is made.
+    if (partner >= static_cast<float>(c.particle_count()))
       throw InputError(name, 0,
                        "connection row " + std::to_string(r) + " links to particle " +
-                           std::to_string(ToIndex(partner)) + ", which does not exist (" +
+                           std::to_string(partner) + ", which does not exist (" +
                            std::to_string(c.particle_count()) + " particles)");
   }
   if (!c.particle_mem_index.empty() &&
@@ -133,14 +193,20 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
                      "[particleMemIndex] has " + std::to_string(c.particle_mem_index.size()) +
                          " rows, expected 7 per elastic particle (" + std::to_string(elastic * 7) +
                          ")");
-  for (const auto& m : c.membranes)
-    for (int v : m)
-      if (v < 0 || static_cast<std::size_t>(v) >= elastic)
-        throw InputError(name, 0,
-                         "membrane vertex " + std::to_string(v) + " is not an elastic particle");
+  ValidateMembranes(c, name, elastic);
+  ValidateBox(c.box, name);
 }
 
 }  // namespace
+
+std::size_t NeighbourGridCells(const Box& box, double h_cu) {
+  // As NeighbourGrid sizes itself: (int)(max / 2h) + 2 cells per axis from 0 (sphFluid.cl:142).
+  auto axis = [&](float upper) {
+    const double cells = std::floor(std::max(double(upper), 0.0) / (2.0 * h_cu)) + 2.0;
+    return cells < 1e18 ? static_cast<std::size_t>(cells) : std::numeric_limits<std::size_t>::max();
+  };
+  return SaturatingProduct(SaturatingProduct(axis(box.xmax), axis(box.ymax)), axis(box.zmax));
+}
 
 std::size_t SiberneticConfig::elastic_count() const {
   std::size_t n = 0;
@@ -180,7 +246,7 @@ SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::strin
         reader.Fail("data before the first section header");
         break;
       case Section::kPhysical:
-        ParsePhysicalParameter(line, &c);
+        ParsePhysicalParameter(line, reader, &c);
         break;
       case Section::kBox:
         if (box.size() == 6) reader.Fail("[simulation box] holds 6 lines, found a 7th");
@@ -197,11 +263,14 @@ SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::strin
         break;
       case Section::kMembranes: {
         const auto r = reader.Row(line, 3, "membrane");
-        c.membranes.push_back({ToIndex(r[0]), ToIndex(r[1]), ToIndex(r[2])});
+        c.membranes.push_back({ToIndex(reader, r[0], "membrane vertex"),
+                               ToIndex(reader, r[1], "membrane vertex"),
+                               ToIndex(reader, r[2], "membrane vertex")});
         break;
       }
       case Section::kMemIndex:
-        c.particle_mem_index.push_back(ToIndex(reader.Row(line, 1, "particleMemIndex")[0]));
+        c.particle_mem_index.push_back(
+            ToIndex(reader, reader.Row(line, 1, "particleMemIndex")[0], "particleMemIndex"));
         break;
       case Section::kEnd:
         break;  // Sibernetic stops reading at [end]

@@ -11,6 +11,24 @@
 namespace owval::scenarios {
 namespace fs = std::filesystem;
 
+namespace {
+// A whole-number field, range-checked before any conversion: nlohmann's get<int>() of 1e30 is a
+// float-to-integer cast with undefined behaviour (found by fuzz/fuzz_manifest.cpp).
+std::size_t WholeNumber(const nlohmann::json& object, const char* field, double fallback,
+                        double min, double max, const fs::path& path) {
+  if (!object.contains(field)) return static_cast<std::size_t>(fallback);
+  const nlohmann::json& v = object.at(field);
+  const double value = v.is_number() ? v.get<double>() : std::nan("");
+  if (!(value >= min && value <= max && value == std::floor(value)))
+    throw InputError(path.string(), 0,
+                     std::string("bad scenario manifest: ") + field +
+                         " must be a whole number from " +
+                         std::to_string(static_cast<long long>(min)) + " to " +
+                         std::to_string(static_cast<long long>(max)));
+  return static_cast<std::size_t>(value);
+}
+}  // namespace
+
 Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
   const fs::path path = data_dir / "scenarios" / "manifests" / (name + ".json");
   if (!fs::exists(path)) {
@@ -30,7 +48,7 @@ Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
     s.track = Track::FromJson(m.value("track", nlohmann::json::object()), path.string());
     s.predictor = m.value("predictor", "");
     s.duration_s = m.value("duration_s", 0.05);
-    s.log_step = m.value("log_step", 1);
+    s.log_step = static_cast<int>(WholeNumber(m, "log_step", 1, 1, 2147483647, path));
     if (m.contains("reference")) s.reference = data_dir / m["reference"].get<std::string>();
     ApplyManifestGates(m.value("gates", nlohmann::json::object()), path.string(), &s.gates);
     if (m.contains("frames")) s.sample_frames = m["frames"].get<std::vector<std::size_t>>();

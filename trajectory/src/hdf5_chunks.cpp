@@ -1,9 +1,8 @@
 #include "hdf5_chunks.hpp"
 
-#include "adler32.hpp"
-#include "inflate.hpp"
+#include "zlib_chunk.hpp"
 
-#include <zlib.h>
+#include <omp.h>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -11,6 +10,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <optional>
 
 #include "owval/base/errors.hpp"
@@ -143,33 +143,10 @@ void CopyInto(const unsigned char* in, const Placement& p) {
                 p.row_values * sizeof(float));
 }
 
-// Inflates a zlib stream (RFC 1950: header, raw deflate, Adler-32) to exactly `size` bytes with
-// zlib: the last word on the streams owval's faster InflateZlib refuses (corrupt ones, and the
-// rare valid shapes it leaves alone). The checksum is verified with owval's vectorised Adler-32:
-// zlib's own would cost a seventh of the read.
-bool Inflate(const unsigned char* in, std::size_t in_bytes, unsigned char* out, std::size_t size) {
-  if (in_bytes < 6 || (in[0] & 0x0f) != 8 || ((in[0] << 8) | in[1]) % 31 != 0 || (in[1] & 0x20))
-    return false;
-  z_stream z{};
-  if (inflateInit2(&z, -15) != Z_OK) return false;
-  z.next_in = const_cast<unsigned char*>(in + 2);
-  z.avail_in = uInt(in_bytes - 2);
-  z.next_out = out;
-  z.avail_out = uInt(size);
-  const int status = inflate(&z, Z_FINISH);
-  const unsigned char* trailer = z.next_in;
-  const std::size_t left = z.avail_in;
-  inflateEnd(&z);
-  if (status != Z_STREAM_END || z.avail_out != 0 || left < 4) return false;
-  const std::uint32_t stored = (std::uint32_t(trailer[0]) << 24) |
-                               (std::uint32_t(trailer[1]) << 16) |
-                               (std::uint32_t(trailer[2]) << 8) | std::uint32_t(trailer[3]);
-  return Adler32(1, out, size) == stored;
-}
-
 // Decodes one chunk into its place in the output; an error message, or empty.
 std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk_bytes,
-                        std::vector<unsigned char>* inflated, const Placement& place) {
+                        ZlibChunkDecoder* decoder, std::vector<unsigned char>* inflated,
+                        const Placement& place) {
   if (c.address == HADDR_UNDEF) {  // never written: the fill value, 0
     for (std::size_t r = 0; r < place.rows; ++r)
       std::fill(place.out + r * place.stride, place.out + r * place.stride + place.row_values,
@@ -181,10 +158,10 @@ std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk
   const auto* stored = reinterpret_cast<const unsigned char*>(file.data() + c.address);
   const unsigned char* bytes = stored;
   if (!(c.skipped_filters & 2u)) {
+    if (chunk_bytes > c.stored_bytes * kMaxDeflateRatio)
+      return "HDF5: a chunk is too small to inflate to its size (corrupt file)";
     inflated->resize(chunk_bytes);
-    // owval's inflater first (1.5x zlib's speed on trajectory chunks), zlib if it refuses.
-    if (!InflateZlib(stored, c.stored_bytes, inflated->data(), chunk_bytes) &&
-        !Inflate(stored, c.stored_bytes, inflated->data(), chunk_bytes))
+    if (!decoder->Decode(stored, c.stored_bytes, inflated->data(), chunk_bytes))
       return "HDF5: a chunk does not inflate to its size (corrupt file)";
     bytes = inflated->data();
   } else if (c.stored_bytes != chunk_bytes) {
@@ -209,16 +186,22 @@ bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
   // Whole components per chunk (as WriteHdf5 writes) keep the placement a row copy.
   if (!shape || (rank == 3 && (*shape)[2] != dims[2])) return false;
   const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path);
+  if (!out) return true;  // a dry run: the chunk index walked, nothing decoded
   const std::string_view bytes = file_bytes->bytes();
   std::size_t chunk_bytes = sizeof(float);
   for (hsize_t d : *shape) chunk_bytes *= d;
   std::string error;
-#pragma omp parallel
+  // Allocated here: an exception must not leave a parallel region.
+  std::vector<std::unique_ptr<ZlibChunkDecoder>> decoders(
+      static_cast<std::size_t>(omp_get_max_threads()));
+  for (auto& d : decoders) d = std::make_unique<ZlibChunkDecoder>();
+#pragma omp parallel if (chunks.size() > 1)
   {
     std::vector<unsigned char> inflated;
+    ZlibChunkDecoder& decoder = *decoders[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t n = 0; n < chunks.size(); ++n) {
-      const std::string failure = DecodeChunk(chunks[n], bytes, chunk_bytes, &inflated,
+      const std::string failure = DecodeChunk(chunks[n], bytes, chunk_bytes, &decoder, &inflated,
                                               PlacementOf(chunks[n], dims, *shape, out));
       if (!failure.empty()) {
 #pragma omp critical(owval_hdf5_chunk_error)

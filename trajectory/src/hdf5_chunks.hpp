@@ -31,7 +31,8 @@ class FileBytes {
 // Reads float dataset `set` of shape `dims` (2 or 3 axes) into `out` (already sized). Returns
 // false, having read nothing, when the dataset is stored any other way (not chunked, other
 // filters, another element type, a user block): the caller then uses H5Dread. Throws InputError
-// naming the file when a chunk is truncated or does not inflate to its size.
+// naming the file when a chunk is truncated or does not inflate to its size. With out == nullptr,
+// a dry run: walks the chunk index (every libhdf5 call the real read makes) and decodes nothing.
 bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* bytes,
                                   const std::vector<hsize_t>& dims, float* out);
 

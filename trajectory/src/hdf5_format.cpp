@@ -7,37 +7,28 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <type_traits>
 
 #include "hdf5_chunks.hpp"
+#include "hdf5_handle.hpp"
+#include "hdf5_preflight.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/contained.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/base/mapped_file.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 
-// Closes an HDF5 handle when it leaves scope.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  operator hid_t() const { return id_; }
-  bool valid() const { return id_ >= 0; }
+using internal::Handle;
 
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void SilenceHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void SilenceHdf5Errors() { internal::PrepareHdf5(); }
 
 void Check(herr_t status, const std::string& file, const std::string& what) {
   if (status < 0) throw InputError(file, 0, "HDF5: " + what);
@@ -48,6 +39,8 @@ void WriteDataset(hid_t file, const char* name, hid_t type, const void* data,
                   const std::string& path) {
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  // No object timestamps: identical trajectories give identical bytes (issue 18 item 15).
+  Check(H5Pset_obj_track_times(plist, false), path, "set track times");
   const bool nonempty = std::all_of(dims.begin(), dims.end(), [](hsize_t d) { return d > 0; });
   if (!chunk.empty() && nonempty) {
     Check(H5Pset_chunk(plist, static_cast<int>(chunk.size()), chunk.data()), path, "set chunk");
@@ -101,7 +94,9 @@ void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf
   AtomicOutput out(path);
   const std::string name = path.string();
   {
-    Handle file(H5Fcreate(out.temporary_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+    Check(H5Pset_obj_track_times(fcpl, false), name, "set track times");  // the root group's
+    Handle file(H5Fcreate(out.temporary_path().c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT),
                 H5Fclose);
     if (!file.valid()) throw InputError(name, 0, "cannot create HDF5 file");
     const hsize_t frames = t.frame_count(), particles = t.particle_count();
@@ -141,43 +136,44 @@ void TouchPagesInParallel(void* data, std::size_t bytes) {
   for (std::ptrdiff_t i = 0; i < pages; ++i) p[static_cast<std::size_t>(i) * kPage] = 0;
 }
 
-// Reads a dataset whose shape must be exactly `expected` (0 entries mean "any").
+std::string ShapeText(const std::vector<hsize_t>& d) {
+  std::string s;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (i) s.push_back('x');
+    s.append(d[i] ? std::to_string(d[i]) : std::string("*"));
+  }
+  return s;
+}
+
+// Reads a dataset whose shape must be exactly `expected` (0 entries mean "any"), validated by
+// InspectDataset before anything is allocated.
+// A dry run (`dry`) makes every libhdf5 call the real read makes but decodes no chunk itself and
+// uses no OpenMP: it runs in a child process first (ReadHdf5).
 template <typename T>
 std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
                            std::vector<hsize_t> expected, internal::FileBytes* bytes,
-                           bool required) {
+                           std::uintmax_t file_bytes, bool required, bool dry) {
   const std::string& path = bytes->path();
-  if (H5Lexists(file, name, H5P_DEFAULT) <= 0) {
-    if (required) throw InputError(path, 0, std::string("HDF5: missing dataset /") + name);
-    return {};
-  }
-  Handle set(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
-  Handle space(H5Dget_space(set), H5Sclose);
-  const int rank = H5Sget_simple_extent_ndims(space);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
-  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  const auto shape = internal::InspectDataset(file, name, path, file_bytes, sizeof(T), required);
+  if (!shape) return {};
+  const std::vector<hsize_t>& dims = shape->dims;
   bool shape_ok = dims.size() == expected.size();
   for (std::size_t i = 0; shape_ok && i < dims.size(); ++i)
     shape_ok = expected[i] == 0 || expected[i] == dims[i];
-  if (!shape_ok) {
-    auto shape = [](const std::vector<hsize_t>& d) {
-      std::string s;
-      for (std::size_t i = 0; i < d.size(); ++i) {
-        if (i) s.push_back('x');
-        s.append(d[i] ? std::to_string(d[i]) : std::string("*"));
-      }
-      return s;
-    };
-    const std::string got = shape(dims), want = shape(expected);
+  if (!shape_ok)
     throw InputError(path, 0,
-                     std::string("HDF5: /") + name + " has shape " + got + ", expected " + want);
+                     std::string("HDF5: /") + name + " has shape " + ShapeText(dims) +
+                         ", expected " + ShapeText(expected));
+  Handle set(H5Dopen2(file, name, H5P_DEFAULT), H5Dclose);
+  const std::size_t total = shape->elements;
+  if constexpr (std::is_same_v<T, float>) {
+    if (dry && total > 0 && internal::ReadDeflatedChunksInParallel(file, set, bytes, dims, nullptr))
+      return {};
   }
-  std::size_t total = 1;
-  for (hsize_t d : dims) total *= d;
   std::vector<T> data;
   data.reserve(total);
   AdviseHugePages(data.data(), total * sizeof(T));
-  TouchPagesInParallel(data.data(), total * sizeof(T));
+  if (!dry) TouchPagesInParallel(data.data(), total * sizeof(T));
   data.resize(total);
   if constexpr (std::is_same_v<T, float>) {
     if (total > 0 && internal::ReadDeflatedChunksInParallel(file, set, bytes, dims, data.data()))
@@ -189,31 +185,29 @@ std::vector<T> ReadDataset(hid_t file, const char* name, hid_t mem_type,
   return data;
 }
 
-void ReadAttributes(hid_t file, Trajectory& t, const std::string& path) {
-  auto numeric = [&](const char* name, hid_t type, void* out) {
-    if (H5Aexists(file, name) <= 0)
-      throw InputError(path, 0, std::string("HDF5: missing attribute ") + name);
-    Handle attr(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
-    if (H5Aread(attr, type, out) < 0)
-      throw InputError(path, 0, std::string("HDF5: cannot read attribute ") + name);
-  };
-  float box[6];
-  numeric("box", H5T_NATIVE_FLOAT, box);
-  t.box = {box[0], box[1], box[2], box[3], box[4], box[5]};
-  numeric("time_step_s", H5T_NATIVE_DOUBLE, &t.time_step_s);
-  numeric("log_step", H5T_NATIVE_INT, &t.log_step);
-  H5O_info_t info;
-  H5Oget_info2(file, &info, H5O_INFO_NUM_ATTRS);
+// The provenance strings: scalar, fixed-length string attributes named "provenance:KEY".
+void ReadProvenance(hid_t file, Trajectory& t, const std::string& path, std::uintmax_t file_bytes) {
+  H5O_info_t info{};
+  if (H5Oget_info2(file, &info, H5O_INFO_NUM_ATTRS) < 0)
+    throw InputError(path, 0, "HDF5: cannot list the root group's attributes (corrupt?)");
   for (hsize_t i = 0; i < info.num_attrs; ++i) {
     Handle attr(H5Aopen_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT),
                 H5Aclose);
+    if (!attr.valid()) throw InputError(path, 0, "HDF5: cannot open a root attribute (corrupt?)");
     char name[256] = {};
-    H5Aget_name(attr, sizeof name, name);
+    if (H5Aget_name(attr, sizeof name, name) < 0) continue;
     const std::string key(name);
     if (key.rfind("provenance:", 0) != 0) continue;
     Handle type(H5Aget_type(attr), H5Tclose);
-    if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0) continue;
-    std::string value(H5Tget_size(type) + 1, '\0');
+    Handle space(H5Aget_space(attr), H5Sclose);
+    if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0 ||
+        H5Sget_simple_extent_npoints(space) != 1)
+      continue;
+    const std::size_t size = H5Tget_size(type);
+    if (size == 0 || size > file_bytes)
+      throw InputError(path, 0,
+                       "HDF5: attribute " + key + " declares a string longer than the file");
+    std::string value(size + 1, '\0');
     Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(mem, value.size());
     H5Tset_cset(mem, H5Tget_cset(type));
@@ -238,35 +232,120 @@ void KeepChunkBuffersOnHeap() {
   (void)once;
 }
 
-Trajectory ReadHdf5(const std::filesystem::path& path) {
-  SilenceHdf5Errors();
-  KeepChunkBuffersOnHeap();
-  const std::string name = path.string();
-  if (!std::filesystem::exists(path)) throw InputError(name, 0, "cannot open file (missing)");
+namespace {
+
+// Box, time step and log step: root attributes of exactly the expected sizes, finite, positive.
+void ReadScalars(hid_t file, Trajectory& t, const std::string& path) {
+  float box[6];
+  internal::ReadNumericAttribute(file, "box", H5T_NATIVE_FLOAT, box, 6, path);
+  for (float v : box)
+    if (!std::isfinite(v)) throw InputError(path, 0, "HDF5: attribute box is not finite");
+  t.box = {box[0], box[1], box[2], box[3], box[4], box[5]};
+  internal::ReadNumericAttribute(file, "time_step_s", H5T_NATIVE_DOUBLE, &t.time_step_s, 1, path);
+  if (!(std::isfinite(t.time_step_s) && t.time_step_s > 0))
+    throw InputError(path, 0, "HDF5: attribute time_step_s must be a positive finite number");
+  double log_step = 0;  // read as a double: HDF5's own float-to-int conversion of NaN is undefined
+  internal::ReadNumericAttribute(file, "log_step", H5T_NATIVE_DOUBLE, &log_step, 1, path);
+  if (!(log_step >= 1 && log_step <= std::numeric_limits<int>::max() &&
+        log_step == std::floor(log_step)))
+    throw InputError(path, 0, "HDF5: attribute log_step must be a whole number from 1 to 2^31-1");
+  t.log_step = static_cast<int>(log_step);
+}
+
+// Index of the first value that is not finite, or npos.
+template <typename T>
+std::size_t FirstNonFinite(const std::vector<T>& values) {
+  std::size_t first = std::string::npos;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(values.size());
+  // Small arrays on one thread: waking the pool costs more than the scan (and a spinning worker
+  // slows the contained dry run's child on a busy machine).
+#pragma omp parallel for reduction(min : first) schedule(static) if (n > (1 << 20))
+  for (std::ptrdiff_t i = 0; i < n; ++i)
+    if (!std::isfinite(values[std::size_t(i)])) first = std::min(first, std::size_t(i));
+  return first;
+}
+
+void CheckFinite(const char* dataset, std::size_t first, const std::string& path) {
+  if (first != std::string::npos)
+    throw InputError(path, 0,
+                     std::string("HDF5: /") + dataset + " value " + std::to_string(first) +
+                         " is not finite (NaN or Inf)");
+}
+
+}  // namespace
+
+namespace {
+
+// dry: every libhdf5 call, nothing decoded (the contained run); frames: read the per-frame
+// datasets (false: metadata, types and times only, for Hdf5FrameReader).
+Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes, bool dry,
+                             bool frames = true) {
   if (H5Fis_hdf5(name.c_str()) <= 0)
     throw InputError(name, 0, "not a readable HDF5 file (truncated or wrong format)");
   Handle file(H5Fopen(name.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError(name, 0, "cannot open HDF5 file (truncated or corrupt?)");
   internal::FileBytes bytes(name);
   Trajectory t;
-  t.type = ReadDataset<float>(file, "type", H5T_NATIVE_FLOAT, {0}, &bytes, true);
-  t.time_s = ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, &bytes, true);
-  const hsize_t frames = t.time_s.size(), particles = t.type.size();
-  if (particles == 0)
+  ReadScalars(file, t, name);
+  auto floats = [&](const char* dataset, std::vector<hsize_t> shape, bool required) {
+    return ReadDataset<float>(file, dataset, H5T_NATIVE_FLOAT, std::move(shape), &bytes, file_bytes,
+                              required, dry);
+  };
+  t.type = floats("type", {0}, true);
+  if (t.type.empty())
     throw InputError(name, 0, "HDF5: /type is empty: expected at least one particle");
-  t.positions =
-      ReadDataset<float>(file, "positions", H5T_NATIVE_FLOAT, {frames, particles, 3}, &bytes, true);
-  t.velocities = ReadDataset<float>(file, "velocities", H5T_NATIVE_FLOAT, {frames, particles, 3},
-                                    &bytes, false);
-  t.density =
-      ReadDataset<float>(file, "density", H5T_NATIVE_FLOAT, {frames, particles}, &bytes, false);
-  t.pressure =
-      ReadDataset<float>(file, "pressure", H5T_NATIVE_FLOAT, {frames, particles}, &bytes, false);
-  ReadAttributes(file, t, name);
+  t.time_s =
+      ReadDataset<double>(file, "time", H5T_NATIVE_DOUBLE, {0}, &bytes, file_bytes, true, dry);
+  const hsize_t count = t.time_s.size(), particles = t.type.size();
+  if (frames) {
+    t.positions = floats("positions", {count, particles, 3}, true);
+    t.velocities = floats("velocities", {count, particles, 3}, false);
+    t.density = floats("density", {count, particles}, false);
+    t.pressure = floats("pressure", {count, particles}, false);
+  }
+  ReadProvenance(file, t, name, file_bytes);
+  // A trajectory cut short by an interrupted run (TrajectoryWriter::Abort) says so.
+  if (H5Aexists(file, "partial") > 0) t.provenance["partial"].assign(1, '1');
+  return t;
+}
+
+}  // namespace
+
+namespace internal {
+
+void DryRunHdf5Contained(const std::string& path) {
+  SilenceHdf5Errors();
+  RequireRegularFile(path);
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path);
+  RunContained(path, "HDF5: libhdf5", [&] { ReadHdf5InProcess(path, file_bytes, true); });
+}
+
+Trajectory ReadHdf5Metadata(const std::string& path) {
+  Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
+  CheckFinite("type", FirstNonFinite(t.type), path);
+  CheckFinite("time", FirstNonFinite(t.time_s), path);
+  return t;
+}
+
+}  // namespace internal
+
+Trajectory ReadHdf5(const std::filesystem::path& path) {
+  SilenceHdf5Errors();
+  KeepChunkBuffersOnHeap();
+  const std::string name = path.string();
+  // Containment (docs/fuzzing.md): libhdf5 1.10.8 crashes on some corrupt metadata that no check
+  // can see first, so every libhdf5 call is made once in a child process; only when that dry run
+  // succeeds does owval make them in process and decode the chunks.
+  internal::DryRunHdf5Contained(name);
+  Trajectory t = ReadHdf5InProcess(name, std::filesystem::file_size(path), false);
+  CheckFinite("type", FirstNonFinite(t.type), name);
+  CheckFinite("time", FirstNonFinite(t.time_s), name);
+  CheckFinite("positions", FirstNonFinite(t.positions), name);
   return t;
 }
 
 FileFormat DetectFormat(const std::filesystem::path& path) {
+  RequireRegularFile(path);  // before open(): a FIFO would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   char signature[8] = {};

@@ -4,19 +4,20 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 #include "gzip.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/mapped_file.hpp"
+#include "owval/base/memory_budget.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "text_rows.hpp"
 
 namespace owval {
 namespace {
-
-constexpr int kHeaderLines = 11;
 
 // A cursor over the file text that knows its line number, for error messages.
 class TextCursor {
@@ -26,6 +27,7 @@ class TextCursor {
 
   bool at_end() const { return p_ >= end_; }
   std::size_t line() const { return line_; }
+  const std::string& name() const { return name_; }
   std::size_t offset(std::string_view text) const {
     return static_cast<std::size_t>(p_ - text.data());
   }
@@ -130,14 +132,26 @@ struct Header {
   std::size_t moving() const { return elastic + liquid; }
 };
 
-std::size_t Count(TextCursor& in, const char* what) {
+// A whole number from 0 to `max`, refused (not converted) otherwise: 1e30 or 1e12 must not
+// become 0 or 1 through a float-to-integer conversion.
+std::size_t Count(TextCursor& in, const char* what, double max) {
   const double value = in.Number<double>(what);
   if (value < 0 || value != std::floor(value))
     in.Fail(std::string("expected ") + what + " (a whole number)");
+  if (value > max) {
+    std::ostringstream bound;
+    bound << what << " " << value << " is larger than " << static_cast<unsigned long long>(max);
+    in.Fail(bound.str());
+  }
   return static_cast<std::size_t>(value);
 }
 
-Header ParseHeader(TextCursor& in) {
+// Each particle of frame 0 takes a row of at least 8 bytes ("0 0 0 1\n"): a header declaring more
+// particles than the file can hold is wrong, and must not size any allocation.
+constexpr std::size_t kMinRowBytes = 8;
+
+Header ParseHeader(TextCursor& in, std::size_t text_bytes) {
+  const double max_particles = static_cast<double>(text_bytes / kMinRowBytes);
   Header h;
   float* box_fields[6] = {&h.box.xmin, &h.box.xmax, &h.box.ymin,
                           &h.box.ymax, &h.box.zmin, &h.box.zmax};
@@ -155,22 +169,26 @@ Header ParseHeader(TextCursor& in) {
   for (int i = 0; i < 3; ++i) {
     if (in.at_end())
       in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
-    *counts[i] = Count(in, count_names[i]);
+    *counts[i] = Count(in, count_names[i], max_particles);
     in.EndOfLine(count_names[i]);
   }
   if (in.at_end()) in.Fail("truncated header: expected the time step on line 10");
   h.time_step_s = in.Number<double>("time step (s)");
   in.EndOfLine("time step");
   if (in.at_end()) in.Fail("truncated header: expected the log step on line 11");
-  h.log_step = static_cast<int>(Count(in, "log step"));
+  h.log_step = static_cast<int>(Count(in, "log step", std::numeric_limits<int>::max()));
   in.EndOfLine("log step");
   if (h.particles() == 0) in.Fail("header declares no particles");
+  if (h.particles() > text_bytes / kMinRowBytes)
+    in.Fail("header declares " + std::to_string(h.particles()) +
+            " particles, more rows than the file can hold");
   if (h.time_step_s <= 0) in.Fail("time step must be positive");
   if (h.log_step <= 0) h.log_step = 1;
   return h;
 }
 
 struct Rows {
+  std::string name;  // the file, for messages
   // Positions as they will be stored. In the OpenCL layout later frames list only the moving
   // particles; while `expanded`, each such frame is completed in place with frame 0's boundary
   // rows (boundary particles never move), so no second copy of the data is ever made.
@@ -185,13 +203,21 @@ struct Rows {
 // Reserves room for the positions a text of `bytes` can hold, backed by huge pages.
 void ReserveForText(Rows& r, const Header& h, std::size_t bytes) {
   const std::size_t rows = bytes / 24 + h.particles();  // Sibernetic's rows take 24 to 32 bytes
-  const std::size_t floats = r.expanded ? (1 + rows / h.moving()) * h.particles() * 3 : rows * 3;
-  r.xyz.reserve(floats);
+  const std::size_t floats =
+      r.expanded ? SaturatingProduct(1 + rows / h.moving(), h.particles() * 3) : rows * 3;
+  // An estimate, capped at 8 floats per byte of text (demo1's buffer expands to 6: 343 moving
+  // rows a frame, 17,841 particles): a header whose counts would expand a small file further
+  // grows the vector instead, and that growth is checked against the memory budget frame by frame.
+  r.xyz.reserve(std::min({floats, SaturatingProduct(bytes, 8) + 3 * h.particles(),
+                          MemoryBudgetBytes() / sizeof(float)}));
   AdviseHugePages(r.xyz.data(), r.xyz.capacity() * sizeof(float));
 }
 
 void AppendBoundaryBlock(Rows& r, const Header& h) {
   const std::size_t begin = h.moving() * 3, end = h.particles() * 3;
+  if (r.xyz.size() + end - begin > r.xyz.capacity())  // the vector is about to grow
+    CheckAllocation((r.xyz.size() + end - begin) * sizeof(float) * 2, r.name,
+                    "the positions (the opencl layout repeats the boundary rows in every frame)");
   r.xyz.insert(r.xyz.end(), r.xyz.begin() + static_cast<std::ptrdiff_t>(begin),
                r.xyz.begin() + static_cast<std::ptrdiff_t>(end));
 }
@@ -212,6 +238,7 @@ void BeforeRow(Rows& r, const Header& h, bool boundary_row, bool may_switch) {
 Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayout requested,
                bool quiet) {
   Rows r;
+  r.name = in.name();
   r.first_row_line = in.line();
   r.expanded = requested != TextLayout::kNative && h.moving() > 0 && h.boundary > 0;
   const bool may_switch = requested == TextLayout::kAuto;
@@ -224,7 +251,7 @@ Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayou
     const float x = in.Number<float>("x"), y = in.Number<float>("y"), z = in.Number<float>("z");
     const float type = in.Number<float>("particle type");
     in.EndOfLine("particle type");
-    const bool boundary_row = static_cast<int>(type) == 3;
+    const bool boundary_row = type >= 3.0f && type < 4.0f;  // no cast: 1e30 is finite
     if (r.rows < h.particles()) {
       r.first_frame_type.push_back(type);
     } else if (boundary_row) {
@@ -372,7 +399,7 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
     throw InputError(name, lines, "truncated file: the last line does not end with a newline");
   }
   TextCursor in(text, name);
-  const Header header = ParseHeader(in);
+  const Header header = ParseHeader(in, text.size());
   Rows rows = ParseRows(in, header, text, options.layout, options.quiet);
   if (rows.rows < header.particles()) {
     throw InputError(name, in.line(),
@@ -418,7 +445,7 @@ Trajectory ReadSiberneticText(const std::filesystem::path& path, const TextReadO
   return ParseSiberneticText(file.text(), path.string(), options, report);
 }
 
-namespace {
+namespace internal {
 
 void AppendNumber(std::string& out, float value) {
   char buffer[32];
@@ -438,27 +465,29 @@ void AppendRow(std::string& out, const float* xyz, float type) {
   out.push_back('\n');
 }
 
-std::string HeaderText(const Trajectory& t) {
+std::string TextHeader(const Box& box, const std::vector<float>& type, double time_step_s,
+                       int log_step) {
   std::string out;
-  for (float v : {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax}) {
+  for (float v : {box.xmin, box.xmax, box.ymin, box.ymax, box.zmin, box.zmax}) {
     AppendNumber(out, v);
     out.push_back('\n');
   }
   for (ParticleKind kind :
        {ParticleKind::kElastic, ParticleKind::kLiquid, ParticleKind::kBoundary}) {
-    out += std::to_string(t.count(kind));
+    out += std::to_string(
+        std::count_if(type.begin(), type.end(), [kind](float t) { return KindOf(t) == kind; }));
     out.push_back('\n');
   }
   char dt[32];
-  auto [end, ec] = std::to_chars(dt, dt + sizeof dt, t.time_step_s, std::chars_format::general, 6);
+  auto [end, ec] = std::to_chars(dt, dt + sizeof dt, time_step_s, std::chars_format::general, 6);
   out.append(dt, end);
   out.push_back('\n');
-  out += std::to_string(t.log_step);
+  out += std::to_string(log_step);
   out.push_back('\n');
   return out;
 }
 
-}  // namespace
+}  // namespace internal
 
 void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path,
                          TextLayout layout) {
@@ -472,11 +501,11 @@ void WriteSiberneticText(const Trajectory& t, const std::filesystem::path& path,
                          "cannot write the opencl layout: boundary particles must come last");
   }
   AtomicOutput out(path);
-  std::string buffer = HeaderText(t);
+  std::string buffer = internal::TextHeader(t.box, t.type, t.time_step_s, t.log_step);
   buffer.reserve(1 << 22);
   for (std::size_t f = 0; f < t.frame_count(); ++f) {
     const std::size_t rows = (f == 0 || layout == TextLayout::kNative) ? n : moving;
-    for (std::size_t i = 0; i < rows; ++i) AppendRow(buffer, t.position(f, i), t.type[i]);
+    for (std::size_t i = 0; i < rows; ++i) internal::AppendRow(buffer, t.position(f, i), t.type[i]);
     if (buffer.size() > (1 << 22)) {
       out.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
       buffer.clear();

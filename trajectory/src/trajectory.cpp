@@ -8,14 +8,10 @@
 namespace owval {
 
 ParticleKind KindOf(float type_code) {
-  switch (static_cast<int>(type_code)) {
-    case 1:
-      return ParticleKind::kLiquid;
-    case 2:
-      return ParticleKind::kElastic;
-    default:
-      return ParticleKind::kBoundary;
-  }
+  // The integer part by comparison, not by a cast: casting NaN or 1e30 to int is undefined.
+  if (type_code >= 1.0f && type_code < 2.0f) return ParticleKind::kLiquid;
+  if (type_code >= 2.0f && type_code < 3.0f) return ParticleKind::kElastic;
+  return ParticleKind::kBoundary;
 }
 
 const char* KindName(ParticleKind kind) {

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <random>
 
-#include "adler32.hpp"
 #include "hdf5_chunks.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -51,23 +50,6 @@ std::vector<float> ReadWithHdf5Pipeline(const fs::path& path, std::size_t values
   H5Dclose(set);
   H5Fclose(file);
   return out;
-}
-
-TEST(Adler32, EqualsZlibForAnyLengthAndStart) {
-  std::mt19937 rng(1);
-  std::vector<unsigned char> data(200003);
-  for (auto& b : data) b = static_cast<unsigned char>(rng());
-  for (std::size_t length :
-       {0u, 1u, 31u, 32u, 33u, 1000u, 5535u, 5536u, 5537u, 5552u, 11072u, 65537u, 200003u}) {
-    for (std::uint32_t start : {1u, 0xfff0fff0u % 65521u, (65520u << 16) | 65520u}) {
-      EXPECT_EQ(internal::Adler32(start, data.data(), length),
-                std::uint32_t(adler32(start, data.data(), uInt(length))))
-          << length << " from " << start;
-    }
-  }
-  std::vector<unsigned char> ones(100000, 255);  // the largest sums
-  EXPECT_EQ(internal::Adler32(1, ones.data(), ones.size()),
-            std::uint32_t(adler32(1, ones.data(), uInt(ones.size()))));
 }
 
 TEST(Hdf5Chunks, ParallelReadEqualsHdf5sPipeline) {

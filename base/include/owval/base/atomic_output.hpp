@@ -22,6 +22,8 @@ class AtomicOutput {
   std::ofstream& stream();
   // Flushes, closes and renames the temporary onto the destination. Throws on I/O failure.
   void Commit();
+  // The same, onto another name (a partial trajectory's, when a run is interrupted).
+  void CommitAs(const std::filesystem::path& destination);
 
  private:
   std::filesystem::path destination_;

@@ -8,7 +8,8 @@
 namespace owval {
 
 // Bad input: a file or an argument that cannot be used. what() is one line of the form
-// "FILE:LINE: message" (LINE omitted when 0), ready to print.
+// "FILE:LINE: message" (LINE omitted when 0), ready to print: made one line of printable ASCII of
+// at most 300 characters by OneLine() (one_line.hpp), whatever the file fed into the message.
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, std::size_t line, const std::string& message);

@@ -44,9 +44,19 @@ struct SiberneticConfig {
 
 // Reads and validates a configuration. Throws InputError("file:line: ...") on malformed input,
 // a missing [simulation box], position/velocity count mismatch, elastic particles not first,
-// a connection block that is not 32 rows per elastic particle, a partner that does not exist.
+// a connection block that is not 32 rows per elastic particle, a partner that does not exist,
+// a membrane vertex that is not elastic, [membranes] without [particleMemIndex], a
+// [particleMemIndex] value naming no membrane, an index no int holds, and a box whose neighbour
+// grid (NeighbourGridCells with Sibernetic's default h) exceeds the memory budget: the sizes
+// are checked before the engine allocates anything from them.
 SiberneticConfig ReadSiberneticConfig(const std::filesystem::path& path);
 SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::string& name);
+
+// Cells of the neighbour grid over `box` with cells of 2h (as the engine's NeighbourGrid counts
+// them: from 0 to each maximum, two spare), saturating at SIZE_MAX.
+std::size_t NeighbourGridCells(const Box& box, double h_cu);
+// Bytes the grid keeps per cell (start offsets of static, moving and merged lists, and a count).
+inline constexpr std::size_t kNeighbourGridBytesPerCell = 16;
 
 // Writes a configuration Sibernetic itself can load (TAB-separated, [end] terminated), atomically.
 void WriteSiberneticConfig(const SiberneticConfig& config, const std::filesystem::path& path);

@@ -1,0 +1,13 @@
+#pragma once
+// Inputs are regular files. A FIFO blocks open() until a writer appears and a directory or a
+// device has no size to check allocations against, so readers call RequireRegularFile() before
+// they open anything (issue 18 item 14).
+#include <filesystem>
+
+namespace owval {
+
+// Throws InputError naming the file when it is missing, or not a regular file (saying what it
+// is: a directory, a FIFO, a device, a socket). Follows symbolic links.
+void RequireRegularFile(const std::filesystem::path& path);
+
+}  // namespace owval

@@ -1,0 +1,110 @@
+// Hostile configurations (issue 18 items 2 and 7): each is refused with one line naming the file
+// and what was wrong, before the engine sizes anything from it.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
+#include "owval/engine/config.hpp"
+
+namespace owval::engine {
+namespace {
+
+// One elastic particle (with its 32 connection slots, all empty) and one boundary particle.
+std::string Config(const std::string& box, const std::string& tail) {
+  std::string text = "[simulation box]\n" + box +
+                     "[position]\n5\t5\t5\t2.1\n1\t1\t1\t3\n[velocity]\n0\t0\t0\t0\n0\t0\t0\t3\n"
+                     "[connection]\n";
+  for (int i = 0; i < 32; ++i) text += "-1\t0\t0\t0\n";
+  return text + tail;
+}
+const std::string kBox = "0\n10\n0\n10\n0\n10\n";
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseSiberneticConfig(text, "cfg");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string MemIndex(const std::string& first) {
+  std::string rows = "[particleMemIndex]\n" + first;
+  for (int i = 1; i < 7; ++i) rows += "-1\n";
+  return rows;
+}
+
+TEST(ConfigHostile, AcceptsAValidMembraneIndex) {
+  // Vertices 0 0 0 are the one elastic particle (degenerate, but an index check only).
+  EXPECT_EQ(ErrorOf(Config(kBox, "[membranes]\n0\t0\t0\n" + MemIndex("0\n") + "[end]\n")),
+            "no error");
+}
+
+// Was a heap use-after-free read in the membrane pass (membranes.cpp:57).
+TEST(ConfigHostile, RefusesAParticleMemIndexNamingNoMembrane) {
+  EXPECT_EQ(ErrorOf(Config(kBox, "[membranes]\n0\t0\t0\n" + MemIndex("5\n") + "[end]\n")),
+            "cfg: [particleMemIndex] row 0 names membrane 5, which does not exist (1 membranes; "
+            "-1 = none)");
+  EXPECT_NE(ErrorOf(Config(kBox, "[membranes]\n0\t0\t0\n" + MemIndex("-7\n") + "[end]\n"))
+                .find("names membrane -7"),
+            std::string::npos);
+}
+
+TEST(ConfigHostile, RefusesMembranesWithoutParticleMemIndex) {
+  EXPECT_EQ(ErrorOf(Config(kBox, "[membranes]\n0\t0\t0\n[end]\n")),
+            "cfg: [membranes] without [particleMemIndex]: expected 7 membrane slots per elastic "
+            "particle");
+}
+
+TEST(ConfigHostile, RefusesAnIndexNoIntHolds) {
+  EXPECT_EQ(ErrorOf(Config(kBox, "[membranes]\n1e30\t0\t0\n[end]\n")),
+            "cfg:48: membrane vertex 1000000015047466219876688855040.000000 is not a particle or "
+            "membrane index");
+}
+
+TEST(ConfigHostile, RefusesAConnectionTo1e30) {
+  std::string text = Config(kBox, "[end]\n");
+  text.replace(text.find("-1\t0\t0\t0\n"), 9, "1e30\t1\t0\t0\n");
+  EXPECT_NE(
+      ErrorOf(text).find("connection row 0 links to particle 1000000015047466219876688855040"),
+      std::string::npos);
+}
+
+// Was an 11 GB allocation and bad_alloc for three particles.
+TEST(ConfigHostile, RefusesABoxWhoseNeighbourGridExceedsTheBudget) {
+  const std::string error = ErrorOf(Config("0\n1e6\n0\n1e6\n0\n1e6\n", "[end]\n"));
+  EXPECT_NE(error.find("cfg: [simulation box] 1000000.000000 x 1000000.000000 x 1000000.000000 "
+                       "cu needs a neighbour grid of "),
+            std::string::npos)
+      << error;
+  SetMemoryBudgetBytes(1 << 20);  // 65,536 cells
+  EXPECT_NE(ErrorOf(Config("0\n300\n0\n300\n0\n300\n", "[end]\n")).find("over the limit of 65536"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf(Config("0\n100\n0\n100\n0\n100\n", "[end]\n")), "no error");
+  SetMemoryBudgetBytes(0);
+}
+
+TEST(ConfigHostile, RefusesAnInvertedBox) {
+  EXPECT_EQ(ErrorOf(Config("10\n0\n0\n10\n0\n10\n", "[end]\n")),
+            "cfg: [simulation box]: a maximum is below its minimum");
+}
+
+TEST(ConfigHostile, RefusesAnOverflowingPhysicalParameterAndAHugeLine) {
+  const std::string head = "[physical parameters]\nh: 1.0e999\n";
+  EXPECT_EQ(ErrorOf(head + Config(kBox, "[end]\n")),
+            "cfg:2: [physical parameters] h is not a finite number");
+  const std::string spaces = "[physical parameters]\nh:" + std::string(100000, ' ') + "3.0\n";
+  EXPECT_EQ(ErrorOf(spaces + Config(kBox, "[end]\n")),
+            "cfg:2: [physical parameters] line longer than 1024 characters");
+}
+
+TEST(ConfigHostile, NeighbourGridCellsMatchesTheEngineGrid) {
+  Box box;
+  box.xmax = 10, box.ymax = 20, box.zmax = 0;  // 10 / 6.68 -> 1 + 2; 20 / 6.68 -> 2 + 2; 0 + 2
+  EXPECT_EQ(NeighbourGridCells(box, 3.34), 3u * 4u * 2u);
+}
+
+}  // namespace
+}  // namespace owval::engine

@@ -1,0 +1,26 @@
+// Fuzz target: the HDF5 trajectory reader (owval's pre-flight checks, its parallel chunk path and
+// libhdf5's fallback). HDF5 reads files, so each input is written to a scratch file first.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "fuzz_common.hpp"
+#include "owval/trajectory/formats.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  owval::fuzz::SetUpOnce();
+  static const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("owval_fuzz_hdf5_" + std::to_string(::getpid()) + ".h5");
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  try {
+    owval::ReadHdf5(path);
+  } catch (const owval::InputError& e) {
+    owval::fuzz::CheckMessage(e);
+  }
+  return 0;
+}

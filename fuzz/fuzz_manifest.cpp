@@ -1,0 +1,29 @@
+// Fuzz target: a scenario manifest (JSON) through scenarios::LoadScenario, as `owval run NAME`
+// reads scenarios/manifests/NAME.json.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "fuzz_common.hpp"
+#include "owval/scenarios/scenario.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  owval::fuzz::SetUpOnce();
+  namespace fs = std::filesystem;
+  static const fs::path dir =
+      fs::temp_directory_path() / ("owval_fuzz_manifest_" + std::to_string(::getpid()));
+  static const bool made = fs::create_directories(dir / "scenarios" / "manifests") || true;
+  (void)made;
+  {
+    std::ofstream out(dir / "scenarios" / "manifests" / "fuzz.json",
+                      std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  try {
+    owval::scenarios::LoadScenario("fuzz", dir);
+  } catch (const owval::InputError& e) {
+    owval::fuzz::CheckMessage(e);
+  }
+  return 0;
+}

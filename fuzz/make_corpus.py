@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Writes the fuzz targets' seed corpora (fuzz/corpus/NAME) from small real-shaped files.
+
+Text and configuration seeds are small files in Sibernetic's formats (a few particles, a few
+frames: libFuzzer mutates small inputs fastest); HDF5 seeds are the text seeds converted by
+`owval convert` (pass the owval binary); zlib seeds are zlib streams of chunk-like data behind the
+2-byte size prefix fuzz_zlib_chunk.cpp reads; manifest seeds are the built-in scenario manifests.
+Run: python3 fuzz/make_corpus.py build/cli/owval
+"""
+import gzip
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CORPUS = os.path.join(ROOT, "fuzz", "corpus")
+
+
+def write(target, name, data):
+    os.makedirs(os.path.join(CORPUS, target), exist_ok=True)
+    path = os.path.join(CORPUS, target, name)
+    with open(path, "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+    return path
+
+
+def header(elastic, liquid, boundary, dt="2e-05", log_step=1):
+    return "0\n20\n0\n20\n0\n20\n%d\n%d\n%d\n%s\n%s\n" % (elastic, liquid, boundary, dt, log_step)
+
+
+def rows(points):
+    return "".join("%g\t%g\t%g\t%g\n" % p for p in points)
+
+
+def text_seeds():
+    moving = [(5, 5, 5, 2.1), (6, 5.5, 5, 1.1)]
+    walls = [(1, 1, 1, 3), (19, 1, 1, 3.1)]
+    opencl = header(1, 1, 2, log_step=20) + rows(moving + walls)
+    for f in range(1, 5):
+        opencl += rows([(x + 0.1 * f, y - 0.05 * f, z, t) for x, y, z, t in moving])
+    native = header(1, 1, 2) + "".join(rows(moving + walls) for _ in range(3))
+    crlf = (header(0, 1, 0) + rows([(1.5, 2.5, 3.5, 1.1)] * 3)).replace("\n", "\r\n")
+    seeds = {"opencl.txt": opencl, "native.txt": native, "crlf.txt": crlf,
+             "liquid_only.txt": header(0, 2, 0) + rows([(1, 2, 3, 1), (2, 3, 4, 1)] * 2)}
+    paths = []
+    for name, text in seeds.items():
+        paths.append(write("text", name, text))
+    write("text", "opencl.txt.gz", gzip.compress(opencl.encode(), mtime=0))
+    return paths
+
+
+def config_seeds():
+    connection = "1\t1.5\t0\t0\n" + "-1\t0\t0\t0\n" * 31
+    connection += "0\t1.5\t1\t0\n" + "-1\t0\t0\t0\n" * 31
+    memindex = "0\n" + "-1\n" * 6 + "0\n" + "-1\n" * 6
+    body = ("[simulation box]\n0\n20\n0\n20\n0\n20\n"
+            "[position]\n5\t5\t5\t2.1\n6.5\t5\t5\t2.1\n7\t7\t7\t2.2\n8\t8\t8\t1.1\n1\t1\t1\t3\n"
+            "[velocity]\n0\t0\t0\t0\n0\t0\t0\t0\n0\t0\t0\t0\n0\t0\t0\t0\n0.57735\t0.57735\t0.57735\t3\n"
+            "[connection]\n" + connection + "-1\t0\t0\t0\n" * 32)
+    membranes = "[membranes]\n0\t1\t2\n[particleMemIndex]\n" + memindex + "-1\n" * 7
+    write("config", "three_elastic.cfg", body + membranes + "[end]\n")
+    write("config", "params.cfg", "[physical parameters]\nh: 3.34\ntimeStep: 2.0e-05 // dt\n"
+          + body + "[membranes]\n[particleMemIndex]\n[end]\n")
+    write("config", "liquid.cfg", "[simulation box]\n0\n30\n0\n30\n0\n30\n[position]\n"
+          "3\t3\t3\t1.1\n4\t4\t4\t1\n[velocity]\n0\t0\t0\t1\n0\t0\t0\t1\n[connection]\n"
+          "[membranes]\n[particleMemIndex]\n[end]\n")
+
+
+def hdf5_seeds(owval, text_paths):
+    out = os.path.join(CORPUS, "hdf5")
+    os.makedirs(out, exist_ok=True)
+    for path in text_paths:
+        name = os.path.splitext(os.path.basename(path))[0] + ".h5"
+        subprocess.run([owval, "--quiet", "convert", path, os.path.join(out, name)], check=True)
+
+
+def zlib_seeds():
+    import random
+    rng = random.Random(1)
+    floats = struct.pack("<%df" % 48, *[10 + 0.01 * i + rng.uniform(-1e-3, 1e-3) for i in range(48)])
+    planes = bytes(floats[4 * e + b] for b in range(4) for e in range(48))  # HDF5 shuffle
+    samples = {"shuffled": planes, "text": b"worm muscle particle elastic\n" * 20,
+               "zeros": bytes(4096), "random": bytes(rng.getrandbits(8) for _ in range(400))}
+    for name, data in samples.items():
+        for level in (0, 1, 9):
+            size = struct.pack(">H", len(data) // 4)
+            write("zlib_chunk", "%s_%d" % (name, level), size + zlib.compress(data[: len(data) // 4 * 4], level))
+
+
+def manifest_seeds():
+    src = os.path.join(ROOT, "scenarios", "manifests")
+    os.makedirs(os.path.join(CORPUS, "manifest"), exist_ok=True)
+    for name in sorted(os.listdir(src)):
+        if name.endswith(".json"):
+            shutil.copy(os.path.join(src, name), os.path.join(CORPUS, "manifest", name))
+
+
+def main():
+    text_paths = text_seeds()
+    config_seeds()
+    zlib_seeds()
+    manifest_seeds()
+    if len(sys.argv) > 1:
+        hdf5_seeds(sys.argv[1], text_paths)
+
+
+if __name__ == "__main__":
+    main()

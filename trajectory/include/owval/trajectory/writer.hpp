@@ -1,0 +1,97 @@
+#pragma once
+// Streaming trajectory output (issue 16): frames are written as they are produced, so a run's
+// memory is O(particles), whatever its length.
+//
+//   TrajectoryHeader header{box, dt, log_step, types};
+//   auto writer = OpenTrajectoryWriter("out/trajectory.h5", header);
+//   for (each recorded step) writer->AppendFrame(time_s, positions);   // 3 floats a particle
+//   writer->Close();   // complete: renamed onto out/trajectory.h5
+//   // or, on SIGINT / SIGTERM / divergence:
+//   writer->Abort();   // what was appended so far, readable, as out/trajectory.partial.h5
+//
+// Formats by extension: .h5/.hdf5 is owval's HDF5 (datasets extended chunk by chunk, frames
+// buffered one chunk at a time); anything else is Sibernetic text in the OpenCL or native layout
+// (rows appended, buffered 4 MiB at a time), byte for byte what WriteSiberneticText writes.
+// Until Close() or Abort(), the data lives under a temporary name beside the destination; a
+// writer destroyed without either removes it (an exception unwinding a run leaves nothing).
+// A partial trajectory is named PARTIAL = stem + ".partial" + extension; in HDF5 it also carries
+// the root attribute `partial` = 1 (ReadHdf5 sets provenance["partial"] = "1"); the text format
+// has no metadata, so there the name alone says it.
+//
+// Integration (engine::Run belongs to the engine): open the writer once the first frame's
+// particle types are known, AppendFrame at each logged step instead of Trajectory::AppendFrame,
+// Close at the end, Abort from the interrupt path.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval {
+
+struct TrajectoryHeader {
+  Box box;
+  double time_step_s = 0;
+  int log_step = 1;
+  std::vector<float> type;                        // every particle's type code, in file order
+  std::map<std::string, std::string> provenance;  // HDF5 only
+  bool velocities = false;  // HDF5 only: AppendFrame then takes velocities (3 floats a particle)
+  bool density = false;     // HDF5 only: and density (1 float a particle)
+};
+
+struct TrajectoryWriterOptions {
+  TextLayout layout = TextLayout::kOpenCL;  // text only
+  Hdf5WriteOptions hdf5;                    // chunk shape and deflate level
+};
+
+class TrajectoryWriter {
+ public:
+  virtual ~TrajectoryWriter() = default;
+  // One frame: positions (3 floats a particle, cu); velocities and density when the header asks
+  // for them. Throws InputError naming the file on an I/O failure (a full disk).
+  virtual void AppendFrame(double time_s, const float* positions, const float* velocities = nullptr,
+                           const float* density = nullptr) = 0;
+  // Writes what is buffered and renames the file onto its destination.
+  virtual void Close() = 0;
+  // Writes what is buffered, marks the file partial and renames it onto PartialPath(destination).
+  virtual void Abort() = 0;
+  virtual std::size_t frames_written() const = 0;
+};
+
+std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,
+                                                       const TrajectoryHeader& header,
+                                                       const TrajectoryWriterOptions& options = {});
+
+// out/trajectory.h5 -> out/trajectory.partial.h5; position_buffer.txt ->
+// position_buffer.partial.txt
+std::filesystem::path PartialPath(const std::filesystem::path& destination);
+
+// Reads an HDF5 trajectory frame by frame (memory O(particles)): the same checks as ReadHdf5
+// (docs/fuzzing.md) at open, then one hyperslab a frame.
+class Hdf5FrameReader {
+ public:
+  explicit Hdf5FrameReader(const std::filesystem::path& path);
+  ~Hdf5FrameReader();
+  Hdf5FrameReader(const Hdf5FrameReader&) = delete;
+  Hdf5FrameReader& operator=(const Hdf5FrameReader&) = delete;
+
+  const TrajectoryHeader& header() const { return header_; }
+  std::size_t frame_count() const { return frames_; }
+  bool partial() const;
+  // Frame f's time and positions (3 * particles floats). Throws InputError on a corrupt chunk
+  // or a non-finite position.
+  double ReadFrame(std::size_t frame, float* positions);
+
+ private:
+  std::string path_;
+  std::int64_t file_ = -1, positions_ = -1;  // HDF5 identifiers (hid_t)
+  TrajectoryHeader header_;
+  std::vector<double> time_s_;
+  std::size_t frames_ = 0;
+};
+
+}  // namespace owval

@@ -1,0 +1,257 @@
+// Streaming HDF5 output and frame-by-frame input (writer.hpp): the datasets of owval's layout
+// with an unlimited frame axis, extended one chunk of frames at a time.
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hdf5_handle.hpp"
+#include "hdf5_preflight.hpp"
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/writer.hpp"
+#include "writers.hpp"
+
+namespace owval::internal {
+namespace {
+
+// One extendible dataset [frames, particles(, components)] and its buffered frames.
+struct Stream {
+  hid_t set = -1;
+  std::size_t values_per_frame = 0;  // particles * components
+  std::vector<float> buffer;
+};
+
+class Hdf5Writer : public TrajectoryWriter {
+ public:
+  Hdf5Writer(const std::filesystem::path& destination, const TrajectoryHeader& header,
+             const Hdf5WriteOptions& options)
+      : out_(destination),
+        name_(destination.string()),
+        particles_(header.type.size()),
+        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
+    PrepareHdf5();
+    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+    H5Pset_obj_track_times(fcpl, false);
+    file_ = H5Fcreate(out_.temporary_path().c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    if (file_ < 0) throw InputError(name_, 0, "cannot create HDF5 file");
+    positions_ = Create("positions", 3, options);
+    if (header.velocities) velocities_ = Create("velocities", 3, options);
+    if (header.density) density_ = Create("density", 1, options);
+    time_ = CreateTime();
+    WriteStatic(header);
+  }
+
+  ~Hdf5Writer() override { CloseHandles(); }  // out_ then removes the temporary if not renamed
+
+  void AppendFrame(double time_s, const float* positions, const float* velocities,
+                   const float* density) override {
+    Buffer(positions_, positions);
+    if (velocities_.set >= 0) Buffer(velocities_, velocities);
+    if (density_.set >= 0) Buffer(density_, density);
+    times_.push_back(time_s);
+    if (times_.size() == frames_per_chunk_) Flush();
+  }
+
+  void Close() override {
+    Flush();
+    Finish();
+    out_.Commit();
+  }
+
+  void Abort() override {
+    Flush();
+    const int one = 1;
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    Handle attr(H5Acreate2(file_, "partial", H5T_NATIVE_INT, space, H5P_DEFAULT, H5P_DEFAULT),
+                H5Aclose);
+    if (!attr.valid() || H5Awrite(attr, H5T_NATIVE_INT, &one) < 0) Fail("write attribute partial");
+    Finish();
+    out_.CommitAs(PartialPath(out_.destination()));
+  }
+
+  std::size_t frames_written() const override { return written_ + times_.size(); }
+
+ private:
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError(name_, 0, "HDF5: cannot " + what + " (disk full?)");
+  }
+
+  Stream Create(const char* dataset, int components, const Hdf5WriteOptions& o) {
+    Stream s;
+    s.values_per_frame = particles_ * std::size_t(components);
+    std::vector<hsize_t> dims = {0, particles_}, max = {H5S_UNLIMITED, particles_},
+                         chunk = {frames_per_chunk_,
+                                  std::min<hsize_t>(o.particles_per_chunk, particles_)};
+    if (components > 1) {
+      dims.push_back(hsize_t(components)), max.push_back(hsize_t(components));
+      chunk.push_back(hsize_t(components));
+    }
+    Handle space(H5Screate_simple(int(dims.size()), dims.data(), max.data()), H5Sclose);
+    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    H5Pset_obj_track_times(dcpl, false);
+    H5Pset_chunk(dcpl, int(chunk.size()), chunk.data());
+    H5Pset_shuffle(dcpl);
+    H5Pset_deflate(dcpl, unsigned(o.compression_level));
+    s.set = H5Dcreate2(file_, dataset, H5T_NATIVE_FLOAT, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    if (s.set < 0) Fail(std::string("create dataset ") + dataset);
+    s.buffer.reserve(frames_per_chunk_ * s.values_per_frame);
+    return s;
+  }
+
+  hid_t CreateTime() {
+    const hsize_t dims = 0, max = H5S_UNLIMITED, chunk = 1024;
+    Handle space(H5Screate_simple(1, &dims, &max), H5Sclose);
+    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    H5Pset_obj_track_times(dcpl, false);
+    H5Pset_chunk(dcpl, 1, &chunk);
+    const hid_t set =
+        H5Dcreate2(file_, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    if (set < 0) Fail("create dataset time");
+    return set;
+  }
+
+  void WriteStatic(const TrajectoryHeader& h) {
+    const hsize_t n = particles_, six = 6;
+    {
+      Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+      Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+      H5Pset_obj_track_times(dcpl, false);
+      Handle set(H5Dcreate2(file_, "type", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                 H5Dclose);
+      if (!set.valid() ||
+          H5Dwrite(set, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, h.type.data()) < 0)
+        Fail("write dataset type");
+    }
+    const float box[6] = {h.box.xmin, h.box.xmax, h.box.ymin, h.box.ymax, h.box.zmin, h.box.zmax};
+    Attribute("box", H5T_NATIVE_FLOAT, box, &six);
+    Attribute("time_step_s", H5T_NATIVE_DOUBLE, &h.time_step_s, nullptr);
+    Attribute("log_step", H5T_NATIVE_INT, &h.log_step, nullptr);
+    for (const auto& [key, value] : h.provenance) {
+      Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+      H5Tset_size(type, value.size() + 1);
+      Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+      const std::string attr_name = "provenance:" + key;
+      Handle attr(H5Acreate2(file_, attr_name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+                  H5Aclose);
+      if (!attr.valid() || H5Awrite(attr, type, value.c_str()) < 0) Fail("write " + attr_name);
+    }
+  }
+
+  void Attribute(const char* name, hid_t type, const void* value, const hsize_t* n) {
+    Handle space(n ? H5Screate_simple(1, n, nullptr) : H5Screate(H5S_SCALAR), H5Sclose);
+    Handle attr(H5Acreate2(file_, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    if (!attr.valid() || H5Awrite(attr, type, value) < 0)
+      Fail(std::string("write attribute ") + name);
+  }
+
+  void Buffer(Stream& s, const float* values) {
+    if (!values) throw std::logic_error("TrajectoryWriter: a field the header declares is missing");
+    s.buffer.insert(s.buffer.end(), values, values + s.values_per_frame);
+  }
+
+  // Extends `set` to `frames` frames and writes the buffered ones at its end.
+  void Extend(hid_t set, std::size_t new_frames, const void* data, hid_t mem_type) {
+    Handle old_space(H5Dget_space(set), H5Sclose);
+    std::vector<hsize_t> dims(std::size_t(H5Sget_simple_extent_ndims(old_space)));
+    H5Sget_simple_extent_dims(old_space, dims.data(), nullptr);
+    std::vector<hsize_t> start(dims.size(), 0), count = dims;
+    start[0] = written_, count[0] = new_frames;
+    dims[0] = written_ + new_frames;
+    if (H5Dset_extent(set, dims.data()) < 0) Fail("extend a dataset");
+    Handle file_space(H5Dget_space(set), H5Sclose);
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
+    Handle memory(H5Screate_simple(int(count.size()), count.data(), nullptr), H5Sclose);
+    if (H5Dwrite(set, mem_type, memory, file_space, H5P_DEFAULT, data) < 0) Fail("write frames");
+  }
+
+  void Flush() {
+    const std::size_t frames = times_.size();
+    if (frames == 0) return;
+    for (Stream* s : {&positions_, &velocities_, &density_}) {
+      if (s->set < 0) continue;
+      Extend(s->set, frames, s->buffer.data(), H5T_NATIVE_FLOAT);
+      s->buffer.clear();
+    }
+    Extend(time_, frames, times_.data(), H5T_NATIVE_DOUBLE);
+    written_ += frames;
+    times_.clear();
+  }
+
+  void Finish() {
+    if (H5Fflush(file_, H5F_SCOPE_LOCAL) < 0) Fail("flush");
+    CloseHandles();
+  }
+
+  void CloseHandles() {
+    for (Stream* s : {&positions_, &velocities_, &density_})
+      if (s->set >= 0) H5Dclose(s->set), s->set = -1;
+    if (time_ >= 0) H5Dclose(time_), time_ = -1;
+    if (file_ >= 0 && H5Fclose(file_) < 0) {
+      file_ = -1;
+      Fail("close the file");
+    }
+    file_ = -1;
+  }
+
+  AtomicOutput out_;
+  std::string name_;
+  hsize_t particles_;
+  std::size_t frames_per_chunk_, written_ = 0;
+  hid_t file_ = -1, time_ = -1;
+  Stream positions_, velocities_, density_;
+  std::vector<double> times_;
+};
+
+}  // namespace
+
+std::unique_ptr<TrajectoryWriter> OpenHdf5Writer(const std::filesystem::path& destination,
+                                                 const TrajectoryHeader& header,
+                                                 const Hdf5WriteOptions& options) {
+  return std::make_unique<Hdf5Writer>(destination, header, options);
+}
+
+}  // namespace owval::internal
+
+namespace owval {
+
+Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path.string()) {
+  // The same checks as ReadHdf5, every libhdf5 call made first in a child (hdf5_preflight.hpp).
+  internal::PrepareHdf5();
+  internal::DryRunHdf5Contained(path_);
+  const Trajectory meta = internal::ReadHdf5Metadata(path_);
+  header_.box = meta.box;
+  header_.time_step_s = meta.time_step_s;
+  header_.log_step = meta.log_step;
+  header_.type = meta.type;
+  header_.provenance = meta.provenance;
+  time_s_ = meta.time_s;
+  frames_ = time_s_.size();
+  file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
+  if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
+}
+
+Hdf5FrameReader::~Hdf5FrameReader() {
+  if (positions_ >= 0) H5Dclose(positions_);
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+bool Hdf5FrameReader::partial() const { return header_.provenance.count("partial") > 0; }
+
+double Hdf5FrameReader::ReadFrame(std::size_t frame, float* positions) {
+  if (frame >= frames_) throw std::out_of_range("Hdf5FrameReader: frame past the end");
+  const hsize_t n = header_.type.size(), start[3] = {frame, 0, 0}, count[3] = {1, n, 3};
+  internal::Handle space(H5Dget_space(positions_), H5Sclose);
+  H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  internal::Handle memory(H5Screate_simple(3, count, nullptr), H5Sclose);
+  if (H5Dread(positions_, H5T_NATIVE_FLOAT, memory, space, H5P_DEFAULT, positions) < 0)
+    throw InputError(path_, 0, "HDF5: cannot read frame " + std::to_string(frame) + " (corrupt?)");
+  for (std::size_t i = 0; i < n * 3; ++i)
+    if (!std::isfinite(positions[i]))
+      throw InputError(path_, 0,
+                       "HDF5: /positions of frame " + std::to_string(frame) + " is not finite");
+  return time_s_[frame];
+}
+
+}  // namespace owval

@@ -1,0 +1,94 @@
+// Streaming Sibernetic text output (writer.hpp): rows appended, 4 MiB buffered.
+#include <fstream>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/writer.hpp"
+#include "text_rows.hpp"
+#include "writers.hpp"
+
+namespace owval::internal {
+namespace {
+
+class TextWriter : public TrajectoryWriter {
+ public:
+  TextWriter(const std::filesystem::path& destination, const TrajectoryHeader& header,
+             TextLayout layout)
+      : out_(destination), type_(header.type), native_(layout == TextLayout::kNative) {
+    for (float t : type_) moving_ += KindOf(t) != ParticleKind::kBoundary;
+    if (!native_)
+      for (std::size_t i = 0; i < moving_; ++i)
+        if (KindOf(type_[i]) == ParticleKind::kBoundary)
+          throw InputError(destination.string(), 0,
+                           "cannot write the opencl layout: boundary particles must come last");
+    buffer_ = TextHeader(header.box, header.type, header.time_step_s, header.log_step);
+  }
+
+  void AppendFrame(double, const float* positions, const float*, const float*) override {
+    const std::size_t rows = (frames_ == 0 || native_) ? type_.size() : moving_;
+    for (std::size_t i = 0; i < rows; ++i) AppendRow(buffer_, positions + 3 * i, type_[i]);
+    ++frames_;
+    if (buffer_.size() > (4u << 20)) Flush();
+  }
+
+  void Close() override {
+    Flush();
+    out_.Commit();
+  }
+
+  void Abort() override {
+    Flush();
+    out_.CommitAs(PartialPath(out_.destination()));
+  }
+
+  std::size_t frames_written() const override { return frames_; }
+
+ private:
+  void Flush() {
+    std::ofstream& stream = out_.stream();
+    stream.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    stream.flush();
+    if (!stream) throw InputError(out_.destination().string(), 0, "write failed (disk full?)");
+    buffer_.clear();
+  }
+
+  AtomicOutput out_;
+  std::vector<float> type_;
+  std::size_t moving_ = 0, frames_ = 0;
+  bool native_;
+  std::string buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<TrajectoryWriter> OpenTextWriter(const std::filesystem::path& destination,
+                                                 const TrajectoryHeader& header,
+                                                 TextLayout layout) {
+  return std::make_unique<TextWriter>(destination, header, layout);
+}
+
+}  // namespace owval::internal
+
+namespace owval {
+
+std::filesystem::path PartialPath(const std::filesystem::path& destination) {
+  std::filesystem::path partial = destination;
+  partial.replace_filename(destination.stem().string() + ".partial" +
+                           destination.extension().string());
+  return partial;
+}
+
+std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,
+                                                       const TrajectoryHeader& header,
+                                                       const TrajectoryWriterOptions& options) {
+  if (header.type.empty())
+    throw InputError(destination.string(), 0, "a trajectory needs at least one particle");
+  const std::string ext = destination.extension().string();
+  if (ext == ".h5" || ext == ".hdf5")
+    return internal::OpenHdf5Writer(destination, header, options.hdf5);
+  return internal::OpenTextWriter(
+      destination, header,
+      options.layout == TextLayout::kAuto ? TextLayout::kOpenCL : options.layout);
+}
+
+}  // namespace owval
