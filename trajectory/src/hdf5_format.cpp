@@ -90,6 +90,7 @@ void WriteNumericAttribute(hid_t object, const char* name, hid_t type, const T* 
 
 void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
   t.CheckShape();
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   SilenceHdf5Errors();
   AtomicOutput out(path);
   const std::string name = path.string();
@@ -314,6 +315,7 @@ Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes,
 namespace internal {
 
 void DryRunHdf5Contained(const std::string& path) {
+  const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   SilenceHdf5Errors();
   RequireRegularFile(path);
   const std::uintmax_t file_bytes = std::filesystem::file_size(path);
@@ -321,6 +323,7 @@ void DryRunHdf5Contained(const std::string& path) {
 }
 
 Trajectory ReadHdf5Metadata(const std::string& path) {
+  const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
   CheckFinite("type", FirstNonFinite(t.type), path);
   CheckFinite("time", FirstNonFinite(t.time_s), path);
@@ -330,6 +333,7 @@ Trajectory ReadHdf5Metadata(const std::string& path) {
 }  // namespace internal
 
 Trajectory ReadHdf5(const std::filesystem::path& path) {
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   SilenceHdf5Errors();
   KeepChunkBuffersOnHeap();
   const std::string name = path.string();

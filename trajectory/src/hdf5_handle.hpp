@@ -2,6 +2,8 @@
 // An HDF5 identifier closed when it leaves scope.
 #include <hdf5.h>
 
+#include <mutex>
+
 namespace owval::internal {
 
 class Handle {
@@ -24,6 +26,14 @@ class Handle {
 // itself) and, the first time, keeps libhdf5 from closing files in an exit handler: after a
 // failed write (a full disk) libhdf5 1.10 keeps the file open, and closing it again at exit
 // crashed in H5F__close_cb (issue 18 item 3). owval closes every file it opens itself.
+// Debian's libhdf5 is the serial build: not thread-safe. Every owval entry into libhdf5 holds this
+// lock (sgd's parallel finite differences read two trajectories at once); ReadHdf5 also forks its
+// contained dry run under it, so no other thread is inside libhdf5 at the fork.
+inline std::recursive_mutex& Hdf5Mutex() {
+  static std::recursive_mutex mutex;
+  return mutex;
+}
+
 inline void PrepareHdf5() {
   static const bool once = [] {
     H5dont_atexit();  // fails harmlessly when the library was already initialised

@@ -30,6 +30,7 @@ class Hdf5Writer : public TrajectoryWriter {
         name_(destination.string()),
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
     H5Pset_obj_track_times(fcpl, false);
@@ -42,7 +43,10 @@ class Hdf5Writer : public TrajectoryWriter {
     WriteStatic(header);
   }
 
-  ~Hdf5Writer() override { CloseHandles(); }  // out_ then removes the temporary if not renamed
+  ~Hdf5Writer() override {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+    CloseHandles();
+  }  // out_ then removes the temporary if not renamed
 
   void AppendFrame(double time_s, const float* positions, const float* velocities,
                    const float* density) override {
@@ -50,16 +54,21 @@ class Hdf5Writer : public TrajectoryWriter {
     if (velocities_.set >= 0) Buffer(velocities_, velocities);
     if (density_.set >= 0) Buffer(density_, density);
     times_.push_back(time_s);
-    if (times_.size() == frames_per_chunk_) Flush();
+    if (times_.size() == frames_per_chunk_) {
+      const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+      Flush();
+    }
   }
 
   void Close() override {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     Flush();
     Finish();
     out_.Commit();
   }
 
   void Abort() override {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     Flush();
     const int one = 1;
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
@@ -227,12 +236,14 @@ Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path
   header_.provenance = meta.provenance;
   time_s_ = meta.time_s;
   frames_ = time_s_.size();
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
   if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
 }
 
 Hdf5FrameReader::~Hdf5FrameReader() {
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   if (positions_ >= 0) H5Dclose(positions_);
   if (file_ >= 0) H5Fclose(file_);
 }
@@ -241,6 +252,7 @@ bool Hdf5FrameReader::partial() const { return header_.provenance.count("partial
 
 double Hdf5FrameReader::ReadFrame(std::size_t frame, float* positions) {
   if (frame >= frames_) throw std::out_of_range("Hdf5FrameReader: frame past the end");
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   const hsize_t n = header_.type.size(), start[3] = {frame, 0, 0}, count[3] = {1, n, 3};
   internal::Handle space(H5Dget_space(positions_), H5Sclose);
   H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
