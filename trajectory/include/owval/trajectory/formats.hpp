@@ -65,8 +65,8 @@ FileFormat DetectFormat(const std::filesystem::path& path);
 Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptions& options = {},
                           TextReadReport* report = nullptr);
 // The trajectory file extensions owval writes: ".h5", ".hdf5" (owval HDF5), ".txt"
-// (Sibernetic text), ".wcon" (WCON) and ".zarr" (OME-Zarr, a directory). Checks before any work that `path` has one of them and can be written;
-// InputError naming the path otherwise.
+// (Sibernetic text), ".wcon" (WCON) and ".zarr" (OME-Zarr, a directory). Checks before any work
+// that `path` has one of them and can be written; InputError naming the path otherwise.
 void CheckTrajectoryOutput(const std::filesystem::path& path);
 
 // Writes by extension: .h5/.hdf5 -> HDF5, anything else -> Sibernetic text in `layout`.
