@@ -9,6 +9,7 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libx264-dev ffmpeg
   libosmesa6-dev libfreetype-dev fonts-dejavu-core libpng-dev
   clang-format
+  libssl-dev  # libcrypto: SHA-256 of run-cache keys (backends/)
   python3-zarr python3-jsonschema  # tests only: WCON schema checks, OME-Zarr read back
 )
 missing=()
