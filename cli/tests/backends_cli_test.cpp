@@ -49,7 +49,11 @@ TEST(BackendsCli, OwvalMatchesTheOpenclStoreAndSecondRunIsACacheHit) {
   const auto report = nlohmann::json::parse(json.out);
   for (const auto& s : report["scenarios"]) {
     EXPECT_EQ(s["runs"]["b"]["source"], "cache hit");
-    EXPECT_EQ(s["report"]["l2_mean_cu"], 0.0) << s["scenario"];  // every printed digit
+    // Every printed digit: zero distance and a zero frames gate.
+    EXPECT_EQ(s["report"]["per_particle_distance_cu"]["mean"], 0.0) << s["scenario"];
+    EXPECT_EQ(s["report"]["per_particle_distance_cu"]["final"], 0.0) << s["scenario"];
+    for (const auto& g : s["report"]["gates"])
+      if (g["name"] == "frames") EXPECT_EQ(g["value"], 0.0) << s["scenario"];
   }
 }
 
