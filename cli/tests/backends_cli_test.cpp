@@ -53,7 +53,9 @@ TEST(BackendsCli, OwvalMatchesTheOpenclStoreAndSecondRunIsACacheHit) {
     EXPECT_EQ(s["report"]["per_particle_distance_cu"]["mean"], 0.0) << s["scenario"];
     EXPECT_EQ(s["report"]["per_particle_distance_cu"]["final"], 0.0) << s["scenario"];
     for (const auto& g : s["report"]["gates"]) {
-      if (g["name"] == "frames") EXPECT_EQ(g["value"], 0.0) << s["scenario"];
+      if (g["name"] == "frames") {
+        EXPECT_EQ(g["value"], 0.0) << s["scenario"];
+      }
     }
   }
 }
