@@ -64,6 +64,11 @@ compare::ParityOptions Options(const CompareArgs& a) {
 
 void RunBackendCompare(const CompareArgs& a) {
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  for (const std::string& arg : {a.reference, a.candidate}) {
+    std::error_code ec;
+    if (arg.find('/') != std::string::npos && !std::filesystem::is_regular_file(arg, ec))
+      throw InputError(arg, 0, "no such trajectory file (and not a backend name)");
+  }
   const backends::Registry registry = a.backends.Registry();
   const backends::Backend& ref = registry.Find(a.reference);
   const backends::Backend& cand = registry.Find(a.candidate);
