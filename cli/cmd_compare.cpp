@@ -1,7 +1,12 @@
 // owval compare REF CAND: the parity report a backend port must pass (exit 1 when a gate fails).
+// REF and CAND are trajectory files, or backend names (backends/suite.hpp: every scenario run or
+// fetched on both sides).
+#include <filesystem>
 #include <iostream>
 
+#include "backend_flags.hpp"
 #include "command.hpp"
+#include "owval/backends/suite.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
@@ -21,6 +26,9 @@ struct CompareArgs {
   std::string manifest;
   std::string markdown;
   bool json = false;
+  BackendFlags backends;
+  std::vector<std::string> scenarios, sets;
+  std::string suite, reference_dir;
   // Gate thresholds given as flags, by the ParityGates member they set.
   std::vector<std::pair<compare::Threshold compare::ParityGates::*, std::optional<double>>> gates;
 };
@@ -54,7 +62,43 @@ compare::ParityOptions Options(const CompareArgs& a) {
   return o;
 }
 
+void RunBackendCompare(const CompareArgs& a) {
+  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  for (const std::string& arg : {a.reference, a.candidate}) {
+    std::error_code ec;
+    if (arg.find('/') != std::string::npos && !std::filesystem::is_regular_file(arg, ec))
+      throw InputError(arg, 0, "no such trajectory file (and not a backend name)");
+  }
+  const backends::Registry registry = a.backends.Registry();
+  const backends::Backend& ref = registry.Find(a.reference);
+  const backends::Backend& cand = registry.Find(a.candidate);
+  const std::filesystem::path root =
+      a.reference_dir.empty()
+          ? backends::DefaultScenarioRoot(ref, cand,
+                                          std::filesystem::path(OWVAL_SHARED_DIR) / "reference")
+          : std::filesystem::path(a.reference_dir);
+  backends::SuiteOptions options;
+  options.scenarios = backends::FindScenarios(root, a.scenarios);
+  if (options.scenarios.empty())
+    throw InputError(root.string(), 0, "no scenario with a configuration");
+  options.manifest_directory = DataDir() / "scenarios" / "manifests";
+  options.sets = ParseSets(a.sets);
+  if (!Flags().quiet)
+    options.on_progress = [](const std::string& s) {
+      std::fprintf(stderr, "compare: %s\n", s.c_str());
+    };
+  const backends::SuiteReport report =
+      backends::CompareBackends(ref, cand, options, backends::RunCache(a.backends.Cache()));
+  if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
+  std::cout << (a.json ? report.ToJson().dump(2) + "\n" : report.ToTable());
+  if (!report.pass()) SetExitCode(kExitGateFailed);
+}
+
 void RunCompare(const CompareArgs& a) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(a.reference, ec) ||
+      !std::filesystem::is_regular_file(a.candidate, ec))
+    return RunBackendCompare(a);
   const compare::ParityOptions options = Options(a);
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
   const Trajectory reference = ReadTrajectoryArgument(a.reference);
@@ -71,8 +115,20 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "Phase 7: frame-by-frame parity of a candidate against a reference");
   cmd->footer(kGatesHelp);
-  cmd->add_option("reference", args->reference, "Reference trajectory")->required();
-  cmd->add_option("candidate", args->candidate, "Candidate trajectory")->required();
+  cmd->add_option("reference", args->reference, "Reference trajectory file or backend name")
+      ->required();
+  cmd->add_option("candidate", args->candidate, "Candidate trajectory file or backend name")
+      ->required();
+  AddBackendFlags(cmd, &args->backends, true);
+  cmd->add_option("--scenarios", args->scenarios, "With backend names: these scenarios only")
+      ->delimiter(',');
+  cmd->add_option("--suite", args->suite,
+                  "With backend names: parity = every scenario with a configuration (default)")
+      ->check(CLI::IsMember({"parity"}));
+  cmd->add_option("--reference-dir", args->reference_dir,
+                  "With backend names: the scenario folders (default: the store of either "
+                  "backend, else ../shared/reference)");
+  cmd->add_option("--set", args->sets, "With backend names: NAME=VALUE for {set:NAME}");
   auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)");
   cmd->add_option("--group", args->group, "Track a group centroid: elastic, liquid, all")
       ->excludes(particle)

@@ -1,0 +1,32 @@
+#pragma once
+// Scenarios of a store laid out like ../shared/reference: one folder per scenario with the
+// configuration that was run ("configuration"), meta.json (time_step_s, log_step, and the time
+// as timelimit_s, "timelimit=" in its command, or frames x log_step x time_step_s) and the
+// recorded trajectory (position_buffer.txt, .txt.gz or trajectory.h5).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace owval::backends {
+
+struct Scenario {
+  std::string name;
+  std::filesystem::path directory;
+  std::filesystem::path configuration;  // "" when the folder has none
+  double time_s = 0;
+  double time_step_s = 2e-5;
+  int log_step = 1;
+};
+
+// Reads directory/meta.json. InputError naming the file and field when it cannot.
+Scenario ReadScenario(const std::filesystem::path& directory);
+
+// The named scenarios of `root`, or, with no names, every folder that has a configuration and a
+// meta.json (sorted by name). InputError for a name that is not a scenario folder of `root`.
+std::vector<Scenario> FindScenarios(const std::filesystem::path& root,
+                                    const std::vector<std::string>& names);
+
+// The recorded trajectory of a scenario folder, or "" when it has none.
+std::filesystem::path RecordedTrajectory(const std::filesystem::path& directory);
+
+}  // namespace owval::backends

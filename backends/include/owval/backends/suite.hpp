@@ -1,0 +1,61 @@
+#pragma once
+// Parity of two backends over a set of scenarios (owval compare A B with names): each scenario
+// is run or fetched on both sides (runner.hpp) and compared by compare::CompareTrajectories with
+// the scenario's manifest (NAME.json in manifest_directory or manifest.json in the scenario
+// folder: track and gates) or, without one, particle 0's y and the default gates.
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "owval/backends/runner.hpp"
+#include "owval/compare/parity.hpp"
+
+namespace owval::backends {
+
+struct SuiteOptions {
+  std::vector<Scenario> scenarios;
+  std::filesystem::path manifest_directory;             // optional: NAME.json manifests
+  std::map<std::string, std::string> sets;              // {set:NAME} values
+  std::function<void(const std::string&)> on_progress;  // one line per step; may be empty
+};
+
+struct SideOutcome {
+  std::string source, detail;
+  double wall_s = 0;
+};
+
+struct ScenarioParity {
+  std::string scenario;
+  SideOutcome a, b;
+  compare::ParityReport report;
+};
+
+struct SuiteReport {
+  std::string a, b;
+  std::vector<ScenarioParity> scenarios;
+  double wall_s = 0;
+  bool pass() const;
+  // "scenario: gate, gate; scenario: gate" for every failed gate ("" when all pass).
+  std::string FailedGates() const;
+  std::string ToTable() const;  // scenario x gate: value, threshold, pass; then run sources
+  std::string ToMarkdown() const;
+  nlohmann::json ToJson() const;
+};
+
+// A is the reference side. InputError for bad input (backend failure, unreadable runs).
+SuiteReport CompareBackends(const Backend& a, const Backend& b, const SuiteOptions& options,
+                            const RunCache& cache);
+
+}  // namespace owval::backends
+
+namespace owval::backends {
+
+// Where scenarios come from when not given: the store of A, else of B (a command backend's
+// fallback store counts), else `fallback`.
+std::filesystem::path DefaultScenarioRoot(const Backend& a, const Backend& b,
+                                          const std::filesystem::path& fallback);
+
+}  // namespace owval::backends

@@ -1,0 +1,145 @@
+#include "owval/backends/bench.hpp"
+
+#include <unistd.h>
+#include <algorithm>
+#include <cmath>
+
+#include <cstdio>
+
+#include "owval/backends/process.hpp"
+#include "owval/backends/runner.hpp"
+#include "owval/backends/template.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/config.hpp"
+
+namespace owval::backends {
+namespace fs = std::filesystem;
+
+namespace {
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string Number(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+BackendTiming TimeBackend(const Backend& b, const BenchOptions& o, std::size_t steps,
+                          std::size_t particles) {
+  BackendTiming t;
+  t.backend = b.name;
+  for (int i = 0; i < o.repeat; ++i) {
+    const fs::path dir = fs::temp_directory_path() / ("owval-bench-" + std::to_string(::getpid()) +
+                                                      "-" + b.name + "-" + std::to_string(i));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out");
+    ProcessOptions p;
+    p.command = BenchCommand(b, o, dir / "out");
+    p.working_directory = b.working_directory;
+    p.stderr_path = dir / "stderr.txt";
+    t.command = p.command;
+    if (o.on_progress)
+      o.on_progress(b.name + ": run " + std::to_string(i + 1) + " of " + std::to_string(o.repeat));
+    const ProcessResult r = RunShellCommand(p);
+    if (!r.ok()) {
+      const std::string tail = LogTail(p.stderr_path, 5, 150);
+      fs::remove_all(dir);
+      throw InputError("backend " + b.name + ": command failed, " + r.Describe() +
+                       (tail.empty() ? "" : " (stderr: " + tail + ")"));
+    }
+    fs::remove_all(dir);
+    t.wall_s.push_back(r.wall_s);
+    t.peak_rss_kib.push_back(r.peak_rss_kib);
+  }
+  t.median_wall_s = Median(t.wall_s);
+  t.spread_wall_s = *std::max_element(t.wall_s.begin(), t.wall_s.end()) -
+                    *std::min_element(t.wall_s.begin(), t.wall_s.end());
+  t.steps_per_s = steps / t.median_wall_s;
+  t.particle_steps_per_s = t.steps_per_s * particles;
+  t.simulated_s_per_wall_s = o.scenario.time_s / t.median_wall_s;
+  t.peak_rss_mib = *std::max_element(t.peak_rss_kib.begin(), t.peak_rss_kib.end()) / 1024.0;
+  return t;
+}
+
+}  // namespace
+
+std::string BenchCommand(const Backend& b, const BenchOptions& o, const fs::path& out_dir) {
+  if (b.kind == BackendKind::kStore)
+    throw InputError("backend " + b.name + ": a store of recorded runs cannot be timed");
+  if (b.kind == BackendKind::kBuiltin)
+    return ShellQuote(o.owval_executable.string()) + " --quiet run " +
+           ShellQuote(fs::absolute(o.scenario.configuration).string()) + " --time " +
+           Number(o.scenario.time_s) + " --log-step " + std::to_string(o.scenario.log_step) +
+           " --out " + ShellQuote(out_dir.string()) + " --backend " + b.engine_backend;
+  RunRequest request;
+  request.scenario = o.scenario;
+  request.sets = o.sets;
+  return ResolvedCommand(b, request, out_dir);
+}
+
+BenchReport BenchBackends(const std::vector<Backend>& backends, const BenchOptions& o) {
+  if (o.repeat < 1) throw InputError("--repeat: expected >= 1");
+  if (o.scenario.configuration.empty())
+    throw InputError(o.scenario.directory.string(), 0, "no configuration file to run");
+  const engine::SiberneticConfig config = engine::ReadSiberneticConfig(o.scenario.configuration);
+  BenchReport report;
+  report.scenario = o.scenario.name;
+  report.time_s = o.scenario.time_s;
+  report.repeat = o.repeat;
+  report.steps = static_cast<std::size_t>(static_cast<float>(o.scenario.time_s) /
+                                          static_cast<float>(o.scenario.time_step_s));
+  report.particles = config.particle_count();
+  for (const Backend& b : backends) BenchCommand(b, o, "/tmp");  // refuse stores before any work
+  for (const Backend& b : backends)
+    report.backends.push_back(TimeBackend(b, o, report.steps, report.particles));
+  for (BackendTiming& t : report.backends)
+    t.ratio_to_first = t.median_wall_s / report.backends.front().median_wall_s;
+  return report;
+}
+
+nlohmann::json BenchReport::ToJson() const {
+  nlohmann::json j = {{"scenario", scenario},
+                      {"steps", steps},
+                      {"particles", particles},
+                      {"time_s", time_s},
+                      {"repeat", repeat}};
+  j["backends"] = nlohmann::json::array();
+  for (const BackendTiming& t : backends)
+    j["backends"].push_back({{"backend", t.backend},
+                             {"command", t.command},
+                             {"wall_s", t.wall_s},
+                             {"peak_rss_kib", t.peak_rss_kib},
+                             {"median_wall_s", t.median_wall_s},
+                             {"spread_wall_s", t.spread_wall_s},
+                             {"steps_per_s", t.steps_per_s},
+                             {"particle_steps_per_s", t.particle_steps_per_s},
+                             {"simulated_s_per_wall_s", t.simulated_s_per_wall_s},
+                             {"peak_rss_mib", t.peak_rss_mib},
+                             {"ratio_to_first", t.ratio_to_first}});
+  return j;
+}
+
+std::string BenchReport::ToMarkdown() const {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "Scenario `%s`: %zu steps, %zu particles, %.4g simulated s, %d runs each.\n\n",
+                scenario.c_str(), steps, particles, time_s, repeat);
+  std::string m = line;
+  m += "| backend | median wall s | spread s | steps/s | particle-steps/s | sim s / wall s | "
+       "peak RSS MiB | wall / first |\n|---|---|---|---|---|---|---|---|\n";
+  for (const BackendTiming& t : backends) {
+    std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.1f | %.3g | %.4f | %.1f | %.2f |\n",
+                  t.backend.c_str(), t.median_wall_s, t.spread_wall_s, t.steps_per_s,
+                  t.particle_steps_per_s, t.simulated_s_per_wall_s, t.peak_rss_mib,
+                  t.ratio_to_first);
+    m += line;
+  }
+  return m;
+}
+
+}  // namespace owval::backends

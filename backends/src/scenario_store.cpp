@@ -1,0 +1,85 @@
+#include "owval/backends/scenario_store.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <regex>
+
+#include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
+
+namespace owval::backends {
+namespace fs = std::filesystem;
+
+namespace {
+
+double Number(const nlohmann::json& meta, const char* key, const fs::path& file) {
+  if (!meta.contains(key) || !meta[key].is_number())
+    throw InputError(file.string(), 0, std::string(key) + ": expected a number");
+  return meta[key].get<double>();
+}
+
+double TimeOf(const nlohmann::json& meta, double dt, int log_step, const fs::path& file) {
+  if (meta.contains("timelimit_s")) return Number(meta, "timelimit_s", file);
+  if (meta.contains("command") && meta["command"].is_string()) {
+    std::smatch m;
+    const std::string command = meta["command"];
+    if (std::regex_search(command, m, std::regex(R"(timelimit=([0-9.eE+-]+))")))
+      return std::stod(m[1]);
+  }
+  if (meta.contains("frames")) return Number(meta, "frames", file) * log_step * dt;
+  throw InputError(file.string(), 0, "no time: expected timelimit_s, timelimit= or frames");
+}
+
+}  // namespace
+
+Scenario ReadScenario(const fs::path& directory) {
+  const fs::path file = directory / "meta.json";
+  const nlohmann::json meta = ReadJsonFile(file);
+  Scenario s;
+  s.name = directory.filename().string();
+  s.directory = directory;
+  std::error_code ec;
+  if (fs::is_regular_file(directory / "configuration", ec))
+    s.configuration = directory / "configuration";
+  s.time_step_s = Number(meta, "time_step_s", file);
+  const double log_step = Number(meta, "log_step", file);
+  if (!(s.time_step_s > 0) || !(log_step >= 1) || log_step != std::floor(log_step))
+    throw InputError(file.string(), 0, "time_step_s > 0 and integer log_step >= 1 expected");
+  s.log_step = static_cast<int>(log_step);
+  s.time_s = TimeOf(meta, s.time_step_s, s.log_step, file);
+  if (!(s.time_s > 0)) throw InputError(file.string(), 0, "time: expected > 0");
+  return s;
+}
+
+std::vector<Scenario> FindScenarios(const fs::path& root, const std::vector<std::string>& names) {
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) throw InputError(root.string(), 0, "not a scenario directory");
+  std::vector<Scenario> found;
+  for (const std::string& name : names) {
+    if (!fs::is_regular_file(root / name / "meta.json", ec))
+      throw InputError(root.string(), 0,
+                       "no scenario \"" + name + "\" (no " + name + "/meta.json)");
+    found.push_back(ReadScenario(root / name));
+    if (found.back().configuration.empty())
+      throw InputError((root / name).string(), 0, "no configuration file");
+  }
+  if (!names.empty()) return found;
+  for (const auto& entry : fs::directory_iterator(root)) {
+    const fs::path dir = entry.path();
+    if (fs::is_regular_file(dir / "configuration", ec) &&
+        fs::is_regular_file(dir / "meta.json", ec))
+      found.push_back(ReadScenario(dir));
+  }
+  std::sort(found.begin(), found.end(),
+            [](const Scenario& a, const Scenario& b) { return a.name < b.name; });
+  return found;
+}
+
+fs::path RecordedTrajectory(const fs::path& directory) {
+  std::error_code ec;
+  for (const char* name : {"position_buffer.txt", "position_buffer.txt.gz", "trajectory.h5"})
+    if (fs::is_regular_file(directory / name, ec)) return directory / name;
+  return {};
+}
+
+}  // namespace owval::backends

@@ -1,0 +1,151 @@
+// owval compare A B with backend names, owval backends, owval bench backends: end to end on
+// Sibernetic's recorded runs (../shared/reference as the store "opencl").
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+
+namespace owval::testing {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kReference = fs::path(OWVAL_SHARED_DIR) / "reference";
+
+// A backends file in its own scratch folder: opencl = the reference store, plus `extra` entries.
+fs::path BackendsFile(const std::string& name, const std::string& extra = "") {
+  const fs::path dir = Scratch() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "backends.json") << R"({"backends": {"opencl": {"store": ")"
+                                       << kReference.string() << "\"}" << extra << "}}\n";
+  return dir / "backends.json";
+}
+
+std::string Flags(const fs::path& file) {
+  return " --backends " + file.string() + " --cache " + (file.parent_path() / "cache").string();
+}
+
+std::size_t Count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(BackendsCli, OwvalMatchesTheOpenclStoreAndSecondRunIsACacheHit) {
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const fs::path file = BackendsFile("parity");
+  const std::string command =
+      "compare opencl owval --suite parity --scenarios one_sprig,test_gravity" + Flags(file);
+  const Result first = Owval(command);
+  ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
+  EXPECT_NE(first.out.find("all gates pass"), std::string::npos) << first.out;
+  EXPECT_EQ(Count(first.out, "owval: ran"), 2u) << first.out;
+  EXPECT_NE(first.out.find("one_sprig        frames"), std::string::npos) << first.out;
+  const Result json = Owval(command + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto report = nlohmann::json::parse(json.out);
+  for (const auto& s : report["scenarios"]) {
+    EXPECT_EQ(s["runs"]["b"]["source"], "cache hit");
+    // Every printed digit: zero distance and a zero frames gate.
+    EXPECT_EQ(s["report"]["per_particle_distance_cu"]["mean"], 0.0) << s["scenario"];
+    EXPECT_EQ(s["report"]["per_particle_distance_cu"]["final"], 0.0) << s["scenario"];
+    for (const auto& g : s["report"]["gates"]) {
+      if (g["name"] == "frames") {
+        EXPECT_EQ(g["value"], 0.0) << s["scenario"];
+      }
+    }
+  }
+}
+
+TEST(BackendsCli, OneByteOfConfigurationMissesTheCache) {
+  if (ReferenceMissing(kReference / "test_gravity" / "configuration")) GTEST_SKIP();
+  const fs::path file = BackendsFile("onebyte");
+  const fs::path store = file.parent_path() / "store" / "test_gravity";
+  fs::create_directories(store);
+  fs::copy_file(kReference / "test_gravity" / "meta.json", store / "meta.json");
+  fs::copy_file(kReference / "test_gravity" / "configuration", store / "configuration");
+  const std::string command =
+      "compare owval owval --reference-dir " + store.parent_path().string() + Flags(file);
+  const Result first = Owval(command);
+  ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
+  EXPECT_EQ(Count(first.out, "owval: ran"), 1u) << first.out;  // side b: a hit of side a's run
+  EXPECT_EQ(Count(first.out, "owval: cache hit"), 1u) << first.out;
+  EXPECT_EQ(Count(Owval(command).out, "owval: cache hit"), 2u);
+  std::ofstream(store / "configuration", std::ios::app) << "\n";  // one more byte
+  EXPECT_EQ(Count(Owval(command).out, "owval: ran"), 1u);
+}
+
+TEST(BackendsCli, PerturbedCommandBackendFailsNamingScenarioAndGate) {
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const std::string stiff =
+      R"(, "stiff": {"command": ")" + std::string(OWVAL_EXE) +
+      R"( --quiet run {config} --time {time} --log-step {log_step} --out {out} --set elasticity_coefficient={set:k}", "set": {"k": "3.3e8"}, "layout": "opencl"})";
+  const fs::path file = BackendsFile("perturbed", stiff);
+  const Result r = Owval("compare opencl stiff --scenarios one_sprig" + Flags(file));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAILED: one_sprig: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("period"), std::string::npos) << r.out;
+  // The same backend with the default stiffness passes: the failure is the perturbation.
+  const Result same = Owval("compare opencl stiff --scenarios one_sprig --set k=3e8" + Flags(file));
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+}
+
+TEST(BackendsCli, FailingCommandIsExit2WithStderrTailAndEmptyCache) {
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const fs::path file =
+      BackendsFile("failing", R"(, "bad": {"command": "echo 'no device found' >&2; exit 4"})");
+  const Result r = Owval("compare opencl bad --scenarios one_sprig" + Flags(file));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("backend bad: command failed, exit status 4"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no device found"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(file.parent_path() / "cache"));
+  const Result truncated =
+      Owval("compare opencl cut --scenarios one_sprig" +
+            Flags(BackendsFile("truncated",
+                               R"(, "cut": {"command": "head -c 100000 )" +
+                                   (kReference / "one_sprig" / "position_buffer.txt").string() +
+                                   R"( > {out}/position_buffer.txt"})")));
+  EXPECT_EQ(truncated.exit_code, 2) << truncated.out;
+  EXPECT_NE(truncated.err.find("backend cut: unreadable output"), std::string::npos)
+      << truncated.err;
+}
+
+TEST(BackendsCli, UnknownNamesAreExit2ListingTheKnownOnes) {
+  const fs::path file = BackendsFile("unknown");
+  const Result r = Owval("compare opencl metal" + Flags(file));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown backend \"metal\"; known: owval, xpbd, opencl"), std::string::npos)
+      << r.err;
+  const Result list = Owval("backends list --backends " + file.string());
+  EXPECT_EQ(list.exit_code, 0);
+  EXPECT_NE(list.out.find("opencl"), std::string::npos);
+  const Result show = Owval("backends show pcisph --backends " + file.string());
+  EXPECT_EQ(nlohmann::json::parse(show.out)["engine_backend"], "pcisph");
+}
+
+TEST(BackendsCli, BenchTimesEachBackendAsAProcess) {
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const fs::path file = BackendsFile(
+      "bench", R"(, "copy": {"command": "cp )" +
+                   (kReference / "one_sprig" / "position_buffer.txt").string() + R"( {out}/"})");
+  const Result r = Owval(
+      "bench backends owval copy --scenario one_sprig --time 0.002 --repeat 2 "
+      "--backends " +
+      file.string() + " --markdown " + (file.parent_path() / "bench.md").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["backends"].size(), 2u);
+  EXPECT_EQ(j["steps"], 100);
+  EXPECT_EQ(j["backends"][0]["ratio_to_first"], 1.0);
+  EXPECT_EQ(j["backends"][0]["wall_s"].size(), 2u);
+  EXPECT_GT(j["backends"][0]["peak_rss_kib"][0].get<long>(), 1000);
+  EXPECT_NE(Slurp(file.parent_path() / "bench.md").find("| copy |"), std::string::npos);
+  EXPECT_EQ(
+      Owval("bench backends opencl --scenario one_sprig --backends " + file.string()).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace owval::testing
