@@ -49,7 +49,6 @@ void RequireOut(const RenderArgs& a) {  // before any work starts
 
 // shown: the (reference) trajectory; "auto" frames a worm with the worm view, anything else iso.
 render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
-  if (a.out.empty()) throw InputError("-o/--out is required");
   render::RenderOptions o;
   if (std::sscanf(a.size.c_str(), "%dx%d", &o.width, &o.height) != 2)
     throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT, e.g. 1280x720");
