@@ -1,118 +1,32 @@
 // owval bench io: parse throughput of a large generated position_buffer.txt and HDF5 read
-// throughput of the same trajectory. Results as JSON on stdout (and --json-out FILE).
-#include <omp.h>
-
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
+// throughput of the same trajectory (trajectory/io_benchmark.hpp). JSON on stdout.
 #include <iostream>
-#include <random>
-
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
-#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/io_benchmark.hpp"
 
 namespace owval::cli {
 namespace {
-namespace fs = std::filesystem;
-
-struct BenchIoArgs {
-  double size_mb = 500;
-  std::string dir = fs::temp_directory_path().string();
-  std::string json_out;
-  bool keep = false;
-  Hdf5WriteOptions hdf5;
-};
-
-// A demo1-like scene: a walled box of boundary particles and a block of moving particles whose
-// positions wander, written in the OpenCL layout with Sibernetic's 6 significant digits.
-Trajectory SyntheticTrajectory(std::size_t frames) {
-  Trajectory t;
-  t.box = {0, 89.1f, 0, 89.1f, 0, 89.1f};
-  t.time_step_s = 2e-5;
-  t.log_step = 20;
-  const int side = 40;
-  for (int i = 0; i < side * side * side; ++i) t.type.push_back(i % 3 == 0 ? 2.1f : 1.1f);
-  for (int i = 0; i < 17498; ++i) t.type.push_back(3.0f);
-  std::mt19937 rng(42);
-  std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
-  std::vector<float> frame(t.type.size() * 3);
-  for (std::size_t p = 0; p < t.type.size(); ++p)
-    for (int a = 0; a < 3; ++a)
-      frame[p * 3 + a] = 5.0f + 1.67f * static_cast<float>((p >> (4 * a)) % 45);
-  for (std::size_t f = 0; f < frames; ++f) {
-    for (std::size_t p = 0; p < static_cast<std::size_t>(side * side * side) * 3; ++p)
-      frame[p] += jitter(rng);
-    t.AppendFrame(static_cast<double>(f) * 20 * 2e-5, frame.data());
-  }
-  return t;
-}
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-void RunBenchIo(const BenchIoArgs& a) {
-  // ~27 bytes per row, 64,000 moving rows per later frame.
-  const std::size_t frames = static_cast<std::size_t>(std::ceil(a.size_mb * 1e6 / (27.0 * 64000)));
-  const fs::path text = fs::path(a.dir) / "owval_bench_position_buffer.txt";
-  const fs::path h5 = fs::path(a.dir) / "owval_bench_trajectory.h5";
-  {
-    const Trajectory t = SyntheticTrajectory(frames);
-    WriteSiberneticText(t, text, TextLayout::kOpenCL);
-  }
-  const double bytes = static_cast<double>(fs::file_size(text));
-  TextReadOptions options;
-  options.quiet = Flags().quiet;
-  auto start = std::chrono::steady_clock::now();
-  Trajectory t = ReadSiberneticText(text, options);
-  const double parse_s = Seconds(start);
-  start = std::chrono::steady_clock::now();
-  WriteHdf5(t, h5, a.hdf5);
-  const double write_s = Seconds(start);
-  const double position_bytes = static_cast<double>(t.positions.size() * sizeof(float));
-  t = Trajectory();
-  start = std::chrono::steady_clock::now();
-  const Trajectory back = ReadHdf5(h5);
-  const double read_s = Seconds(start);
-  nlohmann::json out = {
-      {"benchmark", "io"},
-      {"text_file_mb", bytes / 1e6},
-      {"frames", back.frame_count()},
-      {"particles", back.particle_count()},
-      {"text_parse_s", parse_s},
-      {"text_parse_mb_per_s", bytes / 1e6 / parse_s},
-      {"hdf5_file_mb", static_cast<double>(fs::file_size(h5)) / 1e6},
-      {"hdf5_write_s", write_s},
-      {"hdf5_read_s", read_s},
-      {"hdf5_read_gb_per_s_uncompressed", position_bytes / 1e9 / read_s},
-      {"hdf5_compression_level", a.hdf5.compression_level},
-      {"hdf5_frames_per_chunk", a.hdf5.frames_per_chunk},
-      {"threads", 1},  // text parsing
-      {"hdf5_read_threads", omp_get_max_threads()},
-  };
-  if (!a.keep) {
-    fs::remove(text);
-    fs::remove(h5);
-  }
-  std::cout << out.dump(2) << "\n";
-  if (!a.json_out.empty()) WriteFileAtomically(a.json_out, out.dump(2) + "\n");
-}
 
 void SetUp(CLI::App& app) {
-  auto args = std::make_shared<BenchIoArgs>();
+  auto o = std::make_shared<IoBenchmarkOptions>();
+  auto json_out = std::make_shared<std::string>();
   CLI::App* cmd = Bench(app).add_subcommand(
       "io", "Text parse and HDF5 read throughput on a large generated file");
-  cmd->add_option("--size-mb", args->size_mb, "Size of the generated position_buffer.txt (MB)");
-  cmd->add_option("--dir", args->dir, "Where to write the generated files");
-  cmd->add_option("--json-out", args->json_out, "Also write the JSON result here");
-  cmd->add_option("--hdf5-level", args->hdf5.compression_level, "HDF5 deflate level (0-9)");
-  cmd->add_option("--hdf5-chunk-frames", args->hdf5.frames_per_chunk, "HDF5 frames per chunk");
-  cmd->add_flag("--keep", args->keep, "Keep the generated files");
-  cmd->callback([args] { RunBenchIo(*args); });
+  cmd->add_option("--size-mb", o->text_size_mb, "Size of the generated position_buffer.txt (MB)");
+  cmd->add_option("--dir", o->directory, "Where to write the generated files");
+  cmd->add_option("--json-out", *json_out, "Also write the JSON result here");
+  cmd->add_option("--hdf5-level", o->hdf5.compression_level, "HDF5 deflate level (0-9)");
+  cmd->add_option("--hdf5-chunk-frames", o->hdf5.frames_per_chunk, "HDF5 frames per chunk");
+  cmd->add_flag("--keep", o->keep_files, "Keep the generated files");
+  cmd->callback([o, json_out] {
+    if (!json_out->empty()) CheckOutputPath(*json_out);
+    o->quiet = Flags().quiet;
+    const std::string result = RunIoBenchmark(*o).dump(2) + "\n";
+    std::cout << result;
+    if (!json_out->empty()) WriteFileAtomically(*json_out, result);
+  });
 }
 
 const bool registered = RegisterCommand(&SetUp);

@@ -6,6 +6,7 @@
 
 #include "backend_flags.hpp"
 #include "command.hpp"
+#include "owval/backends/sibernetic_checkout.hpp"
 #include "owval/backends/suite.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -28,7 +29,7 @@ struct CompareArgs {
   bool json = false;
   BackendFlags backends;
   std::vector<std::string> scenarios, sets;
-  std::string suite, reference_dir;
+  std::string suite, reference_dir, sibernetic;
   // Gate thresholds given as flags, by the ParityGates member they set.
   std::vector<std::pair<compare::Threshold compare::ParityGates::*, std::optional<double>>> gates;
 };
@@ -40,7 +41,10 @@ const char* kGatesHelp =
     "< 0.05, applied only when both signals have >= 4 upward mean crossings (else n/a); per "
     "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
     "per axis), final_distance (last frame), each < 0.05 of the box; particle_distance.initial/"
-    "mean/final of moving particles < 0.05 of the box. Both runs are measured over their common "
+    "mean/final of moving particles < 0.05 of the box. Worms (both runs): worm.centre_of_mass "
+    "< 0.05 of the box, worm.span and worm.cross_section_diameter < 0.05 relative. Liquid over "
+    "an elastic sheet (demo2): liquid.fraction_above_membrane difference < 0.05. Both runs are "
+    "measured over their common "
     "time window only.";
 
 void AddGateFlag(CLI::App* cmd, CompareArgs* a, const std::string& flag,
@@ -72,16 +76,22 @@ void RunBackendCompare(const CompareArgs& a) {
   const backends::Registry registry = a.backends.Registry();
   const backends::Backend& ref = registry.Find(a.reference);
   const backends::Backend& cand = registry.Find(a.candidate);
-  const std::filesystem::path root =
-      a.reference_dir.empty()
-          ? backends::DefaultScenarioRoot(ref, cand,
-                                          std::filesystem::path(OWVAL_SHARED_DIR) / "reference")
-          : std::filesystem::path(a.reference_dir);
   backends::SuiteOptions options;
-  options.scenarios = backends::FindScenarios(root, a.scenarios);
-  if (options.scenarios.empty())
-    throw InputError(root.string(), 0, "no scenario with a configuration");
-  options.manifest_directory = DataDir() / "scenarios" / "manifests";
+  const std::filesystem::path checkout = backends::SiberneticCheckout(a.sibernetic);
+  if (!checkout.empty() && a.reference_dir.empty()) {  // Sibernetic's demos, from a checkout
+    options.manifest_directory = DataDir() / "scenarios" / "sibernetic";
+    options.scenarios =
+        backends::SiberneticScenarios(checkout, options.manifest_directory, a.scenarios);
+  } else {
+    const std::filesystem::path root =
+        a.reference_dir.empty()
+            ? backends::DefaultScenarioRoot(ref, cand,
+                                            std::filesystem::path(OWVAL_SHARED_DIR) / "reference")
+            : std::filesystem::path(a.reference_dir);
+    options.scenarios = backends::FindScenarios(root, a.scenarios);
+    options.manifest_directory = DataDir() / "scenarios" / "manifests";
+  }
+  if (options.scenarios.empty()) throw InputError("no scenario with a configuration to compare on");
   options.sets = ParseSets(a.sets);
   if (!Flags().quiet)
     options.on_progress = [](const std::string& s) {
@@ -128,6 +138,9 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--reference-dir", args->reference_dir,
                   "With backend names: the scenario folders (default: the store of either "
                   "backend, else ../shared/reference)");
+  cmd->add_option("--sibernetic", args->sibernetic,
+                  "With backend names: Sibernetic's demos from this checkout of "
+                  "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/");
   cmd->add_option("--set", args->sets, "With backend names: NAME=VALUE for {set:NAME}");
   auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)");
   cmd->add_option("--group", args->group, "Track a group centroid: elastic, liquid, all")
@@ -155,6 +168,10 @@ void SetUp(CLI::App& app) {
               "final_distance gates, fraction of the box (default 0.05)");
   AddGateFlag(cmd, args.get(), "--particle-threshold", &G::particle_distance,
               "particle_distance gates, fraction of the box (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--body-threshold", &G::body_shape,
+              "worm.span and worm.cross_section_diameter gates, relative (default 0.05)");
+  AddGateFlag(cmd, args.get(), "--membrane-threshold", &G::membrane_liquid_fraction,
+              "liquid.fraction_above_membrane gate (default 0.05)");
   cmd->add_option("--manifest", args->manifest, "Scenario manifest JSON (its track and gates)");
   cmd->add_option("--markdown", args->markdown, "Also write the report as Markdown (for a PR)");
   cmd->add_flag("--json", args->json, "Machine-readable output");

@@ -44,7 +44,10 @@ void RunFit(const FitArgs& a) {
   for (const std::string& p : a.params) parameters.push_back(sgd::ParseParameter(p));
   std::vector<sgd::Target> targets;
   for (const std::string& t : a.targets) targets.push_back(sgd::ParseTarget(t));
-  const sgd::Tracking tracking{a.particle, a.group, ParseAxis(a.axis)};
+  Track tracking;
+  tracking.particle = a.particle;
+  tracking.group = a.group;
+  tracking.axis = ParseAxisName(a.axis);
   const fs::path out = a.out;
   fs::create_directories(out);
   sgd::Simulator simulator;

@@ -8,6 +8,7 @@
 #include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/track.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -15,7 +16,7 @@ namespace {
 
 struct InspectArgs {
   std::string path;
-  long particle = -1;
+  std::size_t particle = 0;
   std::string group;
   std::string axis = "y";
   double start_s = -1, end_s = -1;
@@ -23,53 +24,15 @@ struct InspectArgs {
   bool json = false;
 };
 
-std::string Ms(const std::optional<double>& s) {
-  char b[64];
-  if (!s) return "n/a";
-  std::snprintf(b, sizeof b, "%.6g ms", *s * 1e3);
-  return b;
-}
-std::string Cu(const std::optional<double>& v, const char* unit = "cu") {
-  char b[64];
-  if (!v) return "n/a";
-  std::snprintf(b, sizeof b, "%.6g %s", *v, unit);
-  return b;
-}
-
-void PrintTable(const compare::SignalMetrics& m, const std::string& subject,
-                const TextReadReport& read) {
-  std::printf("%s\n", read.description.c_str());
-  std::printf("signal: %s, %zu samples, t = %.6g .. %.6g s\n\n", subject.c_str(), m.samples,
-              m.window_start_s, m.window_end_s);
-  std::printf("%-26s %s\n", "zero-crossing period", Ms(m.period_s).c_str());
-  std::printf("%-26s %zu upward, spread %s\n", "  crossings", m.upward_crossings,
-              Ms(m.period_spread_s).c_str());
-  std::printf("%-26s %s%s\n", "half-amplitude", Cu(m.half_amplitude).c_str(),
-              m.whole_cycles ? "" : " (no whole cycle: half the range)");
-  std::printf("%-26s %.6g cu%s\n", "equilibrium", m.equilibrium,
-              m.whole_cycles ? "" : " (window mean)");
-  std::printf("%-26s %s\n", "drift", Cu(m.drift_per_s, "cu/s").c_str());
-  std::printf("%-26s %s\n", "logarithmic decrement", Cu(m.log_decrement, "").c_str());
-  std::printf("%-26s %s\n", "settling time (2% band)", Ms(m.settling_time_s).c_str());
-  std::printf("%-26s initial %.6g, final %.6g cu\n", "values", m.initial_value, m.final_value);
-  std::printf("%-26s %.6g cu at %.6g ms .. %.6g cu at %.6g ms\n", "range (min .. max)", m.minimum,
-              m.time_of_minimum_s * 1e3, m.maximum, m.time_of_maximum_s * 1e3);
-}
-
 void RunInspect(const InspectArgs& a) {
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.path, a.layout, &read);
-  const int axis = ParseAxis(a.axis);
-  std::vector<double> series;
-  std::string subject;
-  if (!a.group.empty()) {
-    series = CentroidSeries(t, GroupIndices(t, a.group), axis);
-    subject = a.group + " centroid " + a.axis;
-  } else {
-    const std::size_t particle = a.particle < 0 ? 0 : static_cast<std::size_t>(a.particle);
-    series = ParticleSeries(t, particle, axis);
-    subject = "particle " + std::to_string(particle) + " " + a.axis;
-  }
+  Track track;
+  track.group = a.group;
+  track.particle = std::size_t(a.particle);
+  track.axis = ParseAxisName(a.axis);
+  const std::vector<double> series = track.Series(t);
+  const std::string subject = track.Describe();
   const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, series, {a.start_s, a.end_s});
   std::optional<kinematics::Report> worm;  // a worm also gets its kinematics (issue 15)
   if (kinematics::IsWorm(t)) worm = kinematics::Analyse(kinematics::SkeletonsFromTrajectory(t));
@@ -81,7 +44,7 @@ void RunInspect(const InspectArgs& a) {
     if (worm) out["kinematics"] = worm->ToJson();
     std::cout << out.dump(2) << "\n";
   } else {
-    PrintTable(m, subject, read);
+    std::printf("%s\n%s", read.description.c_str(), compare::ToText(m, subject).c_str());
     if (worm) std::printf("\nworm kinematics: %s", worm->ToText().c_str());
   }
 }

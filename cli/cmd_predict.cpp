@@ -5,6 +5,7 @@
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -38,9 +39,9 @@ void RunPredict(const PredictArgs& a) {
   // prediction then notes that it is no longer about Sibernetic's defaults.
   engine::PhysicsConstants constants;
   for (const std::string& c : a.constants) SetConstantAssignment(c, &constants);
-  const nlohmann::json p = predict::Predict(config, constants, options);
-  if (!a.out.empty()) WriteFileAtomically(a.out, p.dump(2) + "\n");
-  std::cout << (a.json ? p.dump(2) + "\n" : predict::PredictionMarkdown(p));
+  const predict::Prediction p = predict::Predict(config, constants, options);
+  if (!a.out.empty()) WriteFileAtomically(a.out, p.ToJson().dump(2) + "\n");
+  std::cout << (a.json ? p.ToJson().dump(2) + "\n" : predict::PredictionMarkdown(p));
 }
 
 // "--tolerance 0.01" (every gated quantity) or "--tolerance NAME=0.01".
@@ -66,17 +67,14 @@ predict::ReconcileOptions ParseTolerances(const std::vector<std::string>& given)
 }
 
 void RunReconcile(const PredictArgs& a) {
-  nlohmann::json p;
-  try {
-    p = nlohmann::json::parse(ReadWholeFile(a.prediction));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(a.prediction, 0, std::string("not valid JSON: ") + e.what());
-  }
+  const predict::Prediction p =
+      predict::Prediction::FromJson(ReadJsonFile(a.prediction), a.prediction);
   const predict::ReconcileOptions options = ParseTolerances(a.tolerances);
-  const nlohmann::json r = predict::Reconcile(p, ReadTrajectoryArgument(a.trajectory), options);
-  if (!a.out.empty()) WriteFileAtomically(a.out, r.dump(2) + "\n");
-  std::cout << (a.json ? r.dump(2) + "\n" : predict::ReconcileMarkdown(r));
-  if (!r["pass"].get<bool>()) SetExitCode(kExitGateFailed);
+  const predict::Reconciliation r =
+      predict::Reconcile(p, ReadTrajectoryArgument(a.trajectory), options);
+  if (!a.out.empty()) WriteFileAtomically(a.out, r.ToJson().dump(2) + "\n");
+  std::cout << (a.json ? r.ToJson().dump(2) + "\n" : predict::ReconcileMarkdown(r));
+  if (!r.pass) SetExitCode(kExitGateFailed);
 }
 
 void SetUp(CLI::App& app) {

@@ -6,7 +6,11 @@
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
+#include "owval/base/one_line.hpp"
+#include "owval/base/process_settings.hpp"
 #include "owval/base/progress.hpp"
+#include "owval/render/render.hpp"
 
 namespace owval::cli {
 namespace {
@@ -42,21 +46,36 @@ std::filesystem::path DataDir() {
 
 int main(int argc, char** argv) {
   using namespace owval::cli;
+  owval::KeepLargeBuffersOnHeap();
+  owval::render::SilenceCodecLogging();
   CLI::App app{"owval: validation and benchmark harness for Sibernetic-style particle physics"};
   app.set_version_flag("--version", OWVAL_VERSION);
   app.add_flag("-q,--quiet", g_flags.quiet, "No progress lines on stderr");
+  std::string max_memory;
+  app.add_option("--max-memory", max_memory,
+                 "Refuse inputs whose data would need more than SIZE bytes (512M, 2G; default: "
+                 "half of physical memory)");
   app.require_subcommand(1);
   app.fallthrough();
-  app.parse_complete_callback([] { owval::SetQuietMode(g_flags.quiet); });
+  app.parse_complete_callback([&max_memory] {
+    owval::SetQuietMode(g_flags.quiet);
+    if (!max_memory.empty())
+      owval::SetMemoryBudgetBytes(owval::ParseByteSize(max_memory, "--max-memory"));
+  });
   for (const auto& set_up : Registry()) set_up(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : owval::kExitBadInput;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // CLI11's own text can span lines and echo a whole argument: one short printable line.
+    std::fprintf(stderr, "owval: usage: %s (see --help)\n", owval::OneLine(e.what()).c_str());
+    return owval::kExitBadInput;
   } catch (const owval::InputError& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;
+  } catch (const owval::EnvironmentError& e) {
+    std::fprintf(stderr, "owval: environment: %s\n", e.what());
+    return owval::kExitEnvironment;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;

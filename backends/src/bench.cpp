@@ -8,8 +8,9 @@
 
 #include "owval/backends/process.hpp"
 #include "owval/backends/runner.hpp"
-#include "owval/backends/template.hpp"
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/engine/config.hpp"
 
 namespace owval::backends {
@@ -21,12 +22,6 @@ double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string Number(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
 }
 
 BackendTiming TimeBackend(const Backend& b, const BenchOptions& o, std::size_t steps,
@@ -74,8 +69,9 @@ std::string BenchCommand(const Backend& b, const BenchOptions& o, const fs::path
   if (b.kind == BackendKind::kBuiltin)
     return ShellQuote(o.owval_executable.string()) + " --quiet run " +
            ShellQuote(fs::absolute(o.scenario.configuration).string()) + " --time " +
-           Number(o.scenario.time_s) + " --log-step " + std::to_string(o.scenario.log_step) +
-           " --out " + ShellQuote(out_dir.string()) + " --backend " + b.engine_backend;
+           FormatNumber(o.scenario.time_s, 17) + " --log-step " +
+           std::to_string(o.scenario.log_step) + " --out " + ShellQuote(out_dir.string()) +
+           " --backend " + b.engine_backend;
   RunRequest request;
   request.scenario = o.scenario;
   request.sets = o.sets;

@@ -8,9 +8,10 @@
 #include <sstream>
 
 #include "owval/backends/process.hpp"
-#include "owval/backends/template.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
@@ -21,18 +22,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string Number(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
 TemplateValues ValuesFor(const Backend& b, const RunRequest& r, const std::string& config,
                          const std::string& out) {
   TemplateValues v;
   v.values = {{"config", config},
-              {"time", Number(r.scenario.time_s)},
-              {"time_step", Number(r.scenario.time_step_s)},
+              {"time", FormatNumber(r.scenario.time_s, 17)},
+              {"time_step", FormatNumber(r.scenario.time_step_s, 17)},
               {"log_step", std::to_string(r.scenario.log_step)},
               {"out", out}};
   v.sets = b.set_defaults;

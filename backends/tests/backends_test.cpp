@@ -12,7 +12,7 @@
 #include "owval/backends/runner.hpp"
 #include "owval/backends/scenario_store.hpp"
 #include "owval/backends/sha256.hpp"
-#include "owval/backends/template.hpp"
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
 
 namespace owval::backends {

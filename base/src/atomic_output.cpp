@@ -1,6 +1,10 @@
 #include "owval/base/atomic_output.hpp"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <atomic>
 #include <sstream>
@@ -12,6 +16,24 @@ namespace owval {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Temporaries of a process that died before it could remove them (SIGKILL, a power cut; a
+// signal's default action skips destructors): ".NAME.tmp.PID.N" beside the destination whose PID
+// no longer runs. Removed by the next writer of the same destination.
+void SweepStaleTemporaries(const fs::path& destination) {
+  std::string prefix(1, '.');  // ".NAME.tmp." (built in steps: GCC 12's -Wrestrict misfires on
+  prefix += destination.filename().string();  // "." + string)
+  prefix += ".tmp.";
+  std::error_code ec;
+  const fs::path parent = destination.parent_path().empty() ? "." : destination.parent_path();
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const long pid = std::atol(name.c_str() + prefix.size());
+    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+  }
+}
+
 fs::path TemporarySibling(const fs::path& destination) {
   static std::atomic<int> counter{0};
   std::ostringstream name;
@@ -23,6 +45,7 @@ fs::path TemporarySibling(const fs::path& destination) {
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
   if (!destination_.parent_path().empty()) fs::create_directories(destination_.parent_path());
+  SweepStaleTemporaries(destination_);
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -54,6 +77,30 @@ void AtomicOutput::CommitAs(const fs::path& destination) {
   if (error)
     throw InputError(destination.string(), 0, "cannot rename into place: " + error.message());
   committed_ = true;
+}
+
+AtomicDirectory::AtomicDirectory(fs::path destination)
+    : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
+  SweepStaleTemporaries(destination_);
+  fs::create_directories(temporary_);
+}
+
+AtomicDirectory::~AtomicDirectory() {
+  if (committed_) return;
+  std::error_code ignored;
+  fs::remove_all(temporary_, ignored);
+}
+
+void AtomicDirectory::Commit() {
+  std::error_code error;
+  const fs::path old = TemporarySibling(destination_);
+  const bool replacing = fs::exists(destination_, error);
+  if (replacing) fs::rename(destination_, old, error);
+  if (!error) fs::rename(temporary_, destination_, error);
+  if (error)
+    throw InputError(destination_.string(), 0, "cannot move into place: " + error.message());
+  committed_ = true;
+  if (replacing) fs::remove_all(old, error);  // the older report, now out of the way
 }
 
 void WriteFileAtomically(const fs::path& destination, const std::string& contents) {

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "owval/base/errors.hpp"
 
@@ -41,6 +42,27 @@ void CheckAllocation(std::size_t bytes, const std::string& file, const std::stri
   throw InputError(file, 0,
                    field + " needs " + need + " bytes, more than the memory budget of " +
                        std::to_string(budget) + " bytes (--max-memory)");
+}
+
+std::size_t ParseByteSize(const std::string& text, const std::string& flag) {
+  std::size_t digits = 0;
+  while (digits < text.size() && text[digits] >= '0' && text[digits] <= '9') ++digits;
+  const std::string suffix = text.substr(digits);
+  const int shift = suffix.empty()  ? 0
+                    : suffix == "K" ? 10
+                    : suffix == "M" ? 20
+                    : suffix == "G" ? 30
+                                    : -1;
+  std::size_t value = 0;
+  bool fits = digits > 0 && digits <= 19 && shift >= 0;
+  if (fits) {
+    value = std::stoull(text.substr(0, digits));
+    fits = value > 0 && value <= (std::numeric_limits<std::size_t>::max() >> shift);
+  }
+  if (!fits)
+    throw InputError(flag + " " + text.substr(0, 40) +
+                     ": expected a positive size in bytes, optionally with K, M or G (e.g. 512M)");
+  return value << shift;
 }
 
 std::size_t SaturatingProduct(std::size_t a, std::size_t b) {

@@ -6,6 +6,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -47,19 +48,13 @@ const Trajectory& Need(const std::optional<Trajectory>& t, const char* which) {
   return *t;
 }
 
-std::string Percent(double fraction) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g%%", fraction * 100);
-  return b;
+predict::Prediction ReadPrediction(const fs::path& path) {
+  return predict::Prediction::FromJson(ReadJsonFile(path), path.string());
 }
 
 void CheckPrediction(const Evidence& e, ChecklistItem* item) {
-  const nlohmann::json p = ReadJsonFile(e.dir / "prediction.json");
-  if (!p.is_object() || !p.contains("predictions") || !p["predictions"].is_array() ||
-      p["predictions"].empty())
-    throw InputError((e.dir / "prediction.json").string(), 0,
-                     "expected a non-empty \"predictions\" list");
-  item->detail = std::to_string(p["predictions"].size()) + " predicted quantities";
+  const predict::Prediction p = ReadPrediction(e.dir / "prediction.json");
+  item->detail = std::to_string(p.predictions.size()) + " predicted quantities";
   if (e.options.git_range.empty()) {
     item->pass = true;
     item->detail +=
@@ -157,16 +152,17 @@ void CheckFrames(const Evidence& e, ChecklistItem* item) {
       compare::CompareTrajectories(ref, cand, {track, sampled, std::nullopt, e.options.gates});
   const compare::Gate& gate = *p.gate("frames");
   item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
-                  Percent(gate.value) + " of the reference range (gate < " +
-                  Percent(gate.threshold.value) + ")";
+                  FormatPercent(gate.value) + " of the reference range (gate < " +
+                  FormatPercent(gate.threshold.value) + ")";
   if (gate.status == compare::GateStatus::kFail) {
     item->pass = false;
     item->detail += ", FAILS at frames";
     for (std::size_t f : p.failing_frames) item->detail += " " + std::to_string(f);
   }
   if (const compare::Gate* groups = p.gate("frames.group_centroids")) {
-    item->detail += "; group centroids at the sampled frames: worst " + Percent(groups->value) +
-                    " of the box (gate < " + Percent(groups->threshold.value) + ")";
+    item->detail += "; group centroids at the sampled frames: worst " +
+                    FormatPercent(groups->value) + " of the box (gate < " +
+                    FormatPercent(groups->threshold.value) + ")";
     if (groups->status == compare::GateStatus::kFail) {
       item->pass = false;
       item->detail += ", FAILS: " + groups->detail;
@@ -242,13 +238,12 @@ void CheckChanges(const Evidence& e, ChecklistItem* item) {
 // DD001: the prediction is reconciled with the reference measurement (the validated physics),
 // recomputed here from prediction.json and the reference trajectory.
 void CheckReconcile(const Evidence& e, ChecklistItem* item) {
-  const nlohmann::json prediction = ReadJsonFile(e.dir / "prediction.json");
-  const nlohmann::json r = predict::Reconcile(prediction, Need(e.reference, "reference"));
-  item->pass = r.value("pass", false);
+  const predict::Reconciliation r =
+      predict::Reconcile(ReadPrediction(e.dir / "prediction.json"), Need(e.reference, "reference"));
+  item->pass = r.pass;
   std::string failing;
-  for (const auto& row : r.value("rows", nlohmann::json::array()))
-    if (row.contains("pass") && row["pass"].is_boolean() && !row["pass"].get<bool>())
-      failing += (failing.empty() ? "" : ", ") + row.value("quantity", std::string("?"));
+  for (const predict::ReconcileRow& row : r.rows)
+    if (row.pass == false) failing += (failing.empty() ? "" : ", ") + row.quantity;
   item->detail = "prediction reconciled with the reference's measurement: " +
                  (item->pass ? std::string("every gap within tolerance")
                              : "gap beyond tolerance in " + failing);

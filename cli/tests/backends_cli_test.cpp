@@ -60,6 +60,34 @@ TEST(BackendsCli, OwvalMatchesTheOpenclStoreAndSecondRunIsACacheHit) {
   }
 }
 
+// Sibernetic's demos named by their path inside a checkout (scenarios/sibernetic/NAME.json):
+// a checkout holding one_sprig and test_gravity at the repository's paths (the reference's
+// copies, which carry the [simulation box] header Sibernetic's loader needs).
+TEST(BackendsCli, SiberneticCheckoutDemosRunAgainstTheStore) {
+  if (ReferenceMissing(kReference / "test_gravity" / "configuration")) GTEST_SKIP();
+  const fs::path file = BackendsFile("checkout");
+  const fs::path checkout = file.parent_path() / "sibernetic";
+  fs::create_directories(checkout / "configuration" / "test" / "one");
+  fs::copy_file(kReference / "one_sprig" / "configuration",
+                checkout / "configuration" / "test" / "one_sprig_test");
+  fs::copy_file(kReference / "test_gravity" / "configuration",
+                checkout / "configuration" / "test" / "one" / "test_gravity");
+  const Result all = Owval("compare opencl owval --sibernetic " + checkout.string() + Flags(file));
+  ASSERT_EQ(all.exit_code, 0) << all.out << all.err;
+  EXPECT_EQ(Count(all.out, "owval: ran"), 2u) << all.out;  // only the demos the checkout has
+  EXPECT_NE(all.out.find("test_gravity"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("all gates pass"), std::string::npos) << all.out;
+  const Result missing = Owval("compare opencl owval --scenarios demo2 --sibernetic " +
+                               checkout.string() + Flags(file));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("configuration/demo2: not found (is "), std::string::npos)
+      << missing.err;
+  const Result unknown = Owval("compare opencl owval --scenarios demo9 --sibernetic " +
+                               checkout.string() + Flags(file));
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("no Sibernetic demo \"demo9\""), std::string::npos) << unknown.err;
+}
+
 TEST(BackendsCli, OneByteOfConfigurationMissesTheCache) {
   if (ReferenceMissing(kReference / "test_gravity" / "configuration")) GTEST_SKIP();
   const fs::path file = BackendsFile("onebyte");

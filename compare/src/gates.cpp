@@ -1,4 +1,5 @@
 #include "owval/compare/gates.hpp"
+#include "owval/base/format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -7,12 +8,6 @@
 
 namespace owval::compare {
 namespace {
-
-std::string Number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
 
 // A Markdown table cell: a '|' would end the cell.
 std::string Cell(const std::string& text) {
@@ -23,7 +18,7 @@ std::string Cell(const std::string& text) {
 
 std::string ValueText(const Gate& g) {
   if (g.status == GateStatus::kNotApplicable && !std::isfinite(g.value)) return "-";
-  return Number(g.value);
+  return FormatNumber(g.value, 4);
 }
 
 }  // namespace
@@ -100,8 +95,9 @@ std::string GatesMarkdownTable(const std::vector<Gate>& gates) {
   s << "| gate | measures | value | threshold | source | result |\n|---|---|---|---|---|---|\n";
   for (const Gate& g : gates)
     s << "| `" << g.name << "` | " << Cell(g.measures) << " | " << ValueText(g) << " | < "
-      << Number(g.threshold.value) << " " << g.unit << " | " << SourceName(g.threshold.source)
-      << " | " << (g.status == GateStatus::kFail ? "**FAIL**" : StatusName(g.status))
+      << FormatNumber(g.threshold.value, 4) << " " << g.unit << " | "
+      << SourceName(g.threshold.source) << " | "
+      << (g.status == GateStatus::kFail ? "**FAIL**" : StatusName(g.status))
       << Cell(g.detail.empty() ? "" : ": " + g.detail) << " |\n";
   return s.str();
 }
@@ -114,9 +110,9 @@ std::string GatesTextTable(const std::vector<Gate>& gates) {
   s << line;
   for (const Gate& g : gates) {
     std::snprintf(line, sizeof line, "  %-28s %-5s %-11s < %-10s %-9s %s%s%s\n", g.name.c_str(),
-                  StatusName(g.status), ValueText(g).c_str(), Number(g.threshold.value).c_str(),
-                  SourceName(g.threshold.source), g.unit.c_str(), g.detail.empty() ? "" : "; ",
-                  g.detail.c_str());
+                  StatusName(g.status), ValueText(g).c_str(),
+                  FormatNumber(g.threshold.value, 4).c_str(), SourceName(g.threshold.source),
+                  g.unit.c_str(), g.detail.empty() ? "" : "; ", g.detail.c_str());
     s << line;
   }
   return s.str();

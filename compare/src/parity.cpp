@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "body_gates.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/metrics_json.hpp"
 
@@ -278,6 +279,7 @@ ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
   GateOscillation(o, &r);
   MeasureDistances(ref, cand, pairs, &r);
   GateGroups(o, &r);
+  internal::GateBodies(ref, cand, pairs, o.gates, &r);
   return r;
 }
 

@@ -243,7 +243,9 @@ SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::strin
     }
     switch (section) {
       case Section::kNone:
-        reader.Fail("data before the first section header");
+        reader.Fail(
+            "data before the first section header (a file older than the \"[simulation box]\" "
+            "header: Sibernetic 8d2df73 needs that line before the 6 box values too)");
         break;
       case Section::kPhysical:
         ParsePhysicalParameter(line, reader, &c);

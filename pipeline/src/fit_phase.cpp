@@ -14,8 +14,6 @@ namespace owval::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-sgd::Tracking TrackingOf(const Track& t) { return {t.particle, t.group, static_cast<int>(t.axis)}; }
-
 engine::RunOptions RunOptionsFor(const scenarios::Scenario& s) {
   engine::RunOptions o;
   o.duration_s = s.duration_s;
@@ -85,7 +83,7 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
   const auto targets = Targets(f, spec, &why);
   if (evidence.parameters.empty() || !targets || targets->empty())
     return why.empty() ? "the manifest's \"fit\" has no parameters or targets" : why;
-  const sgd::Tracking tracking = TrackingOf(f.scenario.track);
+  const Track& tracking = f.scenario.track;
   const nlohmann::json targets_json = sgd::TargetsToJson(*targets, tracking);
   const fs::path history = f.dir / "fit" / "history.json";
   sgd::FitOptions options;

@@ -25,7 +25,7 @@ struct Context {
   engine::SiberneticConfig config;
   fs::path dir;
   Trajectory reference, candidate;
-  nlohmann::json prediction;
+  predict::Prediction prediction;
   reports::PipelineEvidence evidence;
   Summary* summary;
 };
@@ -54,9 +54,9 @@ void Predict(Context& c) {
   o.scenario = c.scenario.name;
   o.predictor = c.scenario.predictor;
   c.prediction = predict::Predict(c.config, engine::PhysicsConstants{}, o);
-  WriteJson(c.dir / "prediction.json", c.prediction);
+  WriteJson(c.dir / "prediction.json", c.prediction.ToJson());
   Done(c, "1 predict", true,
-       std::to_string(c.prediction["predictions"].size()) + " quantities in prediction.json");
+       std::to_string(c.prediction.predictions.size()) + " quantities in prediction.json");
 }
 
 void Reference(Context& c) {
@@ -75,9 +75,9 @@ void Reference(Context& c) {
 
 void Inspect(Context& c) {
   c.evidence.reconcile = predict::Reconcile(c.prediction, c.reference);
-  WriteJson(c.dir / "reconcile.json", c.evidence.reconcile);
+  WriteJson(c.dir / "reconcile.json", c.evidence.reconcile.ToJson());
   WriteFileAtomically(c.dir / "reconcile.md", predict::ReconcileMarkdown(c.evidence.reconcile));
-  c.summary->prediction_holds = c.evidence.reconcile.value("pass", false);
+  c.summary->prediction_holds = c.evidence.reconcile.pass;
   Done(c, "3 inspect", true,
        c.summary->prediction_holds ? "the prediction holds on the reference"
                                    : "a predicted quantity misses the reference (reconcile.md)");
@@ -157,7 +157,7 @@ void Prepare(Context& c) {
   c.config = scenarios::GenerateConfig(c.scenario);
   c.evidence.scenario = c.scenario.name;
   c.evidence.description = c.scenario.description;
-  CheckOutputPath(c.dir / "index.html");
+  CheckOutputPath(c.options.out_dir / "index.html");
   if (!c.options.candidate.empty()) {
     c.candidate = ReadTrajectory(c.options.candidate);
     if (c.candidate.particle_count() != c.config.particle_count())
@@ -166,7 +166,6 @@ void Prepare(Context& c) {
                            " particles; scenario " + c.scenario.name + " has " +
                            std::to_string(c.config.particle_count()));
   }
-  fs::create_directories(c.dir);
 }
 
 }  // namespace
@@ -184,6 +183,9 @@ void Run(const Options& options, Summary* summary) {
   *summary = Summary{};
   Context c(options, summary);
   Prepare(c);
+  // Every artifact lands in a temporary sibling; the report replaces an older one only whole.
+  AtomicDirectory report(options.out_dir);
+  c.dir = report.temporary_path();
   Predict(c);
   Reference(c);
   Inspect(c);
@@ -199,6 +201,8 @@ void Run(const Options& options, Summary* summary) {
   WriteFileAtomically(c.dir / "changes.md", reports::ChangesMarkdown(c.evidence));
   Checklist(c);
   WriteDocuments(c);
+  report.Commit();
+  c.summary->index_html = options.out_dir / "index.html";
 }
 
 }  // namespace owval::pipeline

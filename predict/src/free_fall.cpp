@@ -12,7 +12,7 @@
 
 namespace owval::predict::internal {
 
-nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k) {
+Prediction FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k) {
   std::size_t floor_row = 0;
   float floor_y = 1e30f;
   for (std::size_t i = 0; i < c.position.size(); ++i)
@@ -30,16 +30,16 @@ nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::Physics
   // Steps n with g*dt²*n(n+1)/2 = drop (the discrete trajectory), as a real number.
   const double steps = (-1 + std::sqrt(1 + 8 * drop_m / (g * dt * dt))) / 2;
   const double t = steps * dt;
-  nlohmann::json p;
-  p["predictor"] = "free_fall";
-  p["inputs"] = {Input("start_y", y0, "cu", ConfigSource(c, Section::kPosition, 0)),
-                 Input("floor_wall_y", floor_y, "cu",
-                       ConfigSource(c, Section::kPosition, floor_row) + ", lowest wall particle"),
-                 Input("h", k.h_cu, "cu", DefaultSource("h (smoothing radius)")),
-                 Input("time_step", dt, "s", DefaultSource("timeStep")),
-                 Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
-                 Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
-  p["predictions"] = {
+  Prediction p;
+  p.predictor = "free_fall";
+  p.inputs = {Input("start_y", y0, "cu", ConfigSource(c, Section::kPosition, 0)),
+              Input("floor_wall_y", floor_y, "cu",
+                    ConfigSource(c, Section::kPosition, floor_row) + ", lowest wall particle"),
+              Input("h", k.h_cu, "cu", DefaultSource("h (smoothing radius)")),
+              Input("time_step", dt, "s", DefaultSource("timeStep")),
+              Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
+              Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
+  p.predictions = {
       Quantity("contact_time", t, "s", t, "s",
                "t = n*dt with g*dt^2*n(n+1)/2 = (y0 - y_wall - h)*s (semi-implicit Euler)", 0.005,
                kRelative),
@@ -47,7 +47,7 @@ nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::Physics
                "t = sqrt(2*(y0 - y_wall - h)*s/g)", 0, kInformative),
       Quantity("contact_height", contact_y, "cu", contact_y * s, "m",
                "y_wall + h: the wall enters the kernel support", 0, kInformative)};
-  p["track"] = {{"particle", 0}, {"axis", "y"}};
+  p.track = Track{0, "", Axis::kY};
   return p;
 }
 

@@ -62,8 +62,8 @@ double FundamentalOmega(const Eigen::MatrixXd& a) {
 
 }  // namespace
 
-nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
-                            const PredictOptions& o) {
+Prediction HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                        const PredictOptions& o) {
   const std::size_t n = c.elastic_count();
   const ChainSystem sys = Assemble(c, k, o);
   Eigen::FullPivLU<Eigen::MatrixXd> lu(sys.a);
@@ -80,9 +80,9 @@ nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::Phy
   for (std::size_t i = 0; i < n; ++i)
     beads.push_back(
         {{"particle", i}, {"start_y_cu", c.position[i][1]}, {"equilibrium_y_cu", y[i]}});
-  nlohmann::json p;
-  p["predictor"] = "hanging_chain";
-  p["inputs"] = {
+  Prediction p;
+  p.predictor = "hanging_chain";
+  p.inputs = {
       Input("beads", double(n), "1",
             "configuration [position]: elastic rows 0.." + std::to_string(n - 1)),
       Input("springs", double(sys.springs), "1",
@@ -97,22 +97,23 @@ nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::Phy
       Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
       Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale")),
       Input("time_step", k.time_step_s, "s", DefaultSource("timeStep"))};
-  nlohmann::json equilibrium =
+  PredictedQuantity equilibrium =
       Quantity("equilibrium", y[tip], "cu", y[tip] * s, "m",
                "solve sum_rows k*f*(y_j - y_i - sigma*L0) + g_y/s = 0 for every bead; tip row",
                0.01, kAbsoluteCu);
-  equilibrium["beads"] = beads;
-  p["predictions"] = {
+  equilibrium.detail_key = "beads";
+  equilibrium.detail = beads;
+  p.predictions = {
       equilibrium,
       Quantity("tip_sag", sag, "cu", sag * s, "m", "tip start_y - equilibrium", 0, kInformative),
       Quantity("fundamental_period", period, "s", period, "s",
                "semi-implicit Euler period of sqrt(smallest eigenvalue of the stiffness matrix)", 0,
                kInformative)};
   if (sys.min_bead_distance_cu < k.h_cu)
-    p["notes"].push_back(
+    p.notes.push_back(
         "beads closer than h interact through SPH forces, which this static "
         "balance of springs and gravity leaves out");
-  p["track"] = {{"particle", tip}, {"axis", "y"}};
+  p.track = Track{tip, "", Axis::kY};
   return p;
 }
 

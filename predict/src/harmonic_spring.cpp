@@ -17,8 +17,8 @@ std::string TypeCode(float type) {
 }
 }  // namespace
 
-nlohmann::json HarmonicSpring(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
-                              const PredictOptions& o) {
+Prediction HarmonicSpring(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                          const PredictOptions& o) {
   const engine::Row4 spring = c.connection[0];
   const std::size_t anchor = static_cast<std::size_t>(spring[0]);
   const engine::Row4 e = c.position[0], a = c.position[anchor];
@@ -37,18 +37,18 @@ nlohmann::json HarmonicSpring(const engine::SiberneticConfig& c, const engine::P
       : factor == 1.0       ? "sphFluid.cl: both ends worm body (2.05 < type < 2.25)"
                             : "sphFluid.cl: 0.25 because not both ends are worm body (types " +
                             TypeCode(e[3]) + ", " + TypeCode(a[3]) + ")";
-  nlohmann::json p;
-  p["predictor"] = "harmonic_spring";
-  p["inputs"] = {Input("anchor_y", a[1], "cu", ConfigSource(c, Section::kPosition, anchor)),
-                 Input("start_y", e[1], "cu", ConfigSource(c, Section::kPosition, 0)),
-                 Input("rest_length", spring[1], "cu", ConfigSource(c, Section::kConnection, 0)),
-                 Input("spring_factor", factor, "1", factor_source),
-                 Input("elasticity_coefficient", k.elasticity_coefficient, "s^-2",
-                       DefaultSource("4*1.5e-4/mass")),
-                 Input("time_step", dt, "s", DefaultSource("timeStep")),
-                 Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale")),
-                 Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y"))};
-  p["predictions"] = {
+  Prediction p;
+  p.predictor = "harmonic_spring";
+  p.inputs = {Input("anchor_y", a[1], "cu", ConfigSource(c, Section::kPosition, anchor)),
+              Input("start_y", e[1], "cu", ConfigSource(c, Section::kPosition, 0)),
+              Input("rest_length", spring[1], "cu", ConfigSource(c, Section::kConnection, 0)),
+              Input("spring_factor", factor, "1", factor_source),
+              Input("elasticity_coefficient", k.elasticity_coefficient, "s^-2",
+                    DefaultSource("4*1.5e-4/mass")),
+              Input("time_step", dt, "s", DefaultSource("timeStep")),
+              Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale")),
+              Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y"))};
+  p.predictions = {
       Quantity("zero_crossing_period", period, "s", period, "s",
                "T = 2*pi / ((2/dt) * asin(omega*dt/2)), omega = sqrt(k*f): semi-implicit Euler",
                0.003, kRelative),
@@ -61,7 +61,7 @@ nlohmann::json HarmonicSpring(const engine::SiberneticConfig& c, const engine::P
       Quantity("equilibrium", equilibrium, "cu", equilibrium * s, "m",
                "y_eq = y_anchor - L0 - g/(k*f)/s", 0.01, kAbsoluteCu),
       Quantity("gravity_sag", sag_cu, "cu", sag_cu * s, "m", "g/(k*f)/s", 0, kInformative)};
-  p["track"] = {{"particle", 0}, {"axis", "y"}};
+  p.track = Track{0, "", Axis::kY};
   return p;
 }
 

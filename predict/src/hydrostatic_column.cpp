@@ -104,8 +104,7 @@ double BulkDensity(const engine::SiberneticConfig& c, const engine::PhysicsConst
 
 }  // namespace
 
-nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
-                                 const engine::PhysicsConstants& k) {
+Prediction HydrostaticColumn(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k) {
   const Column col = Measure(c, k.r0_cu);
   if (col.particles < 2)
     throw InputError(c.source, 0, "hydrostatic_column: needs liquid particles");
@@ -119,25 +118,26 @@ nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
   const double bottom_depth = col.surface_cu - col.layers.begin()->second;
   const double bottom_pressure = rho0 * g * bottom_depth * s;
   const double tolerance = 0.01 * height_cu;
-  nlohmann::json p;
-  p["predictor"] = "hydrostatic_column";
-  p["inputs"] = {Input("liquid_particles", double(col.particles), "1",
-                       "configuration [position]: rows of type 1.x"),
-                 Input("layers", double(col.layers.size()), "1", "distinct liquid y values"),
-                 Input("column_height", height_cu, "cu",
-                       "liquid top - bottom + one layer spacing (each particle fills a cell)"),
-                 Input("mass", k.mass_kg, "kg", DefaultSource("mass")),
-                 Input("h", k.h_cu, "cu", DefaultSource("h")),
-                 Input("r0", k.r0_cu, "cu", DefaultSource("r0 = h/2")),
-                 Input("rest_density", rho0, "kg/m^3", DefaultSource("rho0")),
-                 Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
-                 Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
-  nlohmann::json pressure =
+  Prediction p;
+  p.predictor = "hydrostatic_column";
+  p.inputs = {Input("liquid_particles", double(col.particles), "1",
+                    "configuration [position]: rows of type 1.x"),
+              Input("layers", double(col.layers.size()), "1", "distinct liquid y values"),
+              Input("column_height", height_cu, "cu",
+                    "liquid top - bottom + one layer spacing (each particle fills a cell)"),
+              Input("mass", k.mass_kg, "kg", DefaultSource("mass")),
+              Input("h", k.h_cu, "cu", DefaultSource("h")),
+              Input("r0", k.r0_cu, "cu", DefaultSource("r0 = h/2")),
+              Input("rest_density", rho0, "kg/m^3", DefaultSource("rho0")),
+              Input("gravity_y", k.gravity[1], "m/s^2", DefaultSource("gravity_y")),
+              Input("simulation_scale", s, "m/cu", DefaultSource("simulationScale"))};
+  PredictedQuantity pressure =
       Quantity("bottom_pressure", bottom_pressure, "Pa", bottom_pressure, "Pa",
                "p = rho0 * g * depth * s at the bottom layer", 0, kInformative);
-  pressure["profile"] = profile;
+  pressure.detail_key = "profile";
+  pressure.detail = profile;
   const double bulk = BulkDensity(c, k), spacing = RestLatticeSpacing(k);
-  p["predictions"] = {
+  p.predictions = {
       Quantity("centroid_equilibrium", col.centroid_cu, "cu", col.centroid_cu * s, "m",
                "incompressible column at rest: the starting centroid; tolerance 1% of the column "
                "height (the incompressibility gate's 1% density error)",
@@ -150,11 +150,11 @@ nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
       Quantity("rest_lattice_spacing", spacing, "cu", spacing * s, "m",
                "cubic lattice spacing d at which that density equals rho0", 0, kInformative)};
   if (bulk < 0.99 * rho0)
-    p["notes"].push_back("the liquid starts under-dense (" + std::to_string(bulk) +
-                         " kg/m^3 < rho0): pressure increments are clamped at >= 0, so the column "
-                         "sinks until it compacts; a lattice at spacing " +
-                         std::to_string(spacing) + " cu starts at rest density");
-  p["track"] = {{"group", "liquid"}, {"axis", "y"}};
+    p.notes.push_back("the liquid starts under-dense (" + std::to_string(bulk) +
+                      " kg/m^3 < rho0): pressure increments are clamped at >= 0, so the column "
+                      "sinks until it compacts; a lattice at spacing " +
+                      std::to_string(spacing) + " cu starts at rest density");
+  p.track = Track{0, "liquid", Axis::kY};
   return p;
 }
 

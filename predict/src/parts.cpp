@@ -5,18 +5,25 @@
 
 namespace owval::predict::internal {
 
-nlohmann::json Input(const std::string& name, double value, const std::string& unit,
-                     const std::string& source) {
-  return {{"name", name}, {"value", value}, {"unit", unit}, {"source", source}};
+PredictionInput Input(const std::string& name, double value, const std::string& unit,
+                      const std::string& source) {
+  return {name, value, unit, source};
 }
 
-nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
-                        double value_in_si, const std::string& si_unit, const std::string& formula,
-                        double tolerance, const std::string& tolerance_kind) {
-  return {{"quantity", name},       {"value", value},
-          {"unit", unit},           {"value_si", value_in_si},
-          {"unit_si", si_unit},     {"formula", formula},
-          {"tolerance", tolerance}, {"tolerance_kind", tolerance_kind}};
+PredictedQuantity Quantity(const std::string& name, double value, const std::string& unit,
+                           double value_in_si, const std::string& si_unit,
+                           const std::string& formula, double tolerance,
+                           ToleranceKind tolerance_kind) {
+  PredictedQuantity q;
+  q.quantity = name;
+  q.value = value;
+  q.unit = unit;
+  q.value_si = value_in_si;
+  q.unit_si = si_unit;
+  q.formula = formula;
+  q.tolerance = tolerance;
+  q.tolerance_kind = tolerance_kind;
+  return q;
 }
 
 std::string ConfigSource(const engine::SiberneticConfig& c, Section section, std::size_t row) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "prediction_parts.hpp"
 
 namespace owval::predict {
@@ -16,16 +17,10 @@ std::size_t SpringCount(const engine::SiberneticConfig& c) {
   return springs;
 }
 
-std::string Number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.7g", v);
-  return b;
-}
-
 // Inputs drawn from constants that the caller changed (owval predict --set) are not Sibernetic's
 // defaults any more: their source must say so, or the prediction would misreport where they came
 // from.
-void MarkChangedConstants(const engine::PhysicsConstants& k, nlohmann::json* inputs) {
+void MarkChangedConstants(const engine::PhysicsConstants& k, std::vector<PredictionInput>* inputs) {
   const engine::PhysicsConstants d;
   const std::map<std::string, std::pair<double, double>> constants = {
       {"elasticity_coefficient", {k.elasticity_coefficient, d.elasticity_coefficient}},
@@ -36,11 +31,11 @@ void MarkChangedConstants(const engine::PhysicsConstants& k, nlohmann::json* inp
       {"h", {k.h_cu, d.h_cu}},
       {"mass", {k.mass_kg, d.mass_kg}},
       {"rest_density", {k.rest_density, d.rest_density}}};
-  for (auto& input : *inputs) {
-    const auto it = constants.find(input.value("name", ""));
+  for (PredictionInput& input : *inputs) {
+    const auto it = constants.find(input.name);
     if (it != constants.end() && it->second.first != it->second.second)
-      input["source"] =
-          "set by the caller (Sibernetic's default: " + Number(it->second.second) + ")";
+      input.source =
+          "set by the caller (Sibernetic's default: " + FormatNumber(it->second.second, 7) + ")";
   }
 }
 
@@ -61,10 +56,10 @@ std::string ChoosePredictor(const engine::SiberneticConfig& c) {
                        "liquid and no elastic particles");
 }
 
-nlohmann::json Predict(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
-                       const PredictOptions& o) {
+Prediction Predict(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                   const PredictOptions& o) {
   const std::string predictor = o.predictor.empty() ? ChoosePredictor(c) : o.predictor;
-  nlohmann::json p;
+  Prediction p;
   if (predictor == "harmonic_spring" && c.elastic_count() == 1 && SpringCount(c) == 1) {
     p = internal::HarmonicSpring(c, k, o);
   } else if (predictor == "hanging_chain" && c.elastic_count() >= 1) {
@@ -78,44 +73,38 @@ nlohmann::json Predict(const engine::SiberneticConfig& c, const engine::PhysicsC
                      "predictor '" + predictor + "' does not fit this configuration (" +
                          "it calls for " + ChoosePredictor(c) + ")");
   }
-  MarkChangedConstants(k, &p["inputs"]);
-  p["schema"] = "owval.prediction/1";
-  p["scenario"] = o.scenario;
-  p["configuration"] = c.source;
-  p["omit_quarter_factor"] = o.omit_quarter_factor;
-  if (!p.contains("notes")) p["notes"] = nlohmann::json::array();
+  MarkChangedConstants(k, &p.inputs);
+  p.scenario = o.scenario;
+  p.configuration = c.source;
+  p.omit_quarter_factor = o.omit_quarter_factor;
   if (!c.physical_parameters.empty())
-    p["notes"].push_back(
+    p.notes.push_back(
         "the configuration's [physical parameters] block is ignored, as "
         "Sibernetic ignores it: Sibernetic's default constants are used");
   if (!k.DifferencesFromDefaults().empty())
-    p["notes"].push_back("constants differ from Sibernetic's defaults: " +
-                         k.DifferencesFromDefaults());
+    p.notes.push_back("constants differ from Sibernetic's defaults: " +
+                      k.DifferencesFromDefaults());
   return p;
 }
 
-std::string PredictionMarkdown(const nlohmann::json& p) {
+std::string PredictionMarkdown(const Prediction& p) {
   std::ostringstream s;
-  s << "## Prediction (" << p.value("predictor", "") << ") for " << p.value("scenario", "")
-    << "\n\n";
+  s << "## Prediction (" << p.predictor << ") for " << p.scenario << "\n\n";
   s << "| quantity | value | SI | gate | formula |\n|---|---|---|---|---|\n";
-  for (const auto& q : p["predictions"]) {
-    const std::string kind = q["tolerance_kind"];
-    const double tol = q["tolerance"];
-    const std::string gate = kind == internal::kInformative ? "informative"
-                             : kind == internal::kRelative  ? "±" + Number(tol * 100) + "%"
-                                                            : "±" + Number(tol) + " cu";
-    s << "| " << q["quantity"].get<std::string>() << " | " << Number(q["value"]) << " "
-      << q["unit"].get<std::string>() << " | " << Number(q["value_si"]) << " "
-      << q["unit_si"].get<std::string>() << " | " << gate << " | "
-      << q["formula"].get<std::string>() << " |\n";
+  for (const PredictedQuantity& q : p.predictions) {
+    const std::string gate = q.tolerance_kind == internal::kInformative ? "informative"
+                             : q.tolerance_kind == internal::kRelative
+                                 ? "±" + FormatNumber(q.tolerance * 100, 7) + "%"
+                                 : "±" + FormatNumber(q.tolerance, 7) + " cu";
+    s << "| " << q.quantity << " | " << FormatNumber(q.value, 7) << " " << q.unit << " | "
+      << FormatNumber(q.value_si, 7) << " " << q.unit_si << " | " << gate << " | " << q.formula
+      << " |\n";
   }
   s << "\n| input | value | source |\n|---|---|---|\n";
-  for (const auto& i : p["inputs"])
-    s << "| " << i["name"].get<std::string>() << " | " << Number(i["value"]) << " "
-      << i["unit"].get<std::string>() << " | " << i["source"].get<std::string>() << " |\n";
-  if (p.contains("notes"))
-    for (const auto& note : p["notes"]) s << "\n- note: " << note.get<std::string>() << "\n";
+  for (const PredictionInput& i : p.inputs)
+    s << "| " << i.name << " | " << FormatNumber(i.value, 7) << " " << i.unit << " | " << i.source
+      << " |\n";
+  for (const std::string& note : p.notes) s << "\n- note: " << note << "\n";
   return s.str();
 }
 

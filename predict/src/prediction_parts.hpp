@@ -2,7 +2,6 @@
 // Internal: the pieces every predictor assembles (inputs with their source, quantities with
 // formula, units and tolerance) and the predictors themselves.
 #include <cstddef>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "owval/engine/config.hpp"
@@ -12,17 +11,16 @@ namespace owval::predict::internal {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Tolerance kinds: relative (|measured/predicted - 1|), absolute_cu (|measured - predicted| in
-// cu) and informative (reported, never gated).
-inline constexpr const char* kRelative = "relative";
-inline constexpr const char* kAbsoluteCu = "absolute_cu";
-inline constexpr const char* kInformative = "informative";
+inline constexpr ToleranceKind kRelative = ToleranceKind::kRelative;
+inline constexpr ToleranceKind kAbsoluteCu = ToleranceKind::kAbsoluteCu;
+inline constexpr ToleranceKind kInformative = ToleranceKind::kInformative;
 
-nlohmann::json Input(const std::string& name, double value, const std::string& unit,
-                     const std::string& source);
-nlohmann::json Quantity(const std::string& name, double value, const std::string& unit,
-                        double value_in_si, const std::string& si_unit, const std::string& formula,
-                        double tolerance, const std::string& tolerance_kind);
+PredictionInput Input(const std::string& name, double value, const std::string& unit,
+                      const std::string& source);
+PredictedQuantity Quantity(const std::string& name, double value, const std::string& unit,
+                           double value_in_si, const std::string& si_unit,
+                           const std::string& formula, double tolerance,
+                           ToleranceKind tolerance_kind);
 
 enum class Section { kPosition, kVelocity, kConnection };
 // "configuration line L ([position] row i)" for a file laid out one value per line, as
@@ -38,12 +36,11 @@ double SpringFactor(float type_a, float type_b, const engine::PhysicsConstants& 
 // Period of a harmonic mode of angular frequency omega (rad/s) under semi-implicit Euler.
 double SymplecticEulerPeriod(double omega, double dt_s);
 
-nlohmann::json HarmonicSpring(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
-                              const PredictOptions& o);
-nlohmann::json FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
-nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
-                            const PredictOptions& o);
-nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
-                                 const engine::PhysicsConstants& k);
+Prediction HarmonicSpring(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                          const PredictOptions& o);
+Prediction FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
+Prediction HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
+                        const PredictOptions& o);
+Prediction HydrostaticColumn(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
 
 }  // namespace owval::predict::internal

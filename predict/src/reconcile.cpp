@@ -6,8 +6,10 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/predict/predict.hpp"
+#include "owval/trajectory/track.hpp"
 #include "prediction_parts.hpp"
 
 namespace owval::predict {
@@ -19,43 +21,12 @@ struct Signal {
   compare::SignalMetrics metrics;
 };
 
-Signal TrackedSignal(const nlohmann::json& p, const Trajectory& t) {
+Signal TrackedSignal(const Prediction& p, const Trajectory& t) {
   Signal s;
-  try {
-    const nlohmann::json& track = p.at("track");
-    const int axis = ParseAxis(track.at("axis").get<std::string>());
-    if (track.contains("group")) {
-      const std::string group = track["group"];
-      s.values = CentroidSeries(t, GroupIndices(t, group), axis);
-      s.description = group + " centroid " + track["axis"].get<std::string>();
-    } else {
-      const std::size_t particle = track.at("particle").get<std::size_t>();
-      if (particle >= t.particle_count())
-        throw InputError("prediction tracks particle " + std::to_string(particle) +
-                         " but the trajectory has " + std::to_string(t.particle_count()));
-      s.values = ParticleSeries(t, particle, axis);
-      s.description =
-          "particle " + std::to_string(particle) + " " + track["axis"].get<std::string>();
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(std::string("prediction: expected \"track\" with an axis and a particle or "
-                                 "group: ") +
-                     e.what());
-  }
+  s.values = p.track.Series(t);
+  s.description = p.track.Describe();
   s.metrics = compare::MeasureSignal(t.time_s, s.values);
   return s;
-}
-
-double PredictedValue(const nlohmann::json& p, const std::string& quantity) {
-  for (const auto& q : p["predictions"])
-    if (q["quantity"] == quantity) return q["value"];
-  return std::nan("");
-}
-
-double InputValue(const nlohmann::json& p, const std::string& name) {
-  for (const auto& i : p.value("inputs", nlohmann::json::array()))
-    if (i.value("name", "") == name) return i["value"];
-  return std::nan("");
 }
 
 // Mean over the last 10% of frames (at least one): the settled value of a resting system.
@@ -97,7 +68,7 @@ std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
 }
 
 std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
-                              const nlohmann::json& p) {
+                              const Prediction& p) {
   const compare::SignalMetrics& m = s.metrics;
   if (q == "zero_crossing_period" || q == "period_continuous" || q == "fundamental_period")
     return m.period_s;
@@ -105,7 +76,7 @@ std::optional<double> Measure(const std::string& q, const Signal& s, const Traje
   if (q == "equilibrium") return m.equilibrium;
   if (q == "tip_sag") return m.initial_value - m.equilibrium;
   if (q == "contact_time" || q == "contact_time_continuous")
-    return CrossingTime(t.time_s, s.values, PredictedValue(p, "contact_height"));
+    return CrossingTime(t.time_s, s.values, p.ValueOf("contact_height"));
   if (q == "centroid_equilibrium") return FinalMean(s.values);
   if (q == "bottom_pressure") return BottomPressure(t, engine::PhysicsConstants{}.r0_cu);
   return std::nullopt;
@@ -114,20 +85,20 @@ std::optional<double> Measure(const std::string& q, const Signal& s, const Traje
 bool Near(double a, double b, double relative) { return std::abs(a / b - 1) < relative; }
 
 std::string QuantityHint(const std::string& q, double measured, double predicted,
-                         const nlohmann::json& p) {
+                         const Prediction& p) {
   const double ratio = measured / predicted;
   if (q == "zero_crossing_period") {
     if (Near(ratio, 2, 0.05) || Near(ratio, 0.5, 0.05))
       return "period off by 2x: the 0.25 factor Sibernetic applies (sphFluid.cl) to springs not "
              "between two worm-body particles (2.05 < type < 2.25) quarters the stiffness";
-    if (Near(measured, PredictedValue(p, "period_continuous"), 2e-4))
+    if (Near(measured, p.ValueOf("period_continuous"), 2e-4))
       return "the measurement follows the continuous-time period: not semi-implicit Euler, or "
              "a much smaller time step";
     return "stiffness or time step differ from the prediction's: check elasticityCoefficient, "
            "the spring's types and dt";
   }
   if (q == "equilibrium") {
-    const double sag = PredictedValue(p, "gravity_sag");
+    const double sag = p.ValueOf("gravity_sag");
     if (std::isfinite(sag) && Near(std::abs(measured - predicted), sag, 0.2))
       return "equilibrium shifted by one gravity sag: gravity missing or counted twice";
     if (std::isfinite(sag))
@@ -139,12 +110,11 @@ std::string QuantityHint(const std::string& q, double measured, double predicted
                      : "slower than free fall: drag (viscous coupling with neighbours or walls) "
                        "or weaker gravity";
   if (q == "centroid_equilibrium" && measured < predicted &&
-      PredictedValue(p, "initial_bulk_density") < 0.99 * InputValue(p, "rest_density"))
-    return "the liquid starts under-dense (" +
-           std::to_string(PredictedValue(p, "initial_bulk_density")) +
+      p.ValueOf("initial_bulk_density") < 0.99 * p.InputValue("rest_density"))
+    return "the liquid starts under-dense (" + std::to_string(p.ValueOf("initial_bulk_density")) +
            " kg/m^3 < rho0): Sibernetic clamps pressure increments at >= 0, so nothing holds "
            "the column up until it compacts; start the lattice at the rest spacing " +
-           std::to_string(PredictedValue(p, "rest_lattice_spacing")) + " cu";
+           std::to_string(p.ValueOf("rest_lattice_spacing")) + " cu";
   if (q == "centroid_equilibrium")
     return measured < predicted
                ? "the column compresses: density errors above 1% (few PCISPH iterations; "
@@ -164,100 +134,75 @@ std::string SignalHint(const compare::SignalMetrics& m) {
   return "";
 }
 
-double Tolerance(const nlohmann::json& q, const ReconcileOptions& o) {
-  const auto it = o.tolerances.find(q["quantity"].get<std::string>());
+double Tolerance(const PredictedQuantity& q, const ReconcileOptions& o) {
+  const auto it = o.tolerances.find(q.quantity);
   if (it != o.tolerances.end()) return it->second;
-  return o.tolerance ? *o.tolerance : q.value("tolerance", 0.0);
+  return o.tolerance ? *o.tolerance : q.tolerance;
 }
 
-nlohmann::json Row(const nlohmann::json& q, const std::optional<double>& measured,
-                   const ReconcileOptions& o) {
-  const std::string kind = q.value("tolerance_kind", internal::kRelative);
-  const bool gated = kind != internal::kInformative;
-  const double predicted = q.at("value"), tolerance = gated ? Tolerance(q, o) : 0.0;
-  nlohmann::json row = {{"quantity", q.at("quantity")},
-                        {"predicted", predicted},
-                        {"unit", q.value("unit", "")},
-                        {"tolerance", tolerance},
-                        {"tolerance_kind", kind},
-                        {"measured", nullptr},
-                        {"gap", nullptr},
-                        {"pass", nullptr},
-                        {"hint", ""}};
+ReconcileRow Row(const PredictedQuantity& q, const std::optional<double>& measured,
+                 const ReconcileOptions& o) {
+  ReconcileRow row;
+  const bool gated = q.tolerance_kind != ToleranceKind::kInformative;
+  row.quantity = q.quantity;
+  row.predicted = q.value;
+  row.unit = q.unit;
+  row.tolerance = gated ? Tolerance(q, o) : 0.0;
+  row.tolerance_kind = q.tolerance_kind;
   // Positions gap in cu, everything else relative to the prediction.
-  const bool absolute =
-      kind == internal::kAbsoluteCu || (kind == internal::kInformative && row["unit"] == "cu");
-  row["gap_kind"] = absolute ? "absolute_cu" : "relative";
+  row.gap_in_cu = q.tolerance_kind == ToleranceKind::kAbsoluteCu ||
+                  (q.tolerance_kind == ToleranceKind::kInformative && q.unit == "cu");
   if (measured) {
-    row["measured"] = *measured;
-    row["gap"] = absolute ? *measured - predicted : (*measured - predicted) / predicted;
+    row.measured = *measured;
+    row.gap = row.gap_in_cu ? *measured - q.value : (*measured - q.value) / q.value;
   }
-  if (gated) row["pass"] = measured && std::abs(row["gap"].get<double>()) <= tolerance;
+  if (gated) row.pass = measured && std::abs(*row.gap) <= row.tolerance;
   if (gated && !measured)
-    row["hint"] = "could not be measured on this trajectory (too short, or no crossing)";
+    row.hint = "could not be measured on this trajectory (too short, or no crossing)";
   return row;
 }
 
 }  // namespace
 
-nlohmann::json Reconcile(const nlohmann::json& p, const Trajectory& t, const ReconcileOptions& o) {
-  if (!p.contains("predictions") || !p["predictions"].is_array())
-    throw InputError("prediction: expected a \"predictions\" list (owval predict -o FILE)");
+Reconciliation Reconcile(const Prediction& p, const Trajectory& t, const ReconcileOptions& o) {
   const Signal s = TrackedSignal(p, t);
-  nlohmann::json rows = nlohmann::json::array();
-  bool pass = true;
-  try {
-    for (const auto& q : p["predictions"]) {
-      const std::string name = q.at("quantity");
-      nlohmann::json row = Row(q, Measure(name, s, t, p), o);
-      if (row["pass"] == false) {
-        pass = false;
-        if (!row["measured"].is_null())
-          row["hint"] = QuantityHint(name, row["measured"], row["predicted"], p);
-        if (row["hint"] == "") row["hint"] = SignalHint(s.metrics);
-      }
-      rows.push_back(row);
+  Reconciliation r;
+  r.predictor = p.predictor;
+  r.scenario = p.scenario;
+  r.signal = s.description;
+  r.frames = t.frame_count();
+  for (const PredictedQuantity& q : p.predictions) {
+    ReconcileRow row = Row(q, Measure(q.quantity, s, t, p), o);
+    if (row.pass == false) {
+      r.pass = false;
+      if (row.measured) row.hint = QuantityHint(q.quantity, *row.measured, row.predicted, p);
+      if (row.hint.empty()) row.hint = SignalHint(s.metrics);
     }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(std::string("prediction: malformed quantity: ") + e.what());
+    r.rows.push_back(row);
   }
-  return {{"schema", "owval.reconcile/1"},
-          {"predictor", p.value("predictor", "")},
-          {"scenario", p.value("scenario", "")},
-          {"signal", s.description},
-          {"frames", t.frame_count()},
-          {"rows", rows},
-          {"pass", pass}};
+  return r;
 }
 
-std::string ReconcileMarkdown(const nlohmann::json& r) {
-  auto number = [](double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.7g", v);
-    return std::string(b);
-  };
+std::string ReconcileMarkdown(const Reconciliation& r) {
   std::ostringstream s;
-  s << "## Reconciliation (" << r.value("predictor", "") << ", " << r.value("signal", "")
-    << "): " << (r["pass"].get<bool>() ? "PASS" : "FAIL") << "\n\n";
+  s << "## Reconciliation (" << r.predictor << ", " << r.signal
+    << "): " << (r.pass ? "PASS" : "FAIL") << "\n\n";
   s << "| quantity | predicted | measured | gap | tolerance | pass |\n|---|---|---|---|---|---|\n";
-  for (const auto& row : r["rows"]) {
-    const std::string kind = row["tolerance_kind"];
-    const bool relative = row.value("gap_kind", "relative") == "relative";
-    auto gap = [&](double g) { return relative ? number(g * 100) + "%" : number(g) + " cu"; };
-    s << "| " << row["quantity"].get<std::string>() << " | " << number(row["predicted"]) << " "
-      << row["unit"].get<std::string>() << " | "
-      << (row["measured"].is_null() ? "n/a" : number(row["measured"])) << " | "
-      << (row["gap"].is_null() ? "n/a" : gap(row["gap"])) << " | "
-      << (kind == internal::kInformative ? "-" : gap(row["tolerance"])) << " | "
-      << (row["pass"].is_null()     ? "info"
-          : row["pass"].get<bool>() ? "yes"
-                                    : "NO")
+  for (const ReconcileRow& row : r.rows) {
+    auto gap = [&](double g) {
+      return row.gap_in_cu ? FormatNumber(g, 7) + " cu" : FormatNumber(g * 100, 7) + "%";
+    };
+    s << "| " << row.quantity << " | " << FormatNumber(row.predicted, 7) << " " << row.unit << " | "
+      << (row.measured ? FormatNumber(*row.measured, 7) : "n/a") << " | "
+      << (row.gap ? gap(*row.gap) : "n/a") << " | "
+      << (row.tolerance_kind == ToleranceKind::kInformative ? "-" : gap(row.tolerance)) << " | "
+      << (!row.pass   ? "info"
+          : *row.pass ? "yes"
+                      : "NO")
       << " |\n";
   }
-  for (const auto& row : r["rows"])
-    if (!row["hint"].get<std::string>().empty())
-      s << "\n- likely cause for " << row["quantity"].get<std::string>() << ": "
-        << row["hint"].get<std::string>() << "\n";
+  for (const ReconcileRow& row : r.rows)
+    if (!row.hint.empty()) s << "\n- likely cause for " << row.quantity << ": " << row.hint << "\n";
   return s.str();
 }
 

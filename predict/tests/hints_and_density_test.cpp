@@ -14,15 +14,13 @@ using engine::SiberneticConfig;
 
 constexpr double kScale = 7.39999905e-06;  // m per cu (Sibernetic's simulationScale)
 
-double Value(const nlohmann::json& p, const std::string& name) {
-  for (const auto& q : p["predictions"])
-    if (q["quantity"] == name) return q["value"];
-  throw std::runtime_error("no quantity " + name);
+double Value(const Prediction& p, const std::string& name) {
+  if (!p.Find(name)) throw std::runtime_error("no quantity " + name);
+  return p.ValueOf(name);
 }
-const nlohmann::json& Row(const nlohmann::json& r, const std::string& name) {
-  for (const auto& row : r["rows"])
-    if (row["quantity"] == name) return row;
-  throw std::runtime_error("no row " + name);
+const ReconcileRow& Row(const Reconciliation& r, const std::string& name) {
+  if (!r.Find(name)) throw std::runtime_error("no row " + name);
+  return *r.Find(name);
 }
 
 void AddParticle(SiberneticConfig* c, float x, float y, float z, float type) {
@@ -66,33 +64,32 @@ Trajectory Synthetic(int frames, double dt, float type, F y) {
 }
 
 TEST(Hints, DampedOscillationPointsToViscousCoupling) {
-  const nlohmann::json p = Predict(OneSprig(), {}, {});
+  const Prediction p = Predict(OneSprig(), {}, {});
   const double omega = 2 * M_PI / Value(p, "zero_crossing_period");
   const double y_eq = Value(p, "equilibrium"), a = Value(p, "half_amplitude");
   // Amplitude e^-0.35 per period: whole-cycle half-amplitude falls far below the prediction.
   const Trajectory t = Synthetic(1000, 2e-5, 2.1f, [&](double s) {
     return y_eq + a * std::exp(-0.35 * s * omega / (2 * M_PI)) * std::cos(omega * s);
   });
-  const nlohmann::json r = Reconcile(p, t);
-  EXPECT_FALSE(r["pass"].get<bool>());
-  EXPECT_NE(Row(r, "half_amplitude")["hint"].get<std::string>().find("viscous"), std::string::npos)
-      << r.dump(2);
+  const Reconciliation r = Reconcile(p, t);
+  EXPECT_FALSE(r.pass);
+  EXPECT_NE(Row(r, "half_amplitude").hint.find("viscous"), std::string::npos) << r.ToJson().dump(2);
 }
 
 TEST(Hints, FreeFallFasterThanPredictedPointsToBuoyancy) {
   SiberneticConfig c = Box();
   AddParticle(&c, 16.7f, 25.0f, 16.7f, 1.1f);
   AddParticle(&c, 16.7f, 0.835f, 16.7f, 3.0f);
-  const nlohmann::json p = Predict(c, {}, {});
+  const Prediction p = Predict(c, {}, {});
   auto fall = [](double g) { return [g](double s) { return 25.0 - 0.5 * g * s * s / kScale; }; };
   // Continuous fall with g: crosses 4.175 cu at 5.6080 ms, 0.18% after the discrete prediction.
-  const nlohmann::json ok = Reconcile(p, Synthetic(400, 2e-5, 1.1f, fall(9.8)));
-  EXPECT_TRUE(ok["pass"].get<bool>()) << ok.dump(2);
+  const Reconciliation ok = Reconcile(p, Synthetic(400, 2e-5, 1.1f, fall(9.8)));
+  EXPECT_TRUE(ok.pass) << ok.ToJson().dump(2);
   // 1.2 g: contact 1/sqrt(1.2) sooner, -8.7%.
-  const nlohmann::json r = Reconcile(p, Synthetic(400, 2e-5, 1.1f, fall(9.8 * 1.2)));
-  EXPECT_FALSE(r["pass"].get<bool>());
-  EXPECT_NEAR(Row(r, "contact_time")["gap"].get<double>(), 1 / std::sqrt(1.2) - 1, 0.005);
-  EXPECT_NE(Row(r, "contact_time")["hint"].get<std::string>().find("buoyancy"), std::string::npos);
+  const Reconciliation r = Reconcile(p, Synthetic(400, 2e-5, 1.1f, fall(9.8 * 1.2)));
+  EXPECT_FALSE(r.pass);
+  EXPECT_NEAR(*Row(r, "contact_time").gap, 1 / std::sqrt(1.2) - 1, 0.005);
+  EXPECT_NE(Row(r, "contact_time").hint.find("buoyancy"), std::string::npos);
 }
 
 // A 5x5x5 simple-cubic liquid lattice of spacing d (cu) around (10, 10, 10).
@@ -105,21 +102,21 @@ SiberneticConfig LiquidLattice(float d) {
 }
 
 TEST(HydrostaticDensity, StartingLatticeAtR0IsUnderDense) {
-  const nlohmann::json p = Predict(LiquidLattice(1.67f), {}, {});
+  const Prediction p = Predict(LiquidLattice(1.67f), {}, {});
   // At d = h/2 the centre sees 6 neighbours at d, 12 at sqrt(2)d, 8 at sqrt(3)d (the 6 at 2d = h
   // are not < h), no self term: sum (h^2 - r^2)^3 = (6*(3/4)^3 + 12*(1/2)^3 + 8*(1/4)^3) h^6 =
   // 4.15625 h^6, rho = 2e-12 * 315 * 4.15625 / (64 pi (3.34 * 7.39999905e-6 m)^3) = 862.537.
   EXPECT_NEAR(Value(p, "initial_bulk_density"), 862.537, 0.05);
   // The spacing where the same 32-neighbour sum gives rho0 = 1000 (bisection, by hand 1.606425).
   EXPECT_NEAR(Value(p, "rest_lattice_spacing"), 1.606425, 1e-4);
-  ASSERT_FALSE(p["notes"].empty());
-  EXPECT_NE(p["notes"][0].get<std::string>().find("under-dense"), std::string::npos);
+  ASSERT_FALSE(p.notes.empty());
+  EXPECT_NE(p.notes[0].find("under-dense"), std::string::npos);
   EXPECT_NEAR(Value(Predict(LiquidLattice(1.606425f), {}, {}), "initial_bulk_density"), 1000.0,
               0.05);
 }
 
 TEST(HydrostaticDensity, SinkingUnderDenseColumnIsExplained) {
-  const nlohmann::json p = Predict(LiquidLattice(1.67f), {}, {});
+  const Prediction p = Predict(LiquidLattice(1.67f), {}, {});
   Trajectory t;
   t.box = {0, 33.4f, 0, 33.4f, 0, 33.4f};
   t.type.assign(125, 1.1f);
@@ -128,11 +125,10 @@ TEST(HydrostaticDensity, SinkingUnderDenseColumnIsExplained) {
     for (const auto& row : LiquidLattice(1.67f).position)
       t.positions.insert(t.positions.end(), {row[0], row[1] - (f > 0 ? 1.0f : 0.0f), row[2]});
   }
-  const nlohmann::json r = Reconcile(p, t);
-  EXPECT_FALSE(r["pass"].get<bool>());
-  EXPECT_NEAR(Row(r, "centroid_equilibrium")["gap"].get<double>(), -1.0, 1e-5);
-  EXPECT_NE(Row(r, "centroid_equilibrium")["hint"].get<std::string>().find("under-dense"),
-            std::string::npos);
+  const Reconciliation r = Reconcile(p, t);
+  EXPECT_FALSE(r.pass);
+  EXPECT_NEAR(*Row(r, "centroid_equilibrium").gap, -1.0, 1e-5);
+  EXPECT_NE(Row(r, "centroid_equilibrium").hint.find("under-dense"), std::string::npos);
 }
 
 }  // namespace
@@ -144,16 +140,16 @@ namespace {
 TEST(ChangedConstants, SourceAndPeriodFollowTheCallersValue) {
   engine::PhysicsConstants k;
   k.elasticity_coefficient = 5.55e8;
-  const nlohmann::json p = Predict(OneSprig(), k, {});
+  const Prediction p = Predict(OneSprig(), k, {});
   // omega = sqrt(5.55e8 * 0.25) = 11779.22 rad/s, omega*dt/2 = 0.1177922;
   // T = 2*pi / (1e5 * asin(0.1177922)) = 0.5321743 ms.
   EXPECT_NEAR(Value(p, "zero_crossing_period"), 0.5321743e-3, 1e-10);
   std::string source;
-  for (const auto& input : p["inputs"])
-    if (input["name"] == "elasticity_coefficient") source = input["source"];
+  for (const PredictionInput& input : p.inputs)
+    if (input.name == "elasticity_coefficient") source = input.source;
   EXPECT_NE(source.find("set by the caller"), std::string::npos) << source;
-  ASSERT_FALSE(p["notes"].empty());
-  EXPECT_NE(p["notes"].back().get<std::string>().find("elasticity_coefficient"), std::string::npos);
+  ASSERT_FALSE(p.notes.empty());
+  EXPECT_NE(p.notes.back().find("elasticity_coefficient"), std::string::npos);
 }
 
 }  // namespace

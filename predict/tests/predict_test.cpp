@@ -27,10 +27,17 @@ double V(const nlohmann::json& prediction, const std::string& name) {
   return Q(prediction, name)["value"];
 }
 
+// The prediction as prediction.json holds it: every check below also covers ToJson.
 nlohmann::json PredictFor(const engine::SiberneticConfig& c, bool omit_quarter = false) {
   PredictOptions o;
   o.omit_quarter_factor = omit_quarter;
-  return Predict(c, engine::PhysicsConstants{}, o);
+  return Predict(c, engine::PhysicsConstants{}, o).ToJson();
+}
+
+// Reconciles a prediction.json document (read back with FromJson), as reconcile.json holds it.
+nlohmann::json ReconcileJson(const nlohmann::json& prediction, const Trajectory& t,
+                             const ReconcileOptions& o = {}) {
+  return Reconcile(Prediction::FromJson(prediction, "prediction.json"), t, o).ToJson();
 }
 
 // Hand values (Sibernetic's one_sprig meta.json theory check): k_eff = 0.25 * 3e8 = 7.5e7 s^-2,
@@ -110,7 +117,7 @@ TEST(HangingChain, NonWormBodyBeadsAreFourTimesSofter) {
 TEST(HangingChain, OneBeadIsTheHarmonicSpring) {
   PredictOptions o;
   o.predictor = "hanging_chain";  // one bead on one spring would otherwise pick harmonic_spring
-  const nlohmann::json p = Predict(scenarios::HangingChain({{"beads", 1}}), {}, o);
+  const nlohmann::json p = Predict(scenarios::HangingChain({{"beads", 1}}), {}, o).ToJson();
   EXPECT_NEAR(V(p, "fundamental_period"), 0.7246109e-3, 1e-10);
   EXPECT_NEAR(V(p, "tip_sag"), 0.017658, 1e-6);
 }
@@ -141,7 +148,7 @@ TEST(Predict, RefusesConfigurationsWithoutAPredictor) {
 
 TEST(Reconcile, OneSprigPredictionPassesAgainstSiberneticsRun) {
   const nlohmann::json r =
-      Reconcile(PredictFor(scenarios::OneSprig({})), ReadTrajectory(kBundledOneSprig));
+      ReconcileJson(PredictFor(scenarios::OneSprig({})), ReadTrajectory(kBundledOneSprig));
   EXPECT_TRUE(r["pass"].get<bool>()) << r.dump(2);
   for (const auto& row : r["rows"])
     if (row["quantity"] == "zero_crossing_period") {
@@ -150,14 +157,17 @@ TEST(Reconcile, OneSprigPredictionPassesAgainstSiberneticsRun) {
 }
 
 TEST(Reconcile, MissingQuarterFactorFailsAndIsNamed) {
-  const nlohmann::json r =
-      Reconcile(PredictFor(scenarios::OneSprig({}), true), ReadTrajectory(kBundledOneSprig));
+  PredictOptions omit;
+  omit.omit_quarter_factor = true;
+  const Reconciliation typed =
+      Reconcile(Predict(scenarios::OneSprig({}), {}, omit), ReadTrajectory(kBundledOneSprig));
+  const nlohmann::json r = typed.ToJson();
   EXPECT_FALSE(r["pass"].get<bool>());
   const nlohmann::json& period = r["rows"][0];
   ASSERT_EQ(period["quantity"], "zero_crossing_period");
   EXPECT_NEAR(period["gap"].get<double>(), 1.0, 0.02);  // measured = 2x predicted
   EXPECT_NE(period["hint"].get<std::string>().find("0.25 factor"), std::string::npos);
-  EXPECT_NE(ReconcileMarkdown(r).find("0.25 factor"), std::string::npos);
+  EXPECT_NE(ReconcileMarkdown(typed).find("0.25 factor"), std::string::npos);
 }
 
 TEST(Reconcile, ToleranceOptionsOverrideThePrediction) {
@@ -165,18 +175,47 @@ TEST(Reconcile, ToleranceOptionsOverrideThePrediction) {
   const Trajectory t = ReadTrajectory(kBundledOneSprig);
   ReconcileOptions strict;
   strict.tolerances["half_amplitude"] = 1e-9;
-  EXPECT_FALSE(Reconcile(p, t, strict)["pass"].get<bool>());
+  EXPECT_FALSE(ReconcileJson(p, t, strict)["pass"].get<bool>());
   ReconcileOptions loose;
   loose.tolerance = 1.5;
-  EXPECT_TRUE(Reconcile(PredictFor(scenarios::OneSprig({}), true), t, loose)["pass"].get<bool>());
+  EXPECT_TRUE(
+      ReconcileJson(PredictFor(scenarios::OneSprig({}), true), t, loose)["pass"].get<bool>());
 }
 
 TEST(Reconcile, RefusesAPredictionWithoutTrackOrQuantities) {
   const Trajectory t = ReadTrajectory(kBundledOneSprig);
-  EXPECT_THROW(Reconcile(nlohmann::json::object(), t), InputError);
+  EXPECT_THROW(ReconcileJson(nlohmann::json::object(), t), InputError);
   nlohmann::json p = PredictFor(scenarios::OneSprig({}));
   p["track"]["particle"] = 99999;
-  EXPECT_THROW(Reconcile(p, t), InputError);
+  EXPECT_THROW(ReconcileJson(p, t), InputError);
+}
+
+// Issue 18 item 12: an entry without "value" aborted on a nlohmann assertion; now every
+// malformed field is one line naming the file and the field's path.
+TEST(Prediction, FromJsonNamesTheFileAndTheMalformedField) {
+  nlohmann::json p = PredictFor(scenarios::OneSprig({}));
+  EXPECT_EQ(Prediction::FromJson(p, "p.json").ToJson(), p);  // the round trip is exact
+  auto message = [](const nlohmann::json& j) {
+    try {
+      Prediction::FromJson(j, "p.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  nlohmann::json no_value = p;
+  no_value["predictions"][1].erase("value");
+  EXPECT_EQ(message(no_value), "p.json: \"predictions[1].value\": expected a finite number");
+  nlohmann::json bad_kind = p;
+  bad_kind["predictions"][0]["tolerance_kind"] = "loose";
+  EXPECT_EQ(message(bad_kind),
+            "p.json: \"predictions[0].tolerance_kind\": expected relative, absolute_cu or "
+            "informative");
+  nlohmann::json bad_note = p;
+  bad_note["notes"] = {1};
+  EXPECT_EQ(message(bad_note), "p.json: \"notes[0]\": expected a string");
+  EXPECT_EQ(message(nlohmann::json::array()),
+            "p.json: \"(top level)\": expected an object (owval predict -o FILE)");
 }
 
 TEST(Cli, PredictAndReconcileExitCodes) {

@@ -9,6 +9,7 @@ extern "C" {
 }
 
 #include "owval/base/errors.hpp"
+#include "owval/render/render.hpp"
 
 namespace owval::render::internal {
 namespace {
@@ -25,12 +26,11 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, int fps)
     : path_(path), width_(width), height_(height) {
   if (width % 2 || height % 2)
     throw InputError(path, 0, "video width and height must be even for yuv420p");
-  av_log_set_level(AV_LOG_ERROR);  // x264 statistics are noise on a user's terminal
   Check(avformat_alloc_output_context2(&format_, nullptr, "mp4", path.c_str()), path,
         "cannot create MP4 container");
   const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
   if (!encoder)
-    throw InputError(path, 0, "libavcodec has no libx264 encoder (install libavcodec with x264)");
+    throw EnvironmentError("libavcodec has no libx264 encoder (install libavcodec with x264)");
   stream_ = avformat_new_stream(format_, nullptr);
   codec_ = avcodec_alloc_context3(encoder);
   codec_->width = width;
@@ -101,3 +101,9 @@ void Mp4Writer::Finish() {
 }
 
 }  // namespace owval::render::internal
+
+namespace owval::render {
+
+void SilenceCodecLogging() { av_log_set_level(AV_LOG_ERROR); }
+
+}  // namespace owval::render

@@ -56,9 +56,9 @@ class Canvas {
   Canvas(int width, int height)
       : width_(width), height_(height), pixels_(std::size_t(width) * height * 4) {
     context_ = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-    if (!context_) throw InputError("OSMesa could not create an off-screen context");
+    if (!context_) throw EnvironmentError("OSMesa could not create an off-screen context");
     if (!OSMesaMakeCurrent(context_, pixels_.data(), GL_UNSIGNED_BYTE, width, height))
-      throw InputError("OSMesa could not bind the frame buffer");
+      throw EnvironmentError("OSMesa could not bind the frame buffer");
     OSMesaPixelStore(OSMESA_Y_UP, 0);
     MakeSphereSprite();
   }
@@ -397,11 +397,6 @@ std::array<float, 2> Camera::Project(const std::array<float, 3>& p, int width, i
   return {(ndc_x + 1) / 2 * float(width), (1 - ndc_y) / 2 * float(height)};
 }
 
-std::size_t FrameAtTime(const Trajectory& t, double time_s) {
-  const auto it = std::upper_bound(t.time_s.begin(), t.time_s.end(), time_s + 1e-12);
-  return it == t.time_s.begin() ? 0 : std::size_t(it - t.time_s.begin()) - 1;
-}
-
 std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t frame,
                                            const RenderOptions& o) {
   CheckSize(o);
@@ -454,21 +449,18 @@ VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, con
                             Format("%g s", ref.time_step_s) + " x " + std::to_string(ref.log_step) +
                             ", candidate " + Format("%g s", cand.time_step_s) + " x " +
                             std::to_string(cand.log_step) + "): panels paired by simulation time");
-  // Output frames follow the trajectory with more frames, within the time both cover.
-  const Trajectory& driver = ref.frame_count() >= cand.frame_count() ? ref : cand;
-  const double end_s = std::min(ref.time_s.back(), cand.time_s.back());
-  std::vector<double> times;
-  for (double t : driver.time_s)
-    if (t <= end_s + 1e-12) times.push_back(t);
-  std::vector<double> sampled;
-  for (std::size_t k : Sample(times.size(), o.max_frames)) sampled.push_back(times[k]);
+  // Frames paired by the one rule every comparison uses: only moments both runs recorded.
+  const auto pairs = PairFramesByTime(ref, cand);
+  if (pairs.empty())
+    throw InputError("the two trajectories share no frame time to show side by side");
+  std::vector<std::pair<std::size_t, std::size_t>> sampled;
+  for (std::size_t k : Sample(pairs.size(), o.max_frames)) sampled.push_back(pairs[k]);
   AtomicOutput out(out_mp4);
   SideBySideFrame compose(ref, o);
   internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
   Progress progress("render sxs", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
-    auto& rgba =
-        compose.Compose(ref, FrameAtTime(ref, sampled[k]), cand, FrameAtTime(cand, sampled[k]));
+    auto& rgba = compose.Compose(ref, sampled[k].first, cand, sampled[k].second);
     Title(compose.text(), rgba, o);
     video.AddFrame(rgba);
     progress.Update(k + 1);

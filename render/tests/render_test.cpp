@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "owval/base/errors.hpp"
 #include "owval/ci/checklist.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -88,10 +89,19 @@ TEST(Render, SideBySideMp4ReadsBackAsH264WithTheExpectedShape) {
 TEST(Render, PanelsArePairedByTimeNotIndex) {
   Trajectory coarse = OneParticle(15, 10, 15, 10);
   for (std::size_t f = 0; f < coarse.frame_count(); ++f)
-    coarse.time_s[f] = double(f) * 4e-3;  // log step 4x
-  const Trajectory fine = OneParticle(15, 10, 15, 40);
-  EXPECT_EQ(FrameAtTime(coarse, fine.time_s[13]), 3u);  // 13 ms falls in the 12 ms frame
-  EXPECT_EQ(FrameAtTime(fine, coarse.time_s[3]), 12u);
+    coarse.time_s[f] = double(f) * 4e-3;                // log step 4x: 0, 4, ..., 36 ms
+  const Trajectory fine = OneParticle(15, 10, 15, 40);  // 0, 1, ..., 39 ms
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.quiet = true;
+  // PairFramesByTime's rule: only the ten moments both runs recorded become video frames.
+  const VideoSummary s = RenderSideBySide(coarse, fine, o, Scratch() / "paired.mp4");
+  EXPECT_EQ(s.frames, 10u);
+  Trajectory disjoint = fine;
+  for (double& t : disjoint.time_s) t += 1.0;
+  EXPECT_THROW(RenderSideBySide(coarse, disjoint, o, Scratch() / "none.mp4"), InputError);
+  EXPECT_FALSE(fs::exists(Scratch() / "none.mp4"));
 }
 
 TEST(Render, FramesPrintTheTrajectoryValues) {

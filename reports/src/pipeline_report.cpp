@@ -3,59 +3,40 @@
 #include <cmath>
 #include <cstdio>
 
+#include "owval/base/format.hpp"
 #include "owval/reports/svg_plot.hpp"
 
 namespace owval::reports {
 namespace {
 
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-std::string Pct(double fraction) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g%%", fraction * 100);
-  return b;
-}
-
-std::string NumOr(const nlohmann::json& v, const std::string& unit) {
-  return v.is_number() ? Num(v.get<double>()) + (unit.empty() ? "" : " " + unit) : "n/a";
-}
+std::string NumOr(const std::optional<double>& v) { return v ? FormatNumber(*v, 6) : "n/a"; }
 
 // A gap with its unit: relative gaps as percentages, absolute ones in the quantity's unit.
-std::string Gap(const nlohmann::json& row) {
-  const nlohmann::json gap = row.value("gap", nlohmann::json());
-  if (!gap.is_number()) return "n/a";
-  if (row.value("gap_kind", std::string()) == "relative") return Pct(gap.get<double>());
-  return Num(gap.get<double>()) + " " + row.value("unit", std::string());
+std::string Gap(const predict::ReconcileRow& row) {
+  if (!row.gap) return "n/a";
+  if (!row.gap_in_cu) return FormatPercent(*row.gap);
+  return FormatNumber(*row.gap, 6) + " " + row.unit;
 }
 
-std::string Tolerance(const nlohmann::json& row) {
-  const nlohmann::json t = row.value("tolerance", nlohmann::json());
-  if (!t.is_number()) return "-";
-  if (row.value("tolerance_kind", std::string()) == "relative") return "< " + Pct(t.get<double>());
-  return "< " + Num(t.get<double>()) + " " + row.value("unit", std::string());
+std::string Tolerance(const predict::ReconcileRow& row) {
+  if (row.tolerance_kind == predict::ToleranceKind::kInformative) return "-";
+  if (row.tolerance_kind == predict::ToleranceKind::kRelative)
+    return "< " + FormatPercent(row.tolerance);
+  return "< " + FormatNumber(row.tolerance, 6) + " " + row.unit;
 }
 
-std::string Verdict(const nlohmann::json& row) {
-  const nlohmann::json pass = row.value("pass", nlohmann::json());
-  if (!pass.is_boolean()) return "informative";
-  return pass.get<bool>() ? "pass" : "FAIL";
+std::string Verdict(const predict::ReconcileRow& row) {
+  if (!row.pass) return "informative";
+  return *row.pass ? "pass" : "FAIL";
 }
 
 void PredictionSection(const PipelineEvidence& e, Document* d) {
   d->Heading("1-3. Prediction reconciled with the reference");
   std::vector<std::vector<std::string>> rows = {
       {"quantity", "unit", "predicted", "measured (reference)", "gap", "tolerance", "result"}};
-  for (const auto& r : e.reconcile.value("rows", nlohmann::json::array())) {
-    const std::string unit = r.value("unit", std::string());
-    rows.push_back({r.value("quantity", std::string("?")), unit,
-                    NumOr(r.value("predicted", nlohmann::json()), ""),
-                    NumOr(r.value("measured", nlohmann::json()), ""), Gap(r), Tolerance(r),
+  for (const predict::ReconcileRow& r : e.reconcile.rows)
+    rows.push_back({r.quantity, r.unit, NumOr(r.predicted), NumOr(r.measured), Gap(r), Tolerance(r),
                     Verdict(r)});
-  }
   d->Table(rows);
 }
 
@@ -120,9 +101,10 @@ void FramesSection(const PipelineEvidence& e, Document* d) {
   for (const auto& f : e.frames.value("frames", nlohmann::json::array())) {
     const double rel = f.value("relative_difference", 0.0);
     rows.push_back({std::to_string(f.value("reference_frame", std::size_t{0})),
-                    Num(f.value("time_s", 0.0) * 1e3), Num(f.value("reference_value", 0.0)),
-                    Num(f.value("candidate_value", 0.0)), Pct(rel), "< " + Pct(threshold),
-                    rel < threshold ? "pass" : "FAIL"});
+                    FormatNumber(f.value("time_s", 0.0) * 1e3, 6),
+                    FormatNumber(f.value("reference_value", 0.0), 6),
+                    FormatNumber(f.value("candidate_value", 0.0), 6), FormatPercent(rel),
+                    "< " + FormatPercent(threshold), rel < threshold ? "pass" : "FAIL"});
   }
   d->Table(rows);
   for (const auto& f : e.frames.value("frames", nlohmann::json::array()))
@@ -131,16 +113,17 @@ void FramesSection(const PipelineEvidence& e, Document* d) {
   d->Paragraph("Parity of " + p.subject + ": " +
                (p.pass() ? "PASS" : "FAIL (failed: " + p.FailedGates() + ")") + "; " +
                std::to_string(p.paired_frames) + " paired frames from " +
-               Num(p.common_window_start_s * 1e3) + " ms to " + Num(p.common_window_end_s * 1e3) +
-               " ms; frame scale " + Num(p.scale) + " cu (reference range), box scale " +
-               Num(p.box_scale_cu) + " cu.");
+               FormatNumber(p.common_window_start_s * 1e3, 6) + " ms to " +
+               FormatNumber(p.common_window_end_s * 1e3, 6) + " ms; frame scale " +
+               FormatNumber(p.scale, 6) + " cu (reference range), box scale " +
+               FormatNumber(p.box_scale_cu, 6) + " cu.");
   std::vector<std::vector<std::string>> gates = {
       {"gate", "value", "threshold", "source", "result", "detail"}};
   for (const compare::Gate& g : p.gates)
-    gates.push_back({g.name, g.status == compare::GateStatus::kNotApplicable ? "-" : Num(g.value),
-                     "< " + Num(g.threshold.value) + " " + g.unit,
-                     compare::SourceName(g.threshold.source), compare::StatusName(g.status),
-                     g.detail});
+    gates.push_back(
+        {g.name, g.status == compare::GateStatus::kNotApplicable ? "-" : FormatNumber(g.value, 6),
+         "< " + FormatNumber(g.threshold.value, 6) + " " + g.unit,
+         compare::SourceName(g.threshold.source), compare::StatusName(g.status), g.detail});
   d->Table(gates);
 }
 
@@ -198,9 +181,9 @@ std::string ChangesMarkdown(const PipelineEvidence& e) {
   for (std::size_t i = 0; i < e.fit->parameters.size(); ++i) {
     const double final_value =
         i < e.fit->summary.final_values.size() ? e.fit->summary.final_values[i] : NAN;
-    md += "- Fitted: " + e.fit->parameters[i].name + " from " + Num(e.fit->parameters[i].start) +
-          " to " + Num(final_value) + " by " + sgd::SolverName(e.fit->solver) +
-          " (history in fit/history.json).\n";
+    md += "- Fitted: " + e.fit->parameters[i].name + " from " +
+          FormatNumber(e.fit->parameters[i].start, 6) + " to " + FormatNumber(final_value, 6) +
+          " by " + sgd::SolverName(e.fit->solver) + " (history in fit/history.json).\n";
   }
   return md;
 }

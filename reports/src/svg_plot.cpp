@@ -1,4 +1,5 @@
 #include "owval/reports/svg_plot.hpp"
+#include "owval/base/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -39,12 +40,6 @@ std::string Escape(const std::string& s) {
   return out;
 }
 
-std::string Number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
-
 }  // namespace
 
 std::string SvgLinePlot(const std::vector<Series>& series, const PlotOptions& o) {
@@ -74,9 +69,10 @@ std::string SvgLinePlot(const std::vector<Series>& series, const PlotOptions& o)
   for (int i = 0; i <= 4; ++i) {
     const double xv = xr.lo + (xr.hi - xr.lo) * i / 4, yv = yr.lo + (yr.hi - yr.lo) * i / 4;
     svg << "<text x=\"" << kLeft + w * i / 4 << "\" y=\"" << kTop + h + 16
-        << "\" text-anchor=\"middle\">" << Number(xv) << "</text>\n";
+        << "\" text-anchor=\"middle\">" << FormatNumber(xv, 4) << "</text>\n";
     svg << "<text x=\"" << kLeft - 6 << "\" y=\"" << kTop + h - h * i / 4 + 4
-        << "\" text-anchor=\"end\">" << Number(o.log_y ? std::pow(10, yv) : yv) << "</text>\n";
+        << "\" text-anchor=\"end\">" << FormatNumber(o.log_y ? std::pow(10, yv) : yv, 4)
+        << "</text>\n";
   }
   svg << "<text x=\"" << kLeft + w / 2 << "\" y=\"" << o.height_px - 8
       << "\" text-anchor=\"middle\">" << Escape(o.x_label) << "</text>\n";
@@ -88,7 +84,7 @@ std::string SvgLinePlot(const std::vector<Series>& series, const PlotOptions& o)
     svg << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.2\" points=\"";
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
       if ((o.log_y && !(s.y[i] > 0)) || !std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      svg << Number(px(s.x[i])) << "," << Number(py(s.y[i])) << " ";
+      svg << FormatNumber(px(s.x[i]), 4) << "," << FormatNumber(py(s.y[i]), 4) << " ";
     }
     svg << "\"/>\n";
   }

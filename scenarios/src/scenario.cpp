@@ -69,7 +69,9 @@ void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
       {"centroid_distance_threshold", &out->centroid_distance},
       {"extent_threshold", &out->extent},
       {"final_distance_threshold", &out->final_distance},
-      {"particle_distance_threshold", &out->particle_distance}};
+      {"particle_distance_threshold", &out->particle_distance},
+      {"body_shape_threshold", &out->body_shape},
+      {"membrane_liquid_fraction_threshold", &out->membrane_liquid_fraction}};
   if (!gates.is_object()) throw InputError(where, 0, "\"gates\": expected an object");
   for (const auto& [key, value] : gates.items()) {
     const auto it = keys.find(key);

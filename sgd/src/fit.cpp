@@ -46,7 +46,7 @@ class Problem {
   }
 
   std::vector<double> Residuals(const std::vector<double>& u) {
-    if (options_.cancelled && options_.cancelled()) throw std::runtime_error("cancelled");
+    if (options_.cancelled && options_.cancelled()) throw Cancelled();
     ++evaluations_;
     std::vector<double> r = objective_(ToValues(u));
     for (double v : r)
@@ -169,6 +169,8 @@ class FiniteDifferenceCost : public ceres::CostFunction {
       return true;
     } catch (const InputError&) {
       return false;  // e.g. the simulation went unstable: Ceres shrinks the step
+    } catch (const Cancelled&) {
+      return false;  // never unwind through Ceres: the callback aborts the solve
     }
   }
 
@@ -188,6 +190,7 @@ class HistoryCallback : public ceres::IterationCallback {
         summary_(summary) {}
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (options_.cancelled && options_.cancelled()) return ceres::SOLVER_ABORT;
     if (s.iteration > 0 && !s.step_is_successful) return ceres::SOLVER_CONTINUE;
     const std::vector<double> u(block_, block_ + n_);
     summary_->iterations.push_back(problem_->Record(s.iteration, u, previous_u_));
@@ -195,7 +198,6 @@ class HistoryCallback : public ceres::IterationCallback {
     if (options_.on_iteration) options_.on_iteration(ToJson(options_, parameters_, *summary_));
     if (summary_->iterations.back().loss < options_.loss_threshold)
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-    if (options_.cancelled && options_.cancelled()) return ceres::SOLVER_ABORT;
     return ceres::SOLVER_CONTINUE;
   }
 
@@ -232,6 +234,7 @@ std::string SolveWithCeres(const FitOptions& o, const std::vector<Parameter>& pa
   options.callbacks.push_back(&callback);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(options, &ceres_problem, &ceres_summary);
+  if (o.cancelled && o.cancelled()) return "cancelled";
   return ceres_summary.message;
 }
 
@@ -304,8 +307,7 @@ void Fit(const FitOptions& o, const std::vector<Parameter>& parameters, const Ob
     summary->stop_reason = o.solver == Solver::kGradientDescent
                                ? SolveWithGradientDescent(o, &problem, &u, parameters, summary)
                                : SolveWithCeres(o, parameters, &problem, &u, summary);
-  } catch (const std::runtime_error& e) {
-    if (std::string(e.what()) != "cancelled") throw;
+  } catch (const Cancelled&) {  // gradient descent: our own loop, no library in between
     summary->stop_reason = "cancelled";
   }
   if (!summary->iterations.empty()) {

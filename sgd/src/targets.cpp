@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/compare/signal_metrics.hpp"
@@ -38,12 +39,7 @@ std::pair<std::string, std::string> KeyValue(const std::string& text, const std:
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-std::vector<double> Series(const Trajectory& t, const Tracking& k) {
-  return k.group.empty() ? ParticleSeries(t, k.particle, k.axis)
-                         : CentroidSeries(t, GroupIndices(t, k.group), k.axis);
-}
-
-double Rms(const Trajectory& t, const Tracking& k, const std::string& reference_file) {
+double Rms(const Trajectory& t, const Track& k, const std::string& reference_file) {
   static thread_local std::string cached_name;
   static thread_local Trajectory cached;
   if (cached_name != reference_file) {
@@ -53,7 +49,7 @@ double Rms(const Trajectory& t, const Tracking& k, const std::string& reference_
   const auto pairs = PairFramesByTime(cached, t);
   if (pairs.empty())
     throw InputError(reference_file, 0, "shares no frame time with the simulation");
-  const auto ref = Series(cached, k), cand = Series(t, k);
+  const auto ref = k.Series(cached), cand = k.Series(t);
   double sum = 0;
   for (const auto& [fr, fc] : pairs) sum += (cand[fc] - ref[fr]) * (cand[fc] - ref[fr]);
   return std::sqrt(sum / double(pairs.size()));
@@ -114,9 +110,9 @@ Parameter ParseParameter(const std::string& text) {
   return p;
 }
 
-std::vector<double> ScaledResiduals(const Trajectory& t, const Tracking& k,
+std::vector<double> ScaledResiduals(const Trajectory& t, const Track& k,
                                     const std::vector<Target>& targets) {
-  const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, Series(t, k));
+  const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, k.Series(t));
   std::vector<double> r;
   for (const Target& target : targets) {
     const double measured =
@@ -126,20 +122,18 @@ std::vector<double> ScaledResiduals(const Trajectory& t, const Tracking& k,
   return r;
 }
 
-nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Tracking& k) {
+nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Track& k) {
   nlohmann::json j = nlohmann::json::array();
   for (const Target& t : targets)
     j.push_back({{"metric", t.metric},
                  {"value", t.value},
                  {"scale", t.scale},
                  {"weight", t.weight},
-                 {"particle", k.particle},
-                 {"group", k.group},
-                 {"axis", std::string(1, "xyz"[k.axis])}});
+                 {"track", k.ToJson()}});
   return j;
 }
 
-Objective MakeObjective(Simulator simulator, Tracking tracking, std::vector<Target> targets) {
+Objective MakeObjective(Simulator simulator, Track tracking, std::vector<Target> targets) {
   return [simulator = std::move(simulator), tracking, targets](const std::vector<double>& values) {
     return ScaledResiduals(simulator(values), tracking, targets);
   };
@@ -152,21 +146,19 @@ Simulator CommandSimulator(std::string command_template, std::vector<Parameter> 
     const fs::path out = work_dir / ("eval_" + std::to_string((*counter)++));
     fs::create_directories(out);
     const fs::path out_file = out / "trajectory.h5";
-    std::string command = command_template;
-    auto replace = [&](const std::string& key, const std::string& with) {
-      for (std::size_t at; (at = command.find(key)) != std::string::npos;)
-        command.replace(at, key.size(), with);
-    };
+    TemplateValues placeholders;
     for (std::size_t i = 0; i < parameters.size(); ++i) {
       std::ostringstream v;
       v.precision(17);
       v << values[i];
-      replace("{" + parameters[i].name + "}", v.str());
+      placeholders.values[parameters[i].name] = v.str();
     }
-    replace("{out_file}", out_file.string());
-    replace("{out}", out.string());
-    const int status =
-        std::system((command + " > '" + (out / "command.log").string() + "' 2>&1").c_str());
+    placeholders.values["out_file"] = out_file.string();
+    placeholders.values["out"] = out.string();
+    // One pass, every value shell-quoted: a path holding "{out}" or a space stays one argument.
+    const std::string command = ExpandTemplate(command_template, placeholders, true, "--command");
+    const int status = std::system(
+        (command + " > " + ShellQuote((out / "command.log").string()) + " 2>&1").c_str());
     if (status != 0)
       throw InputError(
           (out / "command.log").string(), 0,

@@ -4,8 +4,6 @@
 // as attributes of the root group. Plain HDF5: h5py opens it without owval.
 #include <hdf5.h>
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -221,18 +219,6 @@ void ReadProvenance(hid_t file, Trajectory& t, const std::string& path, std::uin
 
 }  // namespace
 
-// HDF5 allocates and frees a buffer per chunk. With glibc's default thresholds, buffers of a few
-// MiB are fresh mmaps (or trimmed heap) every time, and page faults then cost more than inflating
-// the data. Keeping such buffers on the heap makes reads several times faster.
-void KeepChunkBuffersOnHeap() {
-  static const bool once = [] {
-    mallopt(M_MMAP_THRESHOLD, 64 << 20);
-    mallopt(M_TRIM_THRESHOLD, 256 << 20);
-    return true;
-  }();
-  (void)once;
-}
-
 namespace {
 
 // Box, time step and log step: root attributes of exactly the expected sizes, finite, positive.
@@ -335,7 +321,6 @@ Trajectory ReadHdf5Metadata(const std::string& path) {
 Trajectory ReadHdf5(const std::filesystem::path& path) {
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   SilenceHdf5Errors();
-  KeepChunkBuffersOnHeap();
   const std::string name = path.string();
   // Containment (docs/fuzzing.md): libhdf5 1.10.8 crashes on some corrupt metadata that no check
   // can see first, so every libhdf5 call is made once in a child process; only when that dry run

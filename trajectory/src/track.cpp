@@ -28,7 +28,12 @@ const char* AxisName(Axis axis) {
   return "?";
 }
 
-Axis ParseAxisName(const std::string& name) { return static_cast<Axis>(ParseAxis(name)); }
+Axis ParseAxisName(const std::string& name) {
+  if (name == "x") return Axis::kX;
+  if (name == "y") return Axis::kY;
+  if (name == "z") return Axis::kZ;
+  throw InputError("unknown axis '" + name + "': expected x, y or z");
+}
 
 std::string Track::Describe() const {
   return (group.empty() ? "particle " + std::to_string(particle) : group + " centroid") + " " +

@@ -104,11 +104,4 @@ std::vector<double> CentroidSeries(const Trajectory& trajectory,
   return series;
 }
 
-int ParseAxis(const std::string& axis) {
-  if (axis == "x") return 0;
-  if (axis == "y") return 1;
-  if (axis == "z") return 2;
-  throw InputError("unknown axis '" + axis + "': expected x, y or z");
-}
-
 }  // namespace owval

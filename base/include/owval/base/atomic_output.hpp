@@ -32,6 +32,27 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+// A directory of outputs that appears whole or not at all (`owval pipeline`'s report): every file
+// is written into a temporary sibling directory, and Commit() puts it in place of the destination,
+// replacing an older one only then, so an interrupted rerun never mixes old and new artifacts. A
+// destroyed AtomicDirectory that was never committed removes its temporary directory.
+class AtomicDirectory {
+ public:
+  explicit AtomicDirectory(std::filesystem::path destination);
+  ~AtomicDirectory();
+  AtomicDirectory(const AtomicDirectory&) = delete;
+  AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+
+  // Where to write (created).
+  const std::filesystem::path& temporary_path() const { return temporary_; }
+  void Commit();
+
+ private:
+  std::filesystem::path destination_;
+  std::filesystem::path temporary_;
+  bool committed_ = false;
+};
+
 // Writes the whole string atomically.
 void WriteFileAtomically(const std::filesystem::path& destination, const std::string& contents);
 

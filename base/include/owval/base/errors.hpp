@@ -23,7 +23,27 @@ class InputError : public std::runtime_error {
   std::size_t line_ = 0;
 };
 
+// The machine cannot do what was asked, whatever the input: no OSMesa context, no H.264
+// encoder, no ffprobe. Exit code 3, so a CI log separates "fix the machine" from "fix the input".
+class EnvironmentError : public std::runtime_error {
+ public:
+  explicit EnvironmentError(const std::string& message);
+};
+
+// The user asked to stop (SIGINT during a fit). Its own type so that code between the request
+// and the loop that honours it can tell it from a failure; never thrown through a third-party
+// library (Ceres sees a failed evaluation and an aborting callback instead).
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
 // Exit codes shared by every command (design notes §5).
-enum ExitCode : int { kExitPass = 0, kExitGateFailed = 1, kExitBadInput = 2 };
+enum ExitCode : int {
+  kExitPass = 0,
+  kExitGateFailed = 1,
+  kExitBadInput = 2,
+  kExitEnvironment = 3,
+};
 
 }  // namespace owval

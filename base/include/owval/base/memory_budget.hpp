@@ -17,6 +17,10 @@ void SetMemoryBudgetBytes(std::size_t bytes);
 // when bytes exceeds the budget.
 void CheckAllocation(std::size_t bytes, const std::string& file, const std::string& field);
 
+// "4096", "512K", "300M", "2G" (powers of 1024) -> bytes. InputError naming `flag` for anything
+// else, for zero, and for a size that does not fit in 64 bits.
+std::size_t ParseByteSize(const std::string& text, const std::string& flag);
+
 // a * b, or SIZE_MAX when the product overflows (then any budget check refuses it).
 std::size_t SaturatingProduct(std::size_t a, std::size_t b);
 

@@ -40,6 +40,9 @@ struct ParityGates {
   Threshold extent{0.05};             // fraction of the box's extent on that axis
   Threshold final_distance{0.05};     // fraction of the box's largest extent
   Threshold particle_distance{0.05};  // fraction of the box's largest extent
+  // Scene gates, applied when the scene has the body they measure (body_gates.cpp):
+  Threshold body_shape{0.05};  // worm span and cross-section diameter, relative to the reference
+  Threshold membrane_liquid_fraction{0.05};  // |difference| of the liquid fraction above a sheet
 };
 
 struct ParityOptions {

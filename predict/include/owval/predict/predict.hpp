@@ -2,13 +2,13 @@
 // Phase 1 and 3: analytic predictions made from a configuration alone, and their reconciliation
 // with a measured trajectory. Every prediction states its formula, its inputs with their source
 // (a configuration line or a default constant) and its result in configuration units and SI.
-// JSON schema: docs/prediction.md.
+// Types in prediction.hpp; JSON schema: docs/prediction.md.
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "owval/engine/config.hpp"
+#include "owval/predict/prediction.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::predict {
@@ -30,10 +30,10 @@ std::string ChoosePredictor(const engine::SiberneticConfig& config);
 
 // Sibernetic ignores [physical parameters] (physics sheet §1), so pass PhysicsConstants{} to
 // predict what the original computes.
-nlohmann::json Predict(const engine::SiberneticConfig& config,
-                       const engine::PhysicsConstants& constants, const PredictOptions& options);
+Prediction Predict(const engine::SiberneticConfig& config,
+                   const engine::PhysicsConstants& constants, const PredictOptions& options);
 
-std::string PredictionMarkdown(const nlohmann::json& prediction);
+std::string PredictionMarkdown(const Prediction& prediction);
 
 struct ReconcileOptions {
   std::optional<double> tolerance;           // replaces every gated quantity's tolerance
@@ -41,10 +41,11 @@ struct ReconcileOptions {
 };
 
 // Measures each predicted quantity on the tracked signal of `trajectory` (the particle or group
-// centroid and axis recorded in the prediction) and compares. The result has per-quantity gaps,
-// pass flags, diagnosis hints and a top-level "pass".
-nlohmann::json Reconcile(const nlohmann::json& prediction, const Trajectory& trajectory,
+// centroid and axis recorded in the prediction) and compares: per-quantity gaps, pass flags,
+// diagnosis hints and an overall pass. InputError when the tracked particle or group does not
+// exist in the trajectory.
+Reconciliation Reconcile(const Prediction& prediction, const Trajectory& trajectory,
                          const ReconcileOptions& options = {});
-std::string ReconcileMarkdown(const nlohmann::json& reconciliation);
+std::string ReconcileMarkdown(const Reconciliation& reconciliation);
 
 }  // namespace owval::predict

@@ -76,11 +76,12 @@ nlohmann::json RenderFrames(const Trajectory& reference, const Trajectory& candi
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);
 
+// Process-wide, for the application to call once: libav* log only errors (x264's statistics
+// are noise on a user's terminal). A library never changes this behind its caller's back.
+void SilenceCodecLogging();
+
 // One frame as RGBA pixels (top row first), for tests and benchmarks.
 std::vector<unsigned char> RenderFrameRgba(const Trajectory& trajectory, std::size_t frame,
                                            const RenderOptions& options);
-
-// The candidate frame at or just before each reference time (paired by time, not index).
-std::size_t FrameAtTime(const Trajectory& trajectory, double time_s);
 
 }  // namespace owval::render

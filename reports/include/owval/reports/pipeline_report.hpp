@@ -9,6 +9,7 @@
 
 #include "owval/ci/checklist.hpp"
 #include "owval/compare/parity.hpp"
+#include "owval/predict/prediction.hpp"
 #include "owval/reports/document.hpp"
 #include "owval/sgd/fit.hpp"
 
@@ -30,7 +31,7 @@ struct PipelineEvidence {
     std::string summary;
   };
   std::vector<PhaseLine> phases;
-  nlohmann::json reconcile;  // predict::Reconcile of the prediction with the reference
+  predict::Reconciliation reconcile;  // the prediction against the reference
   compare::ParityReport parity;
   std::optional<FitEvidence> fit;  // empty: not applicable
   nlohmann::json frames;           // frames/frames.json

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "owval/sgd/fit.hpp"
+#include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::sgd {
@@ -24,25 +25,19 @@ struct Target {
   std::string reference_file;  // rms only
 };
 
-struct Tracking {
-  std::size_t particle = 0;
-  std::string group;  // when set, the group centroid is tracked instead
-  int axis = 1;
-};
-
 // "period=0.7246e-3:scale=0.725e-3:weight=0.25" and "rms=0:scale=1:ref=FILE".
 Target ParseTarget(const std::string& text);
 // "elasticity_coefficient=1.62e8:log" or "name=start[:log|:lin][:lower:upper]".
 Parameter ParseParameter(const std::string& text);
 
-std::vector<double> ScaledResiduals(const Trajectory& trajectory, const Tracking& tracking,
+std::vector<double> ScaledResiduals(const Trajectory& trajectory, const Track& track,
                                     const std::vector<Target>& targets);
-nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Tracking& tracking);
+nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Track& track);
 
 using Simulator = std::function<Trajectory(const std::vector<double>& values)>;
 
 // Objective = simulate, then measure the targets.
-Objective MakeObjective(Simulator simulator, Tracking tracking, std::vector<Target> targets);
+Objective MakeObjective(Simulator simulator, Track track, std::vector<Target> targets);
 
 // Runs `command_template` through the shell for each evaluation, with {name} replaced by each
 // parameter's value, {out} by a fresh directory under work_dir and {out_file} by a trajectory

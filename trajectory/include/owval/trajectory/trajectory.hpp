@@ -81,7 +81,4 @@ std::vector<double> ParticleSeries(const Trajectory& trajectory, std::size_t par
 std::vector<double> CentroidSeries(const Trajectory& trajectory,
                                    const std::vector<std::size_t>& particles, int axis);
 
-// "x"/"y"/"z" -> 0/1/2; throws InputError otherwise.
-int ParseAxis(const std::string& axis);
-
 }  // namespace owval

@@ -1,8 +1,8 @@
-#include "owval/backends/template.hpp"
+#include "owval/base/command_template.hpp"
 
 #include "owval/base/errors.hpp"
 
-namespace owval::backends {
+namespace owval {
 
 std::string ShellQuote(const std::string& text) {
   std::string quoted = "'";
@@ -22,11 +22,12 @@ std::string Lookup(const std::string& name, const TemplateValues& v, const std::
     return it->second;
   }
   const auto it = v.values.find(name);
-  if (it == v.values.end())
+  if (it == v.values.end()) {
+    std::string known;
+    for (const auto& [key, value] : v.values) known += " {" + key + "}";
     throw InputError(where, 0,
-                     "unknown placeholder {" + name +
-                         "}; known: {config} {time} {time_step} {log_step} {out} "
-                         "{set:NAME}");
+                     "unknown placeholder {" + name + "}; known:" + known + " {set:NAME}");
+  }
   return it->second;
 }
 
@@ -50,4 +51,4 @@ std::string ExpandTemplate(const std::string& text, const TemplateValues& values
   return out;
 }
 
-}  // namespace owval::backends
+}  // namespace owval

@@ -1,11 +1,13 @@
 #pragma once
-// Command templates of user-defined backends: "{config}", "{time}", "{time_step}", "{log_step}",
-// "{out}" and "{set:NAME}" replaced by the run's values. In a command run by the shell every
-// substituted value is single-quoted first, so paths with spaces or quotes stay one argument.
+// Command templates: "{NAME}" and "{set:NAME}" replaced by values in one pass (a value that
+// itself contains "{out}" is never expanded again). Used by user-defined backends ("{config}",
+// "{time}", "{out}", ...) and by fits driving an external command ("{out}", "{PARAM}"). In a
+// command run by the shell every substituted value is single-quoted first, so paths with spaces
+// or quotes stay one argument.
 #include <map>
 #include <string>
 
-namespace owval::backends {
+namespace owval {
 
 // The names a template may use, e.g. {"config", "/a b/c"} and, for {set:NAME}, sets["NAME"].
 struct TemplateValues {
@@ -21,4 +23,4 @@ std::string ShellQuote(const std::string& text);
 std::string ExpandTemplate(const std::string& text, const TemplateValues& values, bool quote,
                            const std::string& where);
 
-}  // namespace owval::backends
+}  // namespace owval
