@@ -142,7 +142,8 @@ void SetUp(CLI::App& app) {
                   "With backend names: Sibernetic's demos from this checkout of "
                   "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/");
   cmd->add_option("--set", args->sets, "With backend names: NAME=VALUE for {set:NAME}");
-  auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)");
+  auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)")
+                       ->check(ParticleIndex());
   cmd->add_option("--group", args->group, "Track a group centroid: elastic, liquid, all")
       ->excludes(particle)
       ->check(CLI::IsMember({"elastic", "liquid", "all"}));

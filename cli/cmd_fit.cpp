@@ -107,7 +107,8 @@ void SetUp(CLI::App& app) {
                   "METRIC=VALUE[:scale=S][:weight=W][:ref=FILE]; METRIC: period, "
                   "half_amplitude, equilibrium, rms")
       ->required();
-  cmd->add_option("--track-particle", a->particle, "Tracked particle (default 0)");
+  cmd->add_option("--track-particle", a->particle, "Tracked particle (default 0)")
+      ->check(ParticleIndex());
   cmd->add_option("--track-group", a->group,
                   "Track a group centroid instead: elastic, liquid, all");
   cmd->add_option("--track-axis", a->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));

@@ -56,7 +56,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
       ->required();
   auto* particle =
-      cmd->add_option("--particle", args->particle, "Particle index (file order; default 0)");
+      cmd->add_option("--particle", args->particle, "Particle index (file order; default 0)")
+          ->check(ParticleIndex());
   cmd->add_option("--group", args->group, "Group centroid instead: elastic, liquid or all")
       ->excludes(particle)
       ->check(CLI::IsMember({"elastic", "liquid", "all"}));

@@ -114,7 +114,8 @@ void AddCommon(CLI::App* cmd, RenderArgs* a) {
       ->check(CLI::IsMember({"hidden", "translucent", "shown"}));
   cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1");
   cmd->add_option("--track-particle", a->track_particle,
-                  "Print this particle's coordinate on each panel");
+                  "Print this particle's coordinate on each panel")
+      ->check(ParticleIndex());
   cmd->add_option("--track-group", a->track_group, "Print this group's centroid instead")
       ->check(CLI::IsMember({"elastic", "liquid", "all"}));
   cmd->add_option("--track-axis", a->track_axis, "x, y or z")

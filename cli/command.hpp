@@ -17,6 +17,9 @@ bool RegisterCommand(CommandSetUp set_up);
 // e.g. Bench(app).add_subcommand("engine", ...). Benchmarks write JSON.
 CLI::App& Bench(CLI::App& app);
 
+// A particle index: digits only, at most 18 of them ("--particle -1" is refused, not wrapped).
+const CLI::Validator& ParticleIndex();
+
 // The exit code the process ends with once the callback returns (default 0).
 void SetExitCode(int code);
 

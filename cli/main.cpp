@@ -35,6 +35,17 @@ CLI::App& Bench(CLI::App& app) {
 }
 
 void SetExitCode(int code) { g_exit_code = code; }
+
+const CLI::Validator& ParticleIndex() {
+  static const CLI::Validator index(
+      [](std::string& text) {
+        const bool digits = !text.empty() && text.size() <= 18 &&
+                            text.find_first_not_of("0123456789") == std::string::npos;
+        return digits ? std::string() : std::string("expected a particle index (0, 1, 2, ...)");
+      },
+      "INDEX");
+  return index;
+}
 const GlobalFlags& Flags() { return g_flags; }
 
 std::filesystem::path DataDir() {

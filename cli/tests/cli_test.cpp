@@ -206,4 +206,29 @@ TEST(CliRun, XpbdBackendRunsAndIsNotReferenceEquivalent) {
             2);
 }
 
+// Issue 18 items 12 and 14: usage errors are one short line; particle indices are not wrapped;
+// --max-memory bounds what an input may allocate.
+TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  for (const std::string& particle : {std::string("-1"), std::string(309, '9')}) {
+    const Result r = Owval("inspect --particle " + particle + " " + traj);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.err,
+              "owval: usage: --particle: expected a particle index (0, 1, 2, ...) (see "
+              "--help)\n");
+  }
+  const Result unknown = Owval("compare a b --frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.err.find('\n'), unknown.err.size() - 1) << unknown.err;
+  const Result budget = Owval("--max-memory 1K inspect " + traj);
+  EXPECT_EQ(budget.exit_code, 2);
+  EXPECT_NE(budget.err.find("more than the memory budget of 1024 bytes (--max-memory)"),
+            std::string::npos)
+      << budget.err;
+  EXPECT_EQ(Owval("--max-memory 12Q inspect " + traj).exit_code, 2);
+  EXPECT_EQ(Owval("--max-memory 256M inspect " + traj).exit_code, 0);  // needs 115 MB
+}
+
 }  // namespace
