@@ -138,6 +138,7 @@ void Checklist(Context& c) {
   o.gates = c.scenario.gates;
   o.track = c.scenario.track;
   c.summary->checklist = ci::RunChecklist(c.dir, o);
+  c.summary->checklist.directory = c.options.out_dir;  // where it lands, not the temporary
   c.evidence.checklist = c.summary->checklist;
   WriteFileAtomically(c.dir / "checklist.md", c.summary->checklist.ToMarkdown());
   WriteJson(c.dir / "checklist.json", c.summary->checklist.ToJson());
