@@ -1,0 +1,71 @@
+// The checklist's verdict rules on small constructed directories, without running a pipeline
+// (cli/tests/checklist_test.cpp covers every item end to end on a real one).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "owval/ci/checklist.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::ci {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kOneSprig =
+    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+
+fs::path Fresh(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("owval_ci_unit_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+const ChecklistItem& Item(const ChecklistReport& r, int number) {
+  for (const ChecklistItem& i : r.items)
+    if (i.number == number) return i;
+  throw std::runtime_error("no item " + std::to_string(number));
+}
+
+TEST(ChecklistUnit, AnEmptyDirectoryIsNotReadyAndSaysWhy) {
+  const ChecklistReport r = RunChecklist(Fresh("empty"));
+  EXPECT_EQ(r.verdict, Verdict::kUnreviewable);
+  EXPECT_EQ(r.exit_code(), 1);
+  EXPECT_FALSE(r.parity);
+  ASSERT_FALSE(r.blocking.empty());
+  EXPECT_EQ(r.items.size(), 10u);
+  for (const ChecklistItem& i : r.items) EXPECT_FALSE(i.pass) << i.number;
+}
+
+TEST(ChecklistUnit, IdenticalTrajectoriesPassParityButMissingEvidenceBlocks) {
+  const fs::path dir = Fresh("identical");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  const ChecklistReport r = RunChecklist(dir);
+  ASSERT_TRUE(r.parity);
+  EXPECT_TRUE(r.parity_pass());
+  EXPECT_TRUE(Item(r, 2).pass);   // the reference trajectory
+  EXPECT_TRUE(Item(r, 3).pass);   // the candidate trajectory
+  EXPECT_FALSE(Item(r, 1).pass);  // no prediction.json: blocking
+  EXPECT_EQ(r.verdict, Verdict::kNotReady);
+}
+
+TEST(ChecklistUnit, AMalformedPredictionFailsItemOneNamingTheField) {
+  const fs::path dir = Fresh("malformed");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  std::ofstream(dir / "prediction.json")
+      << R"({"track": {"particle": 0, "axis": "y"}, "predictions": [{"quantity": "equilibrium"}]})";
+  const ChecklistReport r = RunChecklist(dir);
+  EXPECT_FALSE(Item(r, 1).pass);
+  EXPECT_NE(Item(r, 1).detail.find("\"predictions[0].value\": expected a finite number"),
+            std::string::npos)
+      << Item(r, 1).detail;
+  EXPECT_FALSE(Item(r, 10).pass);
+}
+
+}  // namespace
+}  // namespace owval::ci
