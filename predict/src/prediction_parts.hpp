@@ -45,5 +45,9 @@ nlohmann::json HangingChain(const engine::SiberneticConfig& c, const engine::Phy
                             const PredictOptions& o);
 nlohmann::json HydrostaticColumn(const engine::SiberneticConfig& c,
                                  const engine::PhysicsConstants& k);
+// The WCSPH scenarios (wcsph_tanks.cpp).
+nlohmann::json HydrostaticTank(const engine::SiberneticConfig& c,
+                               const engine::PhysicsConstants& k);
+nlohmann::json DamBreak(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
 
 }  // namespace owval::predict::internal
