@@ -106,6 +106,14 @@ void RunEngine(const RunArgs& a) {
   std::vector<std::string> outputs = {(out / "position_buffer.txt").string(),
                                       (out / "trajectory.h5").string()};
   for (const std::string& path : WriteWormOutputs(t, a, config.source)) outputs.push_back(path);
+  if (!summary.frame_log.empty()) {
+    // An adaptive scheme's time steps, rollbacks and density variation, one entry per frame.
+    nlohmann::json log = {{"backend", options.backend}, {"frames", nlohmann::json::array()}};
+    for (const std::string& entry : summary.frame_log)
+      log["frames"].push_back(nlohmann::json::parse(entry));
+    WriteFileAtomically(out / "step_log.json", log.dump(1) + "\n");
+    outputs.push_back((out / "step_log.json").string());
+  }
   nlohmann::json result = {{"configuration", config.source},
                            {"steps", summary.steps},
                            {"frames", summary.frames},

@@ -72,8 +72,13 @@ std::vector<Backend> Builtins() {
   xpbd.name = "xpbd";
   xpbd.engine_backend = "xpbd";
   xpbd.description = "owval's engine with the XPBD scheme, in process";
-  for (Backend* b : {&owval, &xpbd}) b->defined_in = "built in";
-  return {owval, xpbd};
+  Backend wcsph;
+  wcsph.name = "wcsph";
+  wcsph.engine_backend = "wcsph";
+  wcsph.description =
+      "owval's engine with the WCSPH scheme (docs/wcsph.md), in process; liquid and walls only";
+  for (Backend* b : {&owval, &xpbd, &wcsph}) b->defined_in = "built in";
+  return {owval, xpbd, wcsph};
 }
 
 fs::path ResolvePath(const std::string& text, const fs::path& base, const std::string& home) {

@@ -86,7 +86,7 @@ TEST(Registry, PrecedenceFlagThenCurrentDirectoryThenXdg) {
   EXPECT_EQ(xdg.Names().back(), "from_xdg");
   EXPECT_EQ(xdg.Find("from_xdg").store, dir / "xdg" / "owval" / "s");  // relative to the file
   fs::remove(dir / "xdg" / "owval" / "backends.json");
-  EXPECT_EQ(LoadRegistry(o).Names(), (std::vector<std::string>{"owval", "xpbd"}));
+  EXPECT_EQ(LoadRegistry(o).Names(), (std::vector<std::string>{"owval", "xpbd", "wcsph"}));
   o.file = dir / "missing.json";
   EXPECT_THROW(LoadRegistry(o), InputError);
 }
@@ -101,7 +101,7 @@ TEST(Registry, FindsAliasesAndNamesTheKnownOnes) {
     r.Find("metal");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("owval, xpbd, opencl"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("owval, xpbd, wcsph, opencl"), std::string::npos) << e.what();
   }
   EXPECT_THROW(ParseRegistry(nlohmann::json::parse(R"({"backends": {"owval": {"store": "s"}}})"),
                              "b.json", ""),

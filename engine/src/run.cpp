@@ -165,8 +165,11 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
                            (dump.empty() ? " (no state dump: no dump directory given)"
                                          : " (state dumped to " + dump + ")"));
     }
-    if (k % std::size_t(t.log_step) == 0)
+    if (k % std::size_t(t.log_step) == 0) {
       RecordFrame(solver, double(k) * constants.time_step_s, options.record_fields, &t);
+      if (std::string log = solver.TakeStepLog(); !log.empty())
+        sum.frame_log.push_back(std::move(log));
+    }
     if (options.on_step) options.on_step(k + 1, steps);
   }
   sum.steps = steps;

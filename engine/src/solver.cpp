@@ -9,6 +9,7 @@
 #include "owval/engine/constants.hpp"
 #include "pcisph/pcisph.hpp"
 #include "state/particle_state.hpp"
+#include "wcsph/wcsph.hpp"
 #include "xpbd/xpbd.hpp"
 
 namespace owval::engine {
@@ -35,6 +36,15 @@ const std::vector<BackendEntry>& Backends() {
                "backend xpbd derives velocities from positions: it takes no "
                "--integrator (leapfrog is PCISPH's)");
          return std::make_unique<internal::Xpbd<float>>(c, o.constants, threads);
+       }},
+      {"wcsph",
+       {},
+       [](const SiberneticConfig& c, const RunOptions& o, int threads) -> std::unique_ptr<Solver> {
+         if (o.integrator != Integrator::kSemiImplicitEuler)
+           throw InputError(
+               "backend wcsph integrates with velocity Verlet: it takes no --integrator "
+               "(leapfrog is PCISPH's)");
+         return std::make_unique<internal::Wcsph>(c, o.constants, threads);
        }},
   };
   return table;

@@ -68,6 +68,10 @@ Prediction Predict(const engine::SiberneticConfig& c, const engine::PhysicsConst
     p = internal::FreeFall(c, k);
   } else if (predictor == "hydrostatic_column" && c.elastic_count() == 0) {
     p = internal::HydrostaticColumn(c, k);
+  } else if (predictor == "hydrostatic_tank" && c.elastic_count() == 0) {
+    p = internal::HydrostaticTank(c, k);
+  } else if (predictor == "dam_break" && c.elastic_count() == 0) {
+    p = internal::DamBreak(c, k);
   } else {
     throw InputError(c.source, 0,
                      "predictor '" + predictor + "' does not fit this configuration (" +

@@ -42,5 +42,8 @@ Prediction FreeFall(const engine::SiberneticConfig& c, const engine::PhysicsCons
 Prediction HangingChain(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
                         const PredictOptions& o);
 Prediction HydrostaticColumn(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
+// The WCSPH scenarios (wcsph_tanks.cpp).
+Prediction HydrostaticTank(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
+Prediction DamBreak(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k);
 
 }  // namespace owval::predict::internal

@@ -1,7 +1,9 @@
 // Phase 3: each predicted quantity measured on the tracked signal (compare::MeasureSignal), the
 // gap, and the likely cause of a gap that is too large.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <sstream>
 
@@ -67,8 +69,55 @@ std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
   return FinalMean(series);
 }
 
+// hydrostatic_tank: mean pressure of the liquid within half a spacing of mid-depth (each
+// frame's positions), averaged over the last 10% of frames.
+std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p) {
+  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
+  const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
+  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  std::vector<double> series;
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i : liquid)
+      if (std::abs(t.coordinate(f, i, 1) - mid) < half) {
+        sum += t.pressure[f * t.particle_count() + i];
+        ++n;
+      }
+    if (n > 0) series.push_back(sum / double(n));
+  }
+  if (series.empty()) return std::nullopt;
+  return FinalMean(series);
+}
+
+// dam_break: Z = (front - wall face)/a at T, the front the k-th largest liquid x (k = 0.2% of
+// the liquid, at least 1: a few splashed particles do not make the front) + half a spacing,
+// interpolated linearly between frames; empty past the trajectory's end.
+std::optional<double> SurgeFront(const Trajectory& t, const Prediction& p, double big_t) {
+  const double when = big_t * p.InputValue("time_unit"), a = p.InputValue("column_width_a");
+  const double wall = p.InputValue("wall_face_x"), half = 0.5 * p.InputValue("lattice_spacing");
+  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  if (liquid.empty() || !(a > 0)) return std::nullopt;
+  const std::size_t k = std::max<std::size_t>(1, liquid.size() / 500);
+  const auto front = [&](std::size_t f) {
+    std::vector<double> x;
+    for (std::size_t i : liquid) x.push_back(t.coordinate(f, i, 0));
+    std::nth_element(x.begin(), x.begin() + (k - 1), x.end(), std::greater<double>());
+    return (x[k - 1] + half - wall) / a;
+  };
+  for (std::size_t f = 1; f < t.frame_count(); ++f)
+    if (t.time_s[f] >= when && t.time_s[f - 1] <= when) {
+      const double u = (when - t.time_s[f - 1]) / (t.time_s[f] - t.time_s[f - 1]);
+      return front(f - 1) + u * (front(f) - front(f - 1));
+    }
+  return std::nullopt;
+}
+
 std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
                               const Prediction& p) {
+  if (q == "mid_depth_pressure") return MidDepthPressure(t, p);
+  const std::string front = "surge_front_Z_at_T_";
+  if (q.rfind(front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(front.size())));
   const compare::SignalMetrics& m = s.metrics;
   if (q == "zero_crossing_period" || q == "period_continuous" || q == "fundamental_period")
     return m.period_s;

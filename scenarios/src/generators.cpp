@@ -183,13 +183,101 @@ engine::SiberneticConfig LiquidColumn(const Parameters& given) {
   return c;
 }
 
+namespace {
+
+// A tank of lattice sites: `wall_layers` layers of boundary particles under and around an
+// interior of nx x nz sites, open above, `height` sites high in all. Every wall site carries its
+// inward unit normal (the sum of the faces it lies behind). The box is the lattice's extent.
+struct Tank {
+  int nx, nz, height, wall_layers;
+  double r0_cu;
+  float Coordinate(int site) const { return float(r0_cu * (site + 0.5)); }
+  // Lattice coordinate of interior site i (0-based) along an axis walled below.
+  float Interior(int i) const { return Coordinate(wall_layers + i); }
+};
+
+void AddTank(const Tank& t, engine::SiberneticConfig* c) {
+  const int sx = t.nx + 2 * t.wall_layers, sz = t.nz + 2 * t.wall_layers;
+  for (int k = 0; k < sz; ++k)
+    for (int j = 0; j < t.height; ++j)
+      for (int i = 0; i < sx; ++i) {
+        const int nx = i < t.wall_layers ? 1 : (i >= t.nx + t.wall_layers ? -1 : 0);
+        const int ny = j < t.wall_layers ? 1 : 0;
+        const int nz = k < t.wall_layers ? 1 : (k >= t.nz + t.wall_layers ? -1 : 0);
+        if (nx == 0 && ny == 0 && nz == 0) continue;
+        const float length = float(std::sqrt(double(nx * nx + ny * ny + nz * nz)));
+        c->position.push_back({t.Coordinate(i), t.Coordinate(j), t.Coordinate(k), 3.0f});
+        c->velocity.push_back({nx / length, ny / length, nz / length, 0.0f});
+      }
+  c->box = {0, float(t.r0_cu * sx), 0, float(t.r0_cu * t.height), 0, float(t.r0_cu * sz)};
+}
+
+// A block of liquid sites [0, nx) x [0, ny) x [0, nz) of the tank's interior, at rest.
+void AddLiquidBlock(const Tank& t, int nx, int ny, int nz, engine::SiberneticConfig* c) {
+  for (int j = 0; j < ny; ++j)
+    for (int k = 0; k < nz; ++k)
+      for (int i = 0; i < nx; ++i) AddParticle(c, t.Interior(i), t.Interior(j), t.Interior(k), 1.1f);
+}
+
+}  // namespace
+
+engine::SiberneticConfig HydrostaticTank(const Parameters& given) {
+  const char* name = "hydrostatic_tank";
+  const Parameters p = WithDefaults(given,
+                                    {{"sites_x", 12},
+                                     {"sites_z", 6},
+                                     {"layers", 24},
+                                     {"r0_cu", 1.67},
+                                     {"wall_layers", 3},
+                                     {"headroom_layers", 4}},
+                                    name);
+  Positive(p, "r0_cu", name);
+  const int layers = Count(p, "layers", 1, name), walls = Count(p, "wall_layers", 1, name);
+  const Tank t{Count(p, "sites_x", 1, name), Count(p, "sites_z", 1, name),
+               walls + layers + Count(p, "headroom_layers", 0, name), walls, p.at("r0_cu")};
+  engine::SiberneticConfig c;
+  c.source = "owval generator hydrostatic_tank";
+  AddLiquidBlock(t, t.nx, layers, t.nz, &c);
+  AddTank(t, &c);
+  return c;
+}
+
+engine::SiberneticConfig DamBreak(const Parameters& given) {
+  const char* name = "dam_break";
+  const Parameters p = WithDefaults(given,
+                                    {{"column_sites", 16},
+                                     {"height_ratio", 2},
+                                     {"tank_sites", 80},
+                                     {"sites_z", 6},
+                                     {"r0_cu", 1.67},
+                                     {"wall_layers", 3},
+                                     {"headroom_layers", 4}},
+                                    name);
+  Positive(p, "r0_cu", name);
+  const int a = Count(p, "column_sites", 1, name), walls = Count(p, "wall_layers", 1, name);
+  const double ratio = p.at("height_ratio");
+  if (!(ratio > 0 && ratio <= 100)) throw InputError("dam_break: height_ratio must be in (0, 100]");
+  const int column_height = std::max(1, int(std::lround(ratio * a)));
+  const int length = Count(p, "tank_sites", a, name);
+  const Tank t{length, Count(p, "sites_z", 1, name),
+               walls + column_height + Count(p, "headroom_layers", 0, name), walls, p.at("r0_cu")};
+  engine::SiberneticConfig c;
+  c.source = "owval generator dam_break";
+  AddLiquidBlock(t, a, column_height, t.nz, &c);
+  AddTank(t, &c);
+  return c;
+}
+
 engine::SiberneticConfig Generate(const std::string& generator, const Parameters& parameters) {
+  if (generator == "hydrostatic_tank") return HydrostaticTank(parameters);
+  if (generator == "dam_break") return DamBreak(parameters);
   if (generator == "one_sprig") return OneSprig(parameters);
   if (generator == "free_fall") return FreeFall(parameters);
   if (generator == "hanging_chain") return HangingChain(parameters);
   if (generator == "liquid_column") return LiquidColumn(parameters);
   throw InputError("unknown generator '" + generator +
-                   "' (known: one_sprig, free_fall, hanging_chain, liquid_column)");
+                   "' (known: one_sprig, free_fall, hanging_chain, liquid_column, "
+                   "hydrostatic_tank, dam_break)");
 }
 
 }  // namespace owval::scenarios

@@ -1,7 +1,8 @@
 #pragma once
-// Backends by name. Built in: "owval" (alias "pcisph") and "xpbd", the in-process engine with
-// that scheme. User-defined ones come from one JSON file, the first found of: --backends FILE,
-// ./owval-backends.json, $XDG_CONFIG_HOME/owval/backends.json (XDG default ~/.config):
+// Backends by name. Built in: "owval" (alias "pcisph"), "xpbd" and "wcsph", the in-process
+// engine with that scheme. User-defined ones come from one JSON file, the first found of:
+// --backends FILE, ./owval-backends.json, $XDG_CONFIG_HOME/owval/backends.json (XDG default
+// ~/.config):
 //   {"backends": {
 //      "opencl": {"command": "./Sibernetic -no_g -l_to device=cpu -f {config} timelimit={time}
 //                             logstep={log_step} lpath={out}",

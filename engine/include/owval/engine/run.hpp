@@ -43,6 +43,8 @@ struct RunSummary {
   bool reference_equivalent = true;   // false when constants differ from Sibernetic's
   bool muscles_driven = false;        // activations came from MuscleSimulation's waves
   std::vector<std::string> warnings;  // e.g. "[physical parameters] parsed but not applied"
+  // Per recorded frame, the solver's TakeStepLog() (adaptive schemes: wcsph); empty otherwise.
+  std::vector<std::string> frame_log;
 };
 
 // Runs the configuration with the solver options.backend names (MakeSolver in solver.hpp) and

@@ -43,6 +43,11 @@ class Solver {
   // The scheme's own parameters as "name = value, ..." for a run's provenance ("" if none).
   virtual std::string parameters() const { return ""; }
 
+  // The scheme's adaptive stepping since the last call, one JSON object (time step history,
+  // rollbacks, density variation), or "" when the scheme steps at a fixed dt. Run asks at every
+  // frame and returns the answers in RunSummary::frame_log.
+  virtual std::string TakeStepLog() { return ""; }
+
   // Index of the first moving (non-boundary) particle with a non-finite position, or -1.
   virtual std::int64_t FirstNonFinite() const;
 };

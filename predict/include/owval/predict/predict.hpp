@@ -15,7 +15,8 @@ namespace owval::predict {
 
 struct PredictOptions {
   std::string scenario;  // recorded in the prediction
-  // harmonic_spring | free_fall | hanging_chain | hydrostatic_column; "" = chosen from the
+  // harmonic_spring | free_fall | hanging_chain | hydrostatic_column | hydrostatic_tank |
+  // dam_break (the last two only when named); "" = chosen from the
   // configuration's shape (see Predict).
   std::string predictor;
   // Omit Sibernetic's 0.25 factor on springs that are not between two worm-body particles (for

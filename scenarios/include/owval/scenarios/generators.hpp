@@ -59,7 +59,21 @@ engine::SiberneticConfig HangingChain(const Parameters& parameters);
 // Parameters: sites_xz (10), sites_y (16), r0_cu (1.67), layers (8), reference_edge_normals (0).
 engine::SiberneticConfig LiquidColumn(const Parameters& parameters);
 
-// Runs the generator named `generator` (one_sprig | free_fall | hanging_chain | liquid_column).
+// (e) A still liquid block filling the floor of an open tank whose floor and four sides are
+// `wall_layers` layers of boundary particles (the WCSPH scheme's dynamic boundary needs a kernel
+// support of wall): the hydrostatic tank. Wall rows carry inward unit normals.
+// Parameters: sites_x (12), sites_z (6), layers (24), r0_cu (1.67), wall_layers (3),
+// headroom_layers (4).
+engine::SiberneticConfig HydrostaticTank(const Parameters& parameters);
+
+// (f) Martin & Moyce's (1952) dam break: a liquid column column_sites wide (a) and
+// height_ratio x a high (n^2 = 2) against the left wall of a tank tank_sites long, released at
+// rest. Walls as hydrostatic_tank's. Parameters: column_sites (16), height_ratio (2),
+// tank_sites (80), sites_z (6), r0_cu (1.67), wall_layers (3), headroom_layers (4).
+engine::SiberneticConfig DamBreak(const Parameters& parameters);
+
+// Runs the generator named `generator` (one_sprig | free_fall | hanging_chain | liquid_column |
+// hydrostatic_tank | dam_break).
 engine::SiberneticConfig Generate(const std::string& generator, const Parameters& parameters);
 
 }  // namespace owval::scenarios
