@@ -64,6 +64,7 @@ void RunGradientFit(const FitArgs& a) {
   sgd::GradientFitOptions options;
   options.loss_threshold = a.threshold;
   options.max_iterations = a.max_iterations;
+  options.finite_differences = a.gradient == "model-fd";
   options.reverse.steps =
       std::size_t(std::llround(a.time_s / engine::PhysicsConstants{}.time_step_s));
   options.reverse.checkpoint_every = a.checkpoint_every;
@@ -103,7 +104,7 @@ void RunGradientFit(const FitArgs& a) {
 }
 
 void RunFit(const FitArgs& a) {
-  if (a.gradient == "analytic") return RunGradientFit(a);
+  if (a.gradient != "fd") return RunGradientFit(a);
   if (a.targets.empty()) throw InputError("fit: at least one --target is required");
   std::vector<sgd::Parameter> parameters;
   for (const std::string& p : a.params) parameters.push_back(sgd::ParseParameter(p));
@@ -189,9 +190,10 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--backend", a->backend,
                   "Engine scheme of the finite-difference fit's simulations (pcisph, xpbd)");
   cmd->add_option("--gradient", a->gradient,
-                  "fd (finite differences, any backend) or analytic (XPBD's reverse pass, "
-                  "Ceres L-BFGS)")
-      ->check(CLI::IsMember({"fd", "analytic"}));
+                  "fd (finite differences of runs, any backend), analytic (XPBD's reverse "
+                  "pass, Ceres L-BFGS) or model-fd (the same L-BFGS and model, central "
+                  "differences instead of the reverse pass: the comparison run)")
+      ->check(CLI::IsMember({"fd", "analytic", "model-fd"}));
   cmd->add_option("--reference", a->reference,
                   "analytic: trajectory the loss compares with (frames paired by step)");
   cmd->add_option("--loss-group", a->loss_groups,

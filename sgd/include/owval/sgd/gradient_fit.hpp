@@ -21,6 +21,11 @@ struct GradientFitOptions {
   double loss_threshold = 1e-4;
   int max_iterations = 20;
   engine::GradientOptions reverse;  // steps, checkpointing, window, clipping
+  // The comparison run: the same model, loss and L-BFGS, the gradient by central differences
+  // (2 forward simulations per parameter, step `fd_step` in internal coordinates) instead of
+  // the reverse pass.
+  bool finite_differences = false;
+  double fd_step = 1e-4;
   std::function<void(const nlohmann::json& history)> on_iteration;
 };
 
