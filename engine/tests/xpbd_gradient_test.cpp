@@ -91,7 +91,9 @@ TEST(GradientReverse, CheckpointedEqualsFullTapeToTheLastBit) {
     o.checkpoint_every = k;
     const GradientSummary g = model.Gradient(model.DefaultParameters(), loss, o);
     EXPECT_TRUE(SameBits(tape, g)) << "k = " << k;
-    if (k > 1) EXPECT_LT(g.peak_tape_bytes, tape.peak_tape_bytes / 2) << "k = " << k;
+    if (k > 1) {
+      EXPECT_LT(g.peak_tape_bytes, tape.peak_tape_bytes / 2) << "k = " << k;
+    }
   }
   double norm = 0;
   for (double v : tape.parameter_gradient) norm += std::abs(v);

@@ -19,6 +19,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include "xpbd/projections.hpp"
@@ -59,6 +61,9 @@ struct Bond {
 // Constants and topology of a scene (everything that is not differentiated).
 template <typename T>
 struct Setup {
+  // Hash cells (of h + skin) of the fixed particles, built once: they never move.
+  using Cells = std::unordered_map<std::int64_t, std::vector<std::int32_t>>;
+  std::shared_ptr<const Cells> fixed_cells;
   std::size_t n = 0;
   std::vector<char> moving;          // 1: moving, 0: fixed (boundary)
   std::vector<std::int32_t> movers;  // indices of the moving particles
@@ -286,12 +291,15 @@ void DensityMultipliers(const Setup<T>& S, const Neighbours& nb, T V0, T at, con
   }
 }
 
+// Keeps Δλ and the denominators in `record` when given (a tape's, for the backward).
 template <typename T>
 void DensityPass(const Setup<T>& S, const Neighbours& nb, T V0, T at, Field<T>* p,
-                 std::vector<T>* lambda) {
+                 std::vector<T>* lambda, std::array<std::vector<T>, 2>* record = nullptr) {
   const DensityTerms<T> K = TermsOf(S);
-  std::vector<T> dl, D;
-  DensityMultipliers(S, nb, V0, at, *p, *lambda, &dl, &D);
+  std::array<std::vector<T>, 2> local;
+  std::array<std::vector<T>, 2>& r = record ? *record : local;
+  DensityMultipliers(S, nb, V0, at, *p, *lambda, &r[0], &r[1]);
+  const std::vector<T>& dl = r[0];
   Field<T> dp(S.n, Vec3<T>{0, 0, 0});
   for (std::int32_t i : S.movers)
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
@@ -311,13 +319,17 @@ void DensityPass(const Setup<T>& S, const Neighbours& nb, T V0, T at, Field<T>* 
 //   λ' = λ + Δλ: Δλ̄ += λ̄'; Δλ = (−C − α̃λ)/D: C̄ = −Δλ̄/D, λ̄ += −α̃Δλ̄/D, D̄ = −Δλ̄Δλ/D,
 //   ᾱ̃ += −λΔλ̄/D + D̄; D: ḡ_ij += 2D̄([j moving]g_ij + g_i); C = V0·w − 1: V̄0 += C̄w,
 //   p̄ via ∂W/∂d; g_ij = V0 f(r) d: V̄0 += f(r)(ḡ·d), d̄ = V0(f ḡ + f'(r)(d·ḡ)d/r).
+// `record`: the forward's Δλ and denominators when kept, else recomputed here.
 template <typename T>
 void DensityPassBackward(const Setup<T>& S, const Neighbours& nb, T V0, T at, const Field<T>& p,
                          const std::vector<T>& lambda, Field<T>* p_bar, std::vector<T>* lambda_bar,
-                         T* V0_bar, T* at_bar) {
+                         T* V0_bar, T* at_bar,
+                         const std::array<std::vector<T>, 2>* record = nullptr) {
   const DensityTerms<T> K = TermsOf(S);
-  std::vector<T> dl, D;
-  DensityMultipliers(S, nb, V0, at, p, lambda, &dl, &D);
+  std::array<std::vector<T>, 2> local;
+  if (!record) DensityMultipliers(S, nb, V0, at, p, lambda, &local[0], &local[1]);
+  const std::vector<T>& dl = record ? (*record)[0] : local[0];
+  const std::vector<T>& D = record ? (*record)[1] : local[1];
   const Field<T> pb_out = *p_bar;  // cotangent of p' (p' = p + Δp: p̄ starts as p̄')
   std::vector<T> dl_bar(S.n, T(0));
   for (std::int32_t i : S.movers) dl_bar[i] = (*lambda_bar)[i];
@@ -406,15 +418,22 @@ void BondPass(const Setup<T>& S, const Parameters<T>& theta, Field<T>* p, std::v
 //   p_a' = p_a + Δλn: Δλ̄ = λ̄' + p̄_a'·n, n̄ = Δλp̄_a';  Δλ = (−C − α̃λ)/D: C̄ = −Δλ̄/D,
 //   λ̄ = λ̄' − α̃Δλ̄/D, ᾱ̃ = −Δλ̄(λ + Δλ)/D;  d̄ = C̄n + (n̄ − (n̄·n)n)/L, p̄_a += d̄, p̄_b −= d̄;
 //   α̃ = scale/(k dt²): k̄ = −ᾱ̃α̃/k; k = k_type(1 + a·σ): k̄_type += k̄(1 + aσ), σ̄ += k̄·k_type·a.
+// `partners`, `particles`: the forward's recorded bond ends when kept, else re-recorded here.
 template <typename T>
 void BondPassBackward(const Setup<T>& S, const Parameters<T>& theta, const Field<T>& p,
                       const std::vector<T>& lambda, Field<T>* p_bar, std::vector<T>* lambda_bar,
-                      Parameters<T>* theta_bar) {
+                      Parameters<T>* theta_bar, const std::vector<Vec3<T>>* partners = nullptr,
+                      const std::vector<Vec3<T>>* particles = nullptr) {
   const std::size_t nb = S.bonds.size();
-  std::vector<Vec3<T>> pa(nb), pb(nb);
-  Field<T> q = p;
-  std::vector<T> l = lambda;
-  BondPass(S, theta, &q, &l, &pb, &pa);
+  std::vector<Vec3<T>> local_a, local_b;
+  if (!partners) {
+    local_a.resize(nb), local_b.resize(nb);
+    Field<T> q = p;
+    std::vector<T> l = lambda;
+    BondPass(S, theta, &q, &l, &local_b, &local_a);
+  }
+  const std::vector<Vec3<T>>& pa = particles ? *particles : local_a;
+  const std::vector<Vec3<T>>& pb = partners ? *partners : local_b;
   for (std::size_t b = nb; b-- > 0;) {
     const Bond& bond = S.bonds[b];
     const T k = BondStiffness(S, bond, theta);

@@ -33,15 +33,36 @@ std::size_t StepTape::Bytes() const {
   for (const auto& f : p_before_box) b += FieldBytes(f);
   for (const auto& l : lambda_density) b += FieldBytes(l);
   for (const auto& l : lambda_bonds) b += FieldBytes(l);
+  for (const auto& m : density_multipliers) b += FieldBytes(m[0]) + FieldBytes(m[1]);
+  for (const auto& f : bond_partners) b += FieldBytes(f);
+  for (const auto& f : bond_particles) b += FieldBytes(f);
   return b;
 }
 
+Setup<double>::Cells HashCells(const Setup<double>& S, const Field<double>& x, bool moving) {
+  const double h = S.h + S.neighbour_skin;
+  Setup<double>::Cells cells;
+  for (std::size_t i = 0; i < S.n; ++i) {
+    if (bool(S.moving[i]) != moving) continue;
+    const std::int64_t c[3] = {std::int64_t(std::floor(x[i][0] / h)),
+                               std::int64_t(std::floor(x[i][1] / h)),
+                               std::int64_t(std::floor(x[i][2] / h))};
+    cells[CellKey(c[0], c[1], c[2])].push_back(std::int32_t(i));
+  }
+  return cells;
+}
+
+// Candidates come from the fixed particles' cells (hashed once, at their configuration
+// positions: a fixed particle moved by a gradient check's 1e-4 cu can only be missed at a
+// distance beyond h, where every kernel is zero) and the moving particles' cells at x.
 Neighbours FindNeighbours(const Setup<double>& S, const Field<double>& x) {
   const double h = S.h + S.neighbour_skin, h2 = h * h;
-  std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells;
+  const Setup<double>::Cells moving_cells = HashCells(S, x, true);
+  const Setup<double>::Cells fixed_cells =
+      S.fixed_cells ? Setup<double>::Cells{} : HashCells(S, x, false);
+  const Setup<double>::Cells* lists[2] = {S.fixed_cells ? S.fixed_cells.get() : &fixed_cells,
+                                          &moving_cells};
   auto cell = [&](const Vec3<double>& p, int a) { return std::int64_t(std::floor(p[a] / h)); };
-  for (std::size_t i = 0; i < S.n; ++i)
-    cells[CellKey(cell(x[i], 0), cell(x[i], 1), cell(x[i], 2))].push_back(std::int32_t(i));
   Neighbours nb;
   nb.start.assign(S.n + 1, 0);
   std::size_t at = 0;
@@ -53,12 +74,14 @@ Neighbours FindNeighbours(const Setup<double>& S, const Field<double>& x) {
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
-            const auto it = cells.find(CellKey(c[0] + dx, c[1] + dy, c[2] + dz));
-            if (it == cells.end()) continue;
-            for (std::int32_t j : it->second) {
-              if (j == std::int32_t(i)) continue;
-              const Vec3<double> d = Sub(x[i], x[j]);
-              if (Dot(d, d) < h2) nb.index.push_back(j);
+            for (const Setup<double>::Cells* cells : lists) {
+              const auto it = cells->find(CellKey(c[0] + dx, c[1] + dy, c[2] + dz));
+              if (it == cells->end()) continue;
+              for (std::int32_t j : it->second) {
+                if (j == std::int32_t(i)) continue;
+                const Vec3<double> d = Sub(x[i], x[j]);
+                if (Dot(d, d) < h2) nb.index.push_back(j);
+              }
             }
           }
     }
@@ -108,6 +131,10 @@ Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& co
   S.iterations = constants.xpbd.iterations;
   S.viscosity = constants.xpbd.viscosity != 0;
   S.surface_tension = constants.xpbd.surface_tension != 0;
+  Field<double> x(S.n);
+  for (std::size_t i = 0; i < S.n; ++i)
+    x[i] = {config.position[i][0], config.position[i][1], config.position[i][2]};
+  S.fixed_cells = std::make_shared<const Setup<double>::Cells>(HashCells(S, x, false));
   return S;
 }
 
@@ -145,13 +172,16 @@ void StepForward(const Setup<double>& S, const Parameters<double>& theta, const 
   const std::size_t K = std::size_t(std::max(S.iterations, 0));
   t.p_before_density.resize(K), t.p_before_bonds.resize(K), t.p_before_box.resize(K);
   t.lambda_density.resize(K), t.lambda_bonds.resize(K);
+  t.density_multipliers.resize(K), t.bond_partners.resize(K), t.bond_particles.resize(K);
   for (std::size_t k = 0; k < K; ++k) {
     t.p_before_density[k] = p;
     t.lambda_density[k] = ld;
-    DensityPass(S, t.nb, V0, at, &p, &ld);
+    DensityPass(S, t.nb, V0, at, &p, &ld, &t.density_multipliers[k]);
     t.p_before_bonds[k] = p;
     t.lambda_bonds[k] = lb;
-    BondPass(S, theta, &p, &lb);
+    t.bond_partners[k].resize(S.bonds.size());
+    t.bond_particles[k].resize(S.bonds.size());
+    BondPass(S, theta, &p, &lb, &t.bond_partners[k], &t.bond_particles[k]);
     t.p_before_box[k] = p;
     BoxPass(S, theta[kFloorHeight], &p);
   }
@@ -173,9 +203,10 @@ void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const
   double V0_bar = 0, at_bar = 0;
   for (std::size_t k = t.p_before_density.size(); k-- > 0;) {
     BoxPassBackward(S, theta[kFloorHeight], t.p_before_box[k], &p_bar, &tb[kFloorHeight]);
-    BondPassBackward(S, theta, t.p_before_bonds[k], t.lambda_bonds[k], &p_bar, &lb_bar, &tb);
+    BondPassBackward(S, theta, t.p_before_bonds[k], t.lambda_bonds[k], &p_bar, &lb_bar, &tb,
+                     &t.bond_partners[k], &t.bond_particles[k]);
     DensityPassBackward(S, t.nb, V0, at, t.p_before_density[k], t.lambda_density[k], &p_bar,
-                        &ld_bar, &V0_bar, &at_bar);
+                        &ld_bar, &V0_bar, &at_bar, &t.density_multipliers[k]);
   }
   // λ starts at 0 each step: its cotangent ends here. A fixed particle's x̄ is its position's
   // gradient (it enters every neighbour's kernels).
