@@ -65,6 +65,12 @@ void RunGradientFit(const FitArgs& a) {
   options.loss_threshold = a.threshold;
   options.max_iterations = a.max_iterations;
   options.finite_differences = a.gradient == "model-fd";
+  if (a.solver == "adam") {
+    options.method = sgd::GradientFitOptions::Method::kAdam;
+    options.learning_rate = a.learning_rate;
+  } else if (a.solver != "lm" && a.solver != "lbfgs") {
+    throw InputError("fit --gradient " + a.gradient + ": --solver is lbfgs (default) or adam");
+  }
   options.reverse.steps =
       std::size_t(std::llround(a.time_s / engine::PhysicsConstants{}.time_step_s));
   options.reverse.checkpoint_every = a.checkpoint_every;
@@ -176,8 +182,9 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--track-axis", a->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));
   cmd->add_option("--time", a->time_s, "Simulated time per evaluation (s)");
   cmd->add_option("--log-step", a->log_step, "Steps between frames");
-  cmd->add_option("--solver", a->solver, "lm, dogleg or gd")
-      ->check(CLI::IsMember({"lm", "dogleg", "gd"}));
+  cmd->add_option("--solver", a->solver,
+                  "lm, dogleg or gd; with --gradient analytic|model-fd: lbfgs (default) or adam")
+      ->check(CLI::IsMember({"lm", "dogleg", "gd", "lbfgs", "adam"}));
   cmd->add_option("--command", a->command,
                   "External simulator: {param} placeholders, {out} dir, {out_file}");
   cmd->add_option("--threshold", a->threshold, "Stop when the loss is below this (default 1e-4)");

@@ -162,6 +162,60 @@ class History final : public ceres::IterationCallback {
   Clock::time_point start_;
 };
 
+// DD001's rules: Adam on log-space (positive, stiffness-like) parameters; a bounded linear
+// parameter moves by its own step against the gradient's sign, the step halved whenever that
+// sign flips, clamped into [lower, upper].
+void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& model,
+                 const std::vector<Parameter>& parameters,
+                 const std::vector<engine::LossTerm>& loss, std::vector<double> u,
+                 GradientFitSummary* summary) {
+  const auto start = Clock::now();
+  Function f(model, parameters, loss, o, summary);
+  const std::size_t n = u.size();
+  std::vector<double> m(n, 0), v(n, 0), g(n), step(n), last_sign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) step[i] = o.learning_rate * std::max(std::abs(u[i]), 1.0);
+  FitSummary& fit = summary->fit;
+  double cost = 0;
+  for (int it = 0; it <= o.max_iterations; ++it) {
+    if (!f.Evaluate(u.data(), &cost, g.data()))
+      throw InputError("fit: the loss is not finite at iteration " + std::to_string(it));
+    double norm = 0;
+    for (double x : g) norm += x * x;
+    Iteration record;
+    record.iteration = it;
+    record.values = f.Values(u.data());
+    record.loss = cost;
+    record.gradient = g;
+    record.evaluations = fit.evaluations;
+    record.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+    fit.iterations.push_back(record);
+    summary->gradient_norm.push_back(std::sqrt(norm));
+    summary->simulation_equivalents.push_back(summary->total_simulation_equivalents);
+    if (o.on_iteration) o.on_iteration(ToJson(o, parameters, *summary));
+    if (cost < o.loss_threshold || it == o.max_iterations) break;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Parameter& p = parameters[i];
+      if (p.log_space) {
+        m[i] = 0.9 * m[i] + 0.1 * g[i];
+        v[i] = 0.999 * v[i] + 0.001 * g[i] * g[i];
+        const double mh = m[i] / (1 - std::pow(0.9, it + 1)),
+                     vh = v[i] / (1 - std::pow(0.999, it + 1));
+        u[i] -= o.learning_rate * mh / (std::sqrt(vh) + 1e-12);
+        continue;
+      }
+      const double sign = g[i] > 0 ? 1.0 : g[i] < 0 ? -1.0 : 0.0;
+      if (sign != 0 && last_sign[i] != 0 && sign != last_sign[i]) step[i] /= 2;
+      if (sign != 0) last_sign[i] = sign;
+      u[i] = std::clamp(u[i] - sign * step[i], p.lower, p.upper);
+    }
+  }
+  fit.final_values = f.Values(u.data());
+  fit.final_loss = cost;
+  fit.converged = cost < o.loss_threshold;
+  fit.stop_reason = fit.converged ? "loss below threshold" : "maximum iterations reached";
+  fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
 }  // namespace
 
 void FitWithGradient(const GradientFitOptions& o, const engine::DifferentiableXpbd& model,
@@ -175,6 +229,8 @@ void FitWithGradient(const GradientFitOptions& o, const engine::DifferentiableXp
       throw InputError("fit: log-space parameter " + p.name + " needs a positive start");
     u.push_back(p.log_space ? std::log(p.start) : p.start);
   }
+  if (o.method == GradientFitOptions::Method::kAdam)
+    return FitWithAdam(o, model, parameters, loss, u, summary);
   auto* function = new Function(model, parameters, loss, o, summary);
   ceres::GradientProblem problem(function);  // takes ownership
   ceres::GradientProblemSolver::Options options;
@@ -204,7 +260,7 @@ nlohmann::json ToJson(const GradientFitOptions& o, const std::vector<Parameter>&
   fit.loss_threshold = o.loss_threshold;
   fit.max_iterations = o.max_iterations;
   nlohmann::json j = ToJson(fit, parameters, s.fit);
-  j["solver"] = "lbfgs";
+  j["solver"] = o.method == GradientFitOptions::Method::kAdam ? "adam" : "lbfgs";
   j["gradient"] = o.finite_differences ? "model_finite_differences" : "analytic";
   j["reverse"] = {{"steps", o.reverse.steps},
                   {"checkpoint_every", o.reverse.checkpoint_every},

@@ -70,3 +70,26 @@ TEST(GradientFit, OscillatorSurrogateIsZeroOnTheOscillation) {
 
 }  // namespace
 }  // namespace owval::sgd
+
+namespace owval::sgd {
+namespace {
+
+TEST(GradientFit, AdamLowersTheOneSprigLossInLogSpace) {
+  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
+                                         engine::PhysicsConstants{});
+  GradientFitOptions o;
+  o.method = GradientFitOptions::Method::kAdam;
+  o.learning_rate = 0.1;
+  o.max_iterations = 6;
+  o.reverse.steps = 50;
+  GradientFitSummary s;
+  FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 50),
+                  &s);
+  ASSERT_EQ(s.fit.iterations.size(), 7u);
+  EXPECT_LT(s.fit.iterations.back().loss, 0.5 * s.fit.iterations.front().loss);
+  EXPECT_GT(s.fit.final_values[0], 0.54 * 3e8);  // moved up, toward the true k
+  EXPECT_EQ(ToJson(o, {{"elasticity_coefficient", 0.54 * 3e8, true}}, s)["solver"], "adam");
+}
+
+}  // namespace
+}  // namespace owval::sgd

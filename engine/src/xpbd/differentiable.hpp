@@ -18,7 +18,7 @@ struct StepTape {
   std::vector<double> rho;
   std::vector<Field<double>> p_before_density, p_before_bonds, p_before_box;
   std::vector<std::vector<double>> lambda_density, lambda_bonds;
-  std::vector<std::array<std::vector<double>, 2>> density_multipliers;  // Δλ, denominators
+  std::vector<std::array<std::vector<double>, 2>> density_multipliers;   // Δλ, denominators
   std::vector<std::vector<Vec3<double>>> bond_partners, bond_particles;  // ends before each bond
   std::size_t Bytes() const;
 };

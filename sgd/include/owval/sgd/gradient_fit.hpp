@@ -18,6 +18,11 @@
 namespace owval::sgd {
 
 struct GradientFitOptions {
+  // kLbfgs: Ceres' GradientProblem with an L-BFGS line search. kAdam: DD001's rules, Adam
+  // (learning_rate in internal coordinates) on log-space parameters, sign steps halved on a
+  // sign flip and clamped to the bounds on linear ones; one evaluation per iteration.
+  enum class Method { kLbfgs, kAdam } method = Method::kLbfgs;
+  double learning_rate = 0.05;
   double loss_threshold = 1e-4;
   int max_iterations = 20;
   engine::GradientOptions reverse;  // steps, checkpointing, window, clipping
