@@ -126,6 +126,7 @@ class Reverse {
       if (t % k() == 0) checkpoints_.push_back({x, v});
       StepTape* tape = nullptr;
       if (o_.checkpoint_every == 0) tape = &tapes_.emplace_back();
+      live_ = tapes_.size();
       ad::StepForward(S_, theta_, x, v, &xn, &vn, tape);
       ++out_.forward_steps;
       x.swap(xn), v.swap(vn);
@@ -145,12 +146,14 @@ class Reverse {
   }
 
   // Tapes of steps [c, e) from the checkpoint at c (checkpointed mode).
+  // The segment's tapes reuse the previous segment's storage (no fresh pages every step).
   void Recompute(std::size_t c, std::size_t e) {
-    tapes_.clear();
+    if (tapes_.size() < e - c) tapes_.resize(e - c);
+    live_ = e - c;
     held_tape_bytes_ = 0;
     Field<double> x = checkpoints_[c / k()].x, v = checkpoints_[c / k()].v, xn, vn;
     for (std::size_t t = c; t < e; ++t) {
-      StepTape& tape = tapes_.emplace_back();
+      StepTape& tape = tapes_[t - c];
       ad::StepForward(S_, theta_, x, v, &xn, &vn, &tape);
       ++out_.forward_steps;
       x.swap(xn), v.swap(vn);
@@ -171,9 +174,9 @@ class Reverse {
       }
       const std::size_t base = o_.checkpoint_every == 0 ? 0 : segment_start;
       // x_t: the next step's input, the final state, or the next segment's checkpoint.
-      const Field<double>& xt = t == N                     ? final_x_
-                                : t - base < tapes_.size() ? tapes_[t - base].x
-                                                           : checkpoints_[t / k()].x;
+      const Field<double>& xt = t == N             ? final_x_
+                                : t - base < live_ ? tapes_[t - base].x
+                                                   : checkpoints_[t / k()].x;
       FrameLoss(S_, terms_, t, xt, &x_bar);
       ad::StepBackward(S_, theta_, tapes_[step - base], &x_bar, &v_bar, &theta_bar);
       Clip(&x_bar, &v_bar);
@@ -209,6 +212,7 @@ class Reverse {
   GradientSummary& out_;
   std::vector<State> checkpoints_;
   std::vector<StepTape> tapes_;
+  std::size_t live_ = 0;  // tapes_[0, live_) hold the current segment's steps
   std::size_t held_tape_bytes_ = 0;
   Field<double> final_x_;
 };
