@@ -14,7 +14,6 @@
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
-#include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
