@@ -3,11 +3,13 @@
 // and clipping/truncation options changing what they should.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "owval/engine/config.hpp"
 #include "owval/engine/gradient.hpp"
+#include "xpbd/xpbd.hpp"
 
 namespace owval::engine {
 namespace {
@@ -150,6 +152,32 @@ TEST(GradientReverse, HundredStepDemo1GradientMatchesFiniteDifferences) {
   for (const GradCheckTest& t : s.tests)
     EXPECT_LE(t.relative_error, 1e-3)
         << t.name << ": fd " << t.finite_difference << " analytic " << t.analytic;
+}
+
+}  // namespace
+}  // namespace owval::engine
+
+namespace owval::engine {
+namespace {
+
+// Where neither the wall correction nor membranes act (one_sprig's particle hangs far from the
+// walls), the differentiable model is the run's XPBD step: the double solver's trajectory, one
+// step later (a run's first step moves nothing).
+TEST(DifferentiableModel, ReproducesTheDoubleXpbdRunOnOneSprig) {
+  const SiberneticConfig c = ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
+                                                  "reference/one_sprig/configuration");
+  const DifferentiableXpbd model(c, PhysicsConstants{});
+  const auto frames = model.Trajectory(model.DefaultParameters(), 200);
+  internal::Xpbd<double> run(c, PhysicsConstants{}, 1);
+  run.Step();
+  double worst = 0;
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    run.Step();
+    for (int a = 0; a < 3; ++a)
+      worst = std::max(worst, std::abs(run.exact_positions()[0][a] - frames[t][0][a]));
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(std::abs(frames.back()[0][1] - frames.front()[0][1]), 0.5);  // it does oscillate
 }
 
 }  // namespace
