@@ -1,0 +1,50 @@
+#pragma once
+// The differentiable XPBD model behind owval/engine/gradient.hpp: one step forward recording its
+// tape, one step backward from that tape, and the neighbour search they share.
+#include <cstddef>
+#include <vector>
+
+#include "owval/engine/config.hpp"
+#include "owval/engine/gradient.hpp"
+#include "xpbd/adjoint.hpp"
+
+namespace owval::engine::internal::adjoint {
+
+// Everything one step's backward needs: its input state, neighbour lists, and the positions and
+// multipliers before each projection kernel of each pass.
+struct StepTape {
+  Neighbours nb;
+  Field<double> x, v, a, p_predicted, p_final;
+  std::vector<double> rho;
+  std::vector<Field<double>> p_before_density, p_before_bonds, p_before_box;
+  std::vector<std::vector<double>> lambda_density, lambda_bonds;
+  std::vector<std::array<std::vector<double>, 2>> density_multipliers;   // Δλ, denominators
+  std::vector<std::vector<Vec3<double>>> bond_partners, bond_particles;  // ends before each bond
+  std::size_t Bytes() const;
+};
+
+// Lists of every moving particle's neighbours within h (cu) at x, in a fixed order (cells in
+// z, y, x order, particles in index order within a cell).
+Neighbours FindNeighbours(const Setup<double>& S, const Field<double>& x);
+
+Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& constants);
+Parameters<double> DefaultParametersOf(const SiberneticConfig& config,
+                                       const PhysicsConstants& constants);
+
+// One step x, v → x', v'; fills the tape when given.
+void StepForward(const Setup<double>& S, const Parameters<double>& theta, const Field<double>& x,
+                 const Field<double>& v, Field<double>* x_next, Field<double>* v_next,
+                 StepTape* tape);
+// x_bar, v_bar: the cotangents of x', v' in, of x, v out; theta_bar accumulates.
+void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& tape,
+                  Field<double>* x_bar, Field<double>* v_bar, Parameters<double>* theta_bar);
+
+// The rest volume V0 = m/(ρ_rest s³) (cu³) and α̃ = α/dt² of the density constraint.
+inline double RestVolume(const Setup<double>& S, const Parameters<double>& t) {
+  return S.mass / (t[kRestDensity] * S.s * S.s * S.s);
+}
+inline double DensityAlphaTilde(const Setup<double>& S, const Parameters<double>& t) {
+  return t[kAlphaDensity] / (S.dt * S.dt);
+}
+
+}  // namespace owval::engine::internal::adjoint

@@ -1,0 +1,661 @@
+// `owval gradcheck`: every backward kernel of adjoint.hpp, one whole step, and a multi-step
+// reverse pass against central differences in double. For a kernel f with VJP f̄ and random
+// direction d (scaled per input: positions by 1 cu (0.1 cu in the force kernel and the whole
+// step), velocities by 0.05 m/s, parameters by their own magnitude) and random output cotangent u:
+//   finite difference  u·(f(z + εd) − f(z − εd))/(2ε),   analytic  f̄(z; u)·d,
+// relative error |fd − an|/max(|fd|, |an|). Each kernel runs at ε = 1e-3 (DD001's) and at its
+// own ε.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+#include "owval/engine/gradient.hpp"
+#include "xpbd/differentiable.hpp"
+
+namespace owval::engine {
+namespace {
+
+namespace ad = internal::adjoint;
+using ad::Field;
+using ad::Parameters;
+using Vector = std::vector<double>;
+
+struct KernelCheck {
+  double epsilon;  // the kernel's own ε (besides 1e-3)
+  Vector at, scale;
+  std::function<Vector(const Vector&)> f;
+  std::function<Vector(const Vector&, const Vector&)> vjp;
+};
+
+// Packing of fields and scalars into one vector.
+void Put(const Field<double>& f, Vector* z) {
+  for (const auto& a : f) z->insert(z->end(), a.begin(), a.end());
+}
+Field<double> TakeField(const Vector& z, std::size_t* at, std::size_t n) {
+  Field<double> f(n);
+  for (auto& a : f)
+    for (double& c : a) c = z[(*at)++];
+  return f;
+}
+Vector Take(const Vector& z, std::size_t* at, std::size_t n) {
+  Vector v(z.begin() + std::ptrdiff_t(*at), z.begin() + std::ptrdiff_t(*at + n));
+  *at += n;
+  return v;
+}
+Parameters<double> TakeParameters(const Vector& z, std::size_t* at) {
+  Parameters<double> t{};
+  for (double& c : t) c = z[(*at)++];
+  return t;
+}
+
+// A small scene touching every kernel: a jittered liquid block on a boundary layer, with some
+// particles below the floor parameter; an elastic cube of body and agar particles bonded
+// pairwise, one bond a muscle at half activation.
+SiberneticConfig Scene(std::mt19937_64* rng) {
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3), speed(-0.05, 0.05);
+  SiberneticConfig c;
+  c.source = "gradcheck scene";
+  c.box = {0, 30, 0, 30, 0, 30};
+  auto add = [&](double x, double y, double z, float type) {
+    c.position.push_back({float(x), float(y), float(z), type});
+    c.velocity.push_back(type == 3.0f
+                             ? Row4{0, 1, 0, 0}
+                             : Row4{float(speed(*rng)), float(speed(*rng)), float(speed(*rng)), 0});
+  };
+  const double e = 1.6;
+  for (int i = 0; i < 8; ++i)
+    add(20 + e * (i & 1) + jitter(*rng), 5 + e * ((i >> 1) & 1) + jitter(*rng),
+        20 + e * (i >> 2) + jitter(*rng), i < 4 ? 2.1f : 2.3f);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 4; ++k)
+        add(10 + 1.5 * i + jitter(*rng), 2.2 + 1.5 * j + jitter(*rng), 10 + 1.5 * k + jitter(*rng),
+            1.1f);
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 6; ++k) add(9 + 1.2 * i, 0.8, 9 + 1.2 * k, 3.0f);
+  c.connection.assign(8 * kConnectionSlots, {-1, 0, 0, 0});
+  for (int a = 0; a < 8; ++a) {
+    int slot = 0;
+    for (int b = 0; b < 8; ++b) {
+      if (a == b) continue;
+      const Row4 &pa = c.position[a], &pb = c.position[b];
+      const double d = std::hypot(pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]);
+      const float muscle = a == 0 && b == 1 ? 1.0f : 0.0f;
+      c.connection[a * kConnectionSlots + slot++] = {float(b), float(1.05 * d), muscle, 0};
+    }
+  }
+  c.particle_mem_index.assign(8 * kMembraneSlotsPerParticle, -1);
+  return c;
+}
+
+struct SceneState {
+  ad::Setup<double> S;
+  Parameters<double> theta;
+  Field<double> x, v;
+  ad::Neighbours nb;
+};
+
+// The smallest | |x_i − x_j| − h | over the pairs of a moving particle: the viscosity kernel
+// (hS − r) has a kink at h, where no derivative exists for a difference quotient to approach.
+double DistanceToKink(const SiberneticConfig& c, double h) {
+  double closest = 1e300;
+  for (std::size_t i = 0; i < c.position.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      if (c.position[i][3] == 3.0f && c.position[j][3] == 3.0f) continue;
+      const Row4 &a = c.position[i], &b = c.position[j];
+      closest = std::min(closest, std::abs(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) - h));
+    }
+  return closest;
+}
+
+SceneState MakeScene(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  SiberneticConfig c = Scene(&rng);
+  // Random draws until no pair sits within 0.02 cu of the kink (a few draws on average).
+  for (int draw = 0; draw < 1000 && DistanceToKink(c, PhysicsConstants{}.h_cu) < 0.02; ++draw)
+    c = Scene(&rng);
+  PhysicsConstants constants;
+  SceneState s{ad::SetupOf(c, constants), {}, {}, {}, {}};
+  s.S.activation[0] = 0.5f;
+  s.theta = {1000.0, 3e8, 7.5e7, 1.0, 4e-11, 2.6, 0.5, 1.0};
+  for (std::size_t i = 0; i < s.S.n; ++i) {
+    s.x.push_back({c.position[i][0], c.position[i][1], c.position[i][2]});
+    s.v.push_back(s.S.moving[i] ? Vec3d{c.velocity[i][0], c.velocity[i][1], c.velocity[i][2]}
+                                : Vec3d{0, 0, 0});
+  }
+  s.nb = ad::FindNeighbours(s.S, s.x);
+  return s;
+}
+
+Vector Ones(std::size_t n, double v) { return Vector(n, v); }
+Vector ParameterScale(const Parameters<double>& t) {
+  Vector s;
+  for (double v : t) s.push_back(v != 0 ? std::abs(v) : 1.0);
+  s[ad::kRestitution] = 0.1;
+  return s;
+}
+
+KernelCheck SphDensityCheck(const SceneState& s) {
+  KernelCheck k{1e-5, {}, Ones(3 * s.S.n, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  k.f = [&s](const Vector& z) {
+    std::size_t at = 0;
+    Vector rho;
+    ad::SphDensity(s.S, s.nb, TakeField(z, &at, s.S.n), &rho);
+    return rho;
+  };
+  k.vjp = [&s](const Vector& z, const Vector& u) {
+    std::size_t at = 0;
+    Field<double> xb(s.S.n, Vec3d{0, 0, 0});
+    ad::SphDensityBackward(s.S, s.nb, TakeField(z, &at, s.S.n), u, &xb);
+    Vector out;
+    Put(xb, &out);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck ForcesCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-5, {}, {}, {}, {}};
+  Vector rho;
+  ad::SphDensity(s.S, s.nb, s.x, &rho);
+  Put(s.x, &k.at);
+  Put(s.v, &k.at);
+  k.at.insert(k.at.end(), rho.begin(), rho.end());
+  k.at.push_back(1.0);
+  // Positions by 0.1 cu: the cohesion's (hS² − r²)³ bends sharply near r = h, where a 1 cu
+  // direction's second-order term is no longer small at ε = 1e-3.
+  k.scale = Ones(3 * n, 0.1);
+  const Vector vs = Ones(3 * n, 0.05);
+  k.scale.insert(k.scale.end(), vs.begin(), vs.end());
+  for (double r : rho) k.scale.push_back(r > 0 ? r * 0.1 : 1.0);
+  k.scale.push_back(1.0);
+  auto unpack = [n](const Vector& z, Field<double>* x, Field<double>* v, Vector* r, double* mu) {
+    std::size_t at = 0;
+    *x = TakeField(z, &at, n);
+    *v = TakeField(z, &at, n);
+    *r = Take(z, &at, n);
+    *mu = z[at];
+  };
+  k.f = [&s, unpack](const Vector& z) {
+    Field<double> x, v, a;
+    Vector r;
+    double mu;
+    unpack(z, &x, &v, &r, &mu);
+    ad::Forces(s.S, s.nb, x, v, r, mu, &a);
+    Vector out;
+    Put(a, &out);
+    return out;
+  };
+  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
+    Field<double> x, v;
+    Vector r;
+    double mu, mu_bar = 0;
+    unpack(z, &x, &v, &r, &mu);
+    std::size_t at = 0;
+    const Field<double> ab = TakeField(u, &at, n);
+    Field<double> xb(n, Vec3d{0, 0, 0}), vb = xb;
+    Vector rb(n, 0.0);
+    ad::ForcesBackward(s.S, s.nb, x, v, r, mu, ab, &xb, &vb, &rb, &mu_bar);
+    Vector out;
+    Put(xb, &out);
+    Put(vb, &out);
+    out.insert(out.end(), rb.begin(), rb.end());
+    out.push_back(mu_bar);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck PredictCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  Put(s.v, &k.at);
+  Field<double> a(n, Vec3d{0, -9.8, 0});
+  Put(a, &k.at);
+  for (double v : Ones(3 * n, 0.05)) k.scale.push_back(v);
+  for (double v : Ones(3 * n, 10.0)) k.scale.push_back(v);
+  k.f = [&s, n](const Vector& z) {
+    std::size_t at = 0;
+    const Field<double> x = TakeField(z, &at, n), v = TakeField(z, &at, n),
+                        a = TakeField(z, &at, n);
+    Field<double> p;
+    ad::Predict(s.S, x, v, a, &p);
+    Vector out;
+    Put(p, &out);
+    return out;
+  };
+  k.vjp = [&s, n](const Vector&, const Vector& u) {
+    std::size_t at = 0;
+    Field<double> xb(n, Vec3d{0, 0, 0}), vb = xb, ab = xb;
+    ad::PredictBackward(s.S, TakeField(u, &at, n), &xb, &vb, &ab);
+    Vector out;
+    Put(xb, &out);
+    Put(vb, &out);
+    Put(ab, &out);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck DensityCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  // A nonzero λ, as in a second pass.
+  Vector lambda(n, 0.0);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0, 0.05);
+  for (std::int32_t i : s.S.movers) lambda[std::size_t(i)] = g(rng);
+  k.at.insert(k.at.end(), lambda.begin(), lambda.end());
+  k.at.push_back(s.theta[ad::kRestDensity]);
+  k.at.push_back(s.theta[ad::kAlphaDensity]);
+  for (double v : Ones(n, 0.05)) k.scale.push_back(v);
+  k.scale.push_back(s.theta[ad::kRestDensity] * 0.1);
+  k.scale.push_back(s.theta[ad::kAlphaDensity]);
+  auto unpack = [&s, n](const Vector& z, Field<double>* p, Vector* l, double* V0, double* at) {
+    std::size_t i = 0;
+    *p = TakeField(z, &i, n);
+    *l = Take(z, &i, n);
+    Parameters<double> t = s.theta;
+    t[ad::kRestDensity] = z[i];
+    t[ad::kAlphaDensity] = z[i + 1];
+    *V0 = ad::RestVolume(s.S, t);
+    *at = ad::DensityAlphaTilde(s.S, t);
+  };
+  k.f = [&s, unpack](const Vector& z) {
+    Field<double> p;
+    Vector l;
+    double V0, at;
+    unpack(z, &p, &l, &V0, &at);
+    ad::DensityPass(s.S, s.nb, V0, at, &p, &l);
+    Vector out;
+    Put(p, &out);
+    out.insert(out.end(), l.begin(), l.end());
+    return out;
+  };
+  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
+    Field<double> p;
+    Vector l;
+    double V0, at, V0_bar = 0, at_bar = 0;
+    unpack(z, &p, &l, &V0, &at);
+    std::size_t i = 0;
+    Field<double> pb = TakeField(u, &i, n);
+    Vector lb = Take(u, &i, n);
+    ad::DensityPassBackward(s.S, s.nb, V0, at, p, l, &pb, &lb, &V0_bar, &at_bar);
+    Vector out;
+    Put(pb, &out);
+    out.insert(out.end(), lb.begin(), lb.end());
+    const double rho = z[z.size() - 2];
+    out.push_back(V0_bar * -V0 / rho);
+    out.push_back(at_bar / (s.S.dt * s.S.dt));
+    return out;
+  };
+  return k;
+}
+
+KernelCheck BondCheck(const SceneState& s) {
+  const std::size_t n = s.S.n, nb = s.S.bonds.size();
+  KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0, 1e-3);
+  for (std::size_t b = 0; b < nb; ++b) k.at.push_back(g(rng));
+  const int ids[3] = {ad::kBondStiffnessBody, ad::kBondStiffnessOther, ad::kMuscleStrength};
+  for (int id : ids) k.at.push_back(s.theta[id]);
+  for (double v : Ones(nb, 1e-3)) k.scale.push_back(v);
+  for (int id : ids) k.scale.push_back(s.theta[id]);
+  auto unpack = [&s, n, nb, ids](const Vector& z, Field<double>* p, Vector* l,
+                                 Parameters<double>* t) {
+    std::size_t i = 0;
+    *p = TakeField(z, &i, n);
+    *l = Take(z, &i, nb);
+    *t = s.theta;
+    for (int id : ids) (*t)[id] = z[i++];
+  };
+  k.f = [&s, unpack](const Vector& z) {
+    Field<double> p;
+    Vector l;
+    Parameters<double> t;
+    unpack(z, &p, &l, &t);
+    ad::BondPass(s.S, t, &p, &l);
+    Vector out;
+    Put(p, &out);
+    out.insert(out.end(), l.begin(), l.end());
+    return out;
+  };
+  k.vjp = [&s, unpack, n, nb, ids](const Vector& z, const Vector& u) {
+    Field<double> p;
+    Vector l;
+    Parameters<double> t, tb{};
+    unpack(z, &p, &l, &t);
+    std::size_t i = 0;
+    Field<double> pb = TakeField(u, &i, n);
+    Vector lb = Take(u, &i, nb);
+    ad::BondPassBackward(s.S, t, p, l, &pb, &lb, &tb);
+    Vector out;
+    Put(pb, &out);
+    out.insert(out.end(), lb.begin(), lb.end());
+    for (int id : ids) out.push_back(tb[id]);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck BoxCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-5, {}, Ones(3 * n + 1, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  k.at.push_back(s.theta[ad::kFloorHeight]);
+  k.f = [&s, n](const Vector& z) {
+    std::size_t i = 0;
+    Field<double> p = TakeField(z, &i, n);
+    ad::BoxPass(s.S, z[i], &p);
+    Vector out;
+    Put(p, &out);
+    return out;
+  };
+  k.vjp = [&s, n](const Vector& z, const Vector& u) {
+    std::size_t i = 0, j = 0;
+    const Field<double> p = TakeField(z, &i, n);
+    Field<double> pb = TakeField(u, &j, n);
+    double floor_bar = 0;
+    ad::BoxPassBackward(s.S, z[i], p, &pb, &floor_bar);
+    Vector out;
+    Put(pb, &out);
+    out.push_back(floor_bar);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck VelocityCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-4, {}, Ones(6 * n, 1e-2), {}, {}};
+  Field<double> p = s.x;
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> g(0, 0.05);
+  for (std::int32_t i : s.S.movers)
+    for (double& c : p[std::size_t(i)]) c += g(rng);
+  Put(s.x, &k.at);
+  Put(p, &k.at);
+  k.at.push_back(s.theta[ad::kRestitution]);
+  k.scale.push_back(0.1);
+  const double floor = s.theta[ad::kFloorHeight];
+  k.f = [&s, n, floor](const Vector& z) {
+    std::size_t i = 0;
+    const Field<double> x = TakeField(z, &i, n), p = TakeField(z, &i, n);
+    Field<double> v, xn;
+    ad::UpdateVelocity(s.S, floor, z[i], x, p, &v, &xn);
+    Vector out;
+    Put(v, &out);
+    Put(xn, &out);
+    return out;
+  };
+  k.vjp = [&s, n, floor](const Vector& z, const Vector& u) {
+    std::size_t i = 0, j = 0;
+    const Field<double> x = TakeField(z, &i, n), p = TakeField(z, &i, n);
+    const Field<double> vb = TakeField(u, &j, n), xnb = TakeField(u, &j, n);
+    Field<double> xb(n, Vec3d{0, 0, 0}), pb = xb;
+    double eb = 0;
+    ad::UpdateVelocityBackward(s.S, floor, z[i], x, p, vb, xnb, &xb, &pb, &eb);
+    Vector out;
+    Put(xb, &out);
+    Put(pb, &out);
+    out.push_back(eb);
+    return out;
+  };
+  return k;
+}
+
+KernelCheck StepCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  // Positions by 0.1 cu: along 1 cu directions (two-thirds of the spacing) the K composed
+  // projections' second-order term leaves ε = 1e-3's central difference 1e-4 to 5e-3 away
+  // (ε = 1e-5 agrees to 1e-8), a truncation error, not the VJP's.
+  KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
+  Put(s.x, &k.at);
+  Put(s.v, &k.at);
+  // The floor below the liquid here: the box kernel's own check covers clamping, and a block
+  // starting below the floor would be flung up by a jump no difference quotient follows.
+  Parameters<double> theta = s.theta;
+  theta[ad::kFloorHeight] = -5.0;
+  k.at.insert(k.at.end(), theta.begin(), theta.end());
+  for (double v : Ones(3 * n, 0.05)) k.scale.push_back(v);
+  for (double v : ParameterScale(theta)) k.scale.push_back(v);
+  // Muscle activation makes the parameter reach the bonds; fixed particles' x and v are inputs
+  // the step never moves (their cotangents are zero in both).
+  auto unpack = [n](const Vector& z, Field<double>* x, Field<double>* v, Parameters<double>* t) {
+    std::size_t i = 0;
+    *x = TakeField(z, &i, n);
+    *v = TakeField(z, &i, n);
+    *t = TakeParameters(z, &i);
+  };
+  k.f = [&s, unpack](const Vector& z) {
+    Field<double> x, v, xn, vn;
+    Parameters<double> t;
+    unpack(z, &x, &v, &t);
+    ad::StepForward(s.S, t, x, v, &xn, &vn, nullptr);
+    Vector out;
+    Put(xn, &out);
+    Put(vn, &out);
+    return out;
+  };
+  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
+    Field<double> x, v, xn, vn;
+    Parameters<double> t, tb{};
+    unpack(z, &x, &v, &t);
+    ad::StepTape tape;
+    ad::StepForward(s.S, t, x, v, &xn, &vn, &tape);
+    std::size_t i = 0;
+    Field<double> xb = TakeField(u, &i, n), vb = TakeField(u, &i, n);
+    ad::StepBackward(s.S, t, tape, &xb, &vb, &tb);
+    Vector out;
+    Put(xb, &out);
+    Put(vb, &out);
+    out.insert(out.end(), tb.begin(), tb.end());
+    return out;
+  };
+  return k;
+}
+
+double Dot(const Vector& a, const Vector& b) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
+void RunKernel(const std::string& name, const KernelCheck& k, const GradCheckOptions& o,
+               std::mt19937_64* rng, GradCheckSummary* out) {
+  std::normal_distribution<double> g(0, 1);
+  const std::size_t outputs = k.f(k.at).size();
+  for (double eps : {1e-3, k.epsilon})
+    for (std::size_t d = 0; d < o.directions; ++d) {
+      Vector dir(k.at.size()), u(outputs), plus = k.at, minus = k.at;
+      for (std::size_t i = 0; i < dir.size(); ++i) dir[i] = g(*rng) * k.scale[i];
+      for (double& c : u) c = g(*rng);
+      for (std::size_t i = 0; i < dir.size(); ++i) {
+        plus[i] += eps * dir[i];
+        minus[i] -= eps * dir[i];
+      }
+      GradCheckTest t;
+      t.kernel = name;
+      t.epsilon = eps;
+      t.direction = d;
+      t.tolerance = o.tolerance;
+      t.finite_difference = (Dot(u, k.f(plus)) - Dot(u, k.f(minus))) / (2 * eps);
+      Vector back = k.vjp(k.at, u);
+      if (o.sabotage == name) back[back.size() / 2] = -back[back.size() / 2];
+      t.analytic = Dot(back, dir);
+      const double denominator =
+          std::max({std::abs(t.finite_difference), std::abs(t.analytic), 1e-300});
+      t.relative_error = std::abs(t.finite_difference - t.analytic) / denominator;
+      t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
+      std::ostringstream s;
+      s << name << " eps=" << eps << " direction " << d;
+      t.name = s.str();
+      out->tests.push_back(t);
+    }
+}
+
+}  // namespace
+
+const std::vector<std::string>& GradCheckKernels() {
+  static const std::vector<std::string> names = {
+      "sph_density", "forces", "predict", "density_projection", "bond_projection", "box",
+      "velocity",    "step",   "reverse"};
+  return names;
+}
+
+void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSummary* out);
+
+GradCheckSummary RunGradCheck(const GradCheckOptions& options) {
+  std::vector<std::string> kernels = options.kernels;
+  if (kernels.empty() || (kernels.size() == 1 && kernels[0] == "all")) kernels = GradCheckKernels();
+  for (const std::string& k : kernels)
+    if (std::find(GradCheckKernels().begin(), GradCheckKernels().end(), k) ==
+        GradCheckKernels().end()) {
+      std::string known;
+      for (const std::string& n : GradCheckKernels()) known += (known.empty() ? "" : ", ") + n;
+      throw InputError("gradcheck: unknown kernel '" + k + "': expected all or one of " + known);
+    }
+  const SceneState scene = MakeScene(options.seed);
+  std::mt19937_64 rng(options.seed);
+  GradCheckSummary out;
+  for (const std::string& name : kernels) {
+    if (name == "reverse") {
+      RunEndToEnd(options, &rng, &out);
+      continue;
+    }
+    const KernelCheck k = name == "sph_density"          ? SphDensityCheck(scene)
+                          : name == "forces"             ? ForcesCheck(scene)
+                          : name == "predict"            ? PredictCheck(scene)
+                          : name == "density_projection" ? DensityCheck(scene)
+                          : name == "bond_projection"    ? BondCheck(scene)
+                          : name == "box"                ? BoxCheck(scene)
+                          : name == "velocity"           ? VelocityCheck(scene)
+                                                         : StepCheck(scene);
+    RunKernel(name, k, options, &rng, &out);
+  }
+  out.pass = !out.tests.empty();
+  for (const GradCheckTest& t : out.tests) out.pass = out.pass && t.pass;
+  return out;
+}
+
+std::string GradCheckSummary::BriefReport() const {
+  std::size_t passed = 0;
+  double worst = 0;
+  for (const GradCheckTest& t : tests) {
+    passed += t.pass;
+    worst = std::max(worst, t.relative_error);
+  }
+  std::ostringstream s;
+  s << passed << "/" << tests.size() << " finite-difference tests pass, worst relative error "
+    << worst << (pass ? "" : " (FAIL)");
+  return s.str();
+}
+
+}  // namespace owval::engine
+
+namespace owval::engine {
+
+// The end-to-end test: at α_density = end_to_end_alpha_density, the loss of the elastic and
+// liquid centroids at every 20th of end_to_end_steps steps against the model's own trajectory at
+// shifted parameters (ρ_rest +1%, bond stiffness −10%, viscosity ×1.5), differentiated by the
+// checkpointed reverse pass along random directions in (x0, v0, θ).
+void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSummary* out) {
+  if (o.end_to_end_config.empty())
+    throw InputError("gradcheck reverse: no configuration for the end-to-end test");
+  const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
+  DifferentiableXpbd model(config, PhysicsConstants{});
+  std::vector<double> theta = model.DefaultParameters();
+  theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  std::vector<double> shifted = theta;
+  shifted[ad::kRestDensity] *= 1.01;
+  shifted[ad::kBondStiffnessBody] *= 0.9;
+  shifted[ad::kBondStiffnessOther] *= 0.9;
+  shifted[ad::kViscosity] *= 1.5;
+  const std::size_t N = o.end_to_end_steps;
+  const auto reference = model.Trajectory(shifted, N);
+  std::vector<LossTerm> loss(2);
+  for (std::size_t i = 0; i < config.particle_count(); ++i) {
+    const float type = config.position[i][3];
+    if (int(type) == 2) loss[0].particles.push_back(std::int32_t(i));
+    if (int(type) == 1) loss[1].particles.push_back(std::int32_t(i));
+  }
+  if (loss[1].particles.empty()) loss.pop_back();
+  if (loss[0].particles.empty()) loss.erase(loss.begin());
+  for (LossTerm& term : loss) {
+    term.target = LossTerm::Target::kCentroid;
+    for (std::size_t t = 20; t <= N; t += 20) {
+      term.frame_steps.push_back(t);
+      Vec3d c{0, 0, 0};
+      for (std::int32_t i : term.particles)
+        for (int a = 0; a < 3; ++a) c[a] += reference[t - 1][std::size_t(i)][a];
+      for (double& v : c) v /= double(term.particles.size());
+      term.reference.push_back({c});
+    }
+  }
+  GradientOptions go;
+  go.steps = N;
+  go.checkpoint_every = 10;
+  const GradientSummary g = model.Gradient(theta, loss, go);
+  const std::vector<Vec3d> x0 = model.initial_positions(), v0 = model.initial_velocities();
+  const std::vector<std::int32_t> movers = model.moving();
+  std::normal_distribution<double> gauss(0, 1);
+  for (double eps : {1e-3, 1e-5})
+    for (std::size_t d = 0; d < o.directions; ++d) {
+      std::vector<Vec3d> dx(x0.size(), Vec3d{0, 0, 0}), dv = dx;
+      for (std::int32_t i : movers)
+        for (int a = 0; a < 3; ++a) {
+          dx[std::size_t(i)][a] = gauss(*rng) * 1e-2;
+          dv[std::size_t(i)][a] = gauss(*rng) * 1e-3;
+        }
+      std::vector<double> dt(theta.size());
+      for (std::size_t p = 0; p < theta.size(); ++p)
+        dt[p] = gauss(*rng) * (theta[p] != 0 ? std::abs(theta[p]) * 1e-2 : 1e-2);
+      dt[ad::kRestitution] = gauss(*rng) * 1e-2;
+      auto at = [&](double sign) {
+        std::vector<Vec3d> x = x0, v = v0;
+        for (std::size_t i = 0; i < x.size(); ++i)
+          for (int a = 0; a < 3; ++a) {
+            x[i][a] += sign * eps * dx[i][a];
+            v[i][a] += sign * eps * dv[i][a];
+          }
+        std::vector<double> t = theta;
+        for (std::size_t p = 0; p < t.size(); ++p) t[p] += sign * eps * dt[p];
+        DifferentiableXpbd m = DifferentiableXpbd(config, PhysicsConstants{});
+        m.SetInitialState(x, v);
+        return m.Loss(t, loss, N);
+      };
+      GradCheckTest t;
+      t.kernel = "reverse";
+      t.epsilon = eps;
+      t.direction = d;
+      t.tolerance = o.end_to_end_tolerance;
+      t.finite_difference = (at(1) - at(-1)) / (2 * eps);
+      double an = 0;
+      for (std::size_t i = 0; i < x0.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+          an += g.position_gradient[i][a] * dx[i][a] + g.velocity_gradient[i][a] * dv[i][a];
+      for (std::size_t p = 0; p < theta.size(); ++p) an += g.parameter_gradient[p] * dt[p];
+      if (o.sabotage == "reverse") an = -an;
+      t.analytic = an;
+      t.relative_error = std::abs(t.finite_difference - an) /
+                         std::max({std::abs(t.finite_difference), std::abs(an), 1e-300});
+      t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
+      std::ostringstream s;
+      s << "reverse " << N << " steps (" << o.end_to_end_config
+        << ", alpha_density=" << o.end_to_end_alpha_density << ") eps=" << eps << " direction "
+        << d;
+      t.name = s.str();
+      out->tests.push_back(t);
+    }
+}
+
+}  // namespace owval::engine

@@ -1,0 +1,328 @@
+#include "owval/sgd/gradient_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "owval/base/errors.hpp"
+#include "owval/engine/config.hpp"
+
+namespace owval::sgd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Which model parameters a fitted parameter moves, and by what factor of its value.
+struct Mapping {
+  std::vector<std::pair<std::size_t, double>> targets;
+};
+
+Mapping MappingOf(const std::string& name) {
+  const std::vector<std::string>& names = engine::GradientParameterNames();
+  if (name == "elasticity_coefficient")
+    return {{{1, 1.0}, {2, engine::PhysicsConstants{}.non_worm_body_spring_factor}}};
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    std::string known = "elasticity_coefficient";
+    for (const std::string& n : names) known += ", " + n;
+    throw InputError("fit --gradient analytic: unknown parameter '" + name + "': expected one of " +
+                     known);
+  }
+  return {{{std::size_t(it - names.begin()), 1.0}}};
+}
+
+// The loss and its gradient in internal coordinates (log for log-space parameters).
+class Function final : public ceres::FirstOrderFunction {
+ public:
+  Function(const engine::DifferentiableXpbd& model, const std::vector<Parameter>& parameters,
+           const std::vector<engine::LossTerm>& loss, const GradientFitOptions& o,
+           GradientFitSummary* summary)
+      : model_(model),
+        parameters_(parameters),
+        loss_(loss),
+        reverse_(o.reverse),
+        finite_differences_(o.finite_differences),
+        fd_step_(o.fd_step),
+        summary_(*summary),
+        base_(model.DefaultParameters()) {
+    for (const Parameter& p : parameters) mappings_.push_back(MappingOf(p.name));
+  }
+  int NumParameters() const override { return int(parameters_.size()); }
+
+  std::vector<double> Values(const double* u) const {
+    std::vector<double> x(parameters_.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+      x[i] = parameters_[i].log_space ? std::exp(u[i]) : u[i];
+    return x;
+  }
+
+  std::vector<double> Theta(const std::vector<double>& x) const {
+    std::vector<double> theta = base_;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (const auto& [index, factor] : mappings_[i].targets) theta[index] = factor * x[i];
+    return theta;
+  }
+
+  // Central differences through the same model: 1 + 2n forward simulations.
+  bool EvaluateByDifferences(const double* u, double* cost, double* gradient) const {
+    const std::size_t n = parameters_.size();
+    *cost = model_.Loss(Theta(Values(u)), loss_, reverse_.steps);
+    ++summary_.fit.evaluations;
+    summary_.total_simulation_equivalents += 1;
+    last_gradient_.assign(n, 0);
+    if (gradient) {
+      for (std::size_t i = 0; i < n; ++i) {
+        std::vector<double> up(u, u + n), down(u, u + n);
+        up[i] += fd_step_;
+        down[i] -= fd_step_;
+        last_gradient_[i] = (model_.Loss(Theta(Values(up.data())), loss_, reverse_.steps) -
+                             model_.Loss(Theta(Values(down.data())), loss_, reverse_.steps)) /
+                            (2 * fd_step_);
+        gradient[i] = last_gradient_[i];
+      }
+      summary_.total_simulation_equivalents += 2.0 * double(n);
+    }
+    if (!std::isfinite(*cost)) return false;
+    last_cost_ = *cost;
+    return true;
+  }
+
+  bool Evaluate(const double* u, double* cost, double* gradient) const override {
+    if (finite_differences_) return EvaluateByDifferences(u, cost, gradient);
+    const std::vector<double> x = Values(u);
+    const std::vector<double> theta = Theta(x);
+    const engine::GradientSummary g = model_.Gradient(theta, loss_, reverse_);
+    ++summary_.fit.evaluations;
+    // One forward simulation is forward_seconds·steps/forward_steps; the evaluation cost all.
+    const double one = g.forward_seconds * double(reverse_.steps) / double(g.forward_steps);
+    summary_.total_simulation_equivalents +=
+        gradient ? (g.forward_seconds + g.backward_seconds) / std::max(one, 1e-12) : 1.0;
+    *cost = g.loss;
+    last_gradient_.assign(x.size(), 0);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      double d = 0;
+      for (const auto& [index, factor] : mappings_[i].targets)
+        d += factor * g.parameter_gradient[index];
+      last_gradient_[i] = parameters_[i].log_space ? d * x[i] : d;
+      if (gradient) gradient[i] = last_gradient_[i];
+    }
+    if (!std::isfinite(*cost)) return false;
+    last_cost_ = *cost;
+    return true;
+  }
+
+  double last_cost() const { return last_cost_; }
+  const std::vector<double>& last_gradient() const { return last_gradient_; }
+
+ private:
+  const engine::DifferentiableXpbd& model_;
+  const std::vector<Parameter>& parameters_;
+  const std::vector<engine::LossTerm>& loss_;
+  const engine::GradientOptions& reverse_;
+  bool finite_differences_;
+  double fd_step_;
+  GradientFitSummary& summary_;
+  std::vector<double> base_;
+  std::vector<Mapping> mappings_;
+  mutable std::vector<double> last_gradient_;
+  mutable double last_cost_ = 0;
+};
+
+class History final : public ceres::IterationCallback {
+ public:
+  History(const Function& f, const double* u, const GradientFitOptions& o,
+          const std::vector<Parameter>& parameters, GradientFitSummary* s)
+      : f_(f), u_(u), o_(o), parameters_(parameters), s_(*s), start_(Clock::now()) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    Iteration it;
+    it.iteration = int(summary.iteration);
+    it.values = f_.Values(u_);
+    it.loss = summary.cost;
+    it.gradient = f_.last_gradient();
+    it.evaluations = s_.fit.evaluations;
+    it.wall_s = std::chrono::duration<double>(Clock::now() - start_).count();
+    s_.fit.iterations.push_back(it);
+    s_.gradient_norm.push_back(summary.gradient_norm);
+    s_.simulation_equivalents.push_back(s_.total_simulation_equivalents);
+    if (o_.on_iteration) o_.on_iteration(ToJson(o_, parameters_, s_));
+    return summary.cost < o_.loss_threshold ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
+                                            : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const Function& f_;
+  const double* u_;
+  const GradientFitOptions& o_;
+  const std::vector<Parameter>& parameters_;
+  GradientFitSummary& s_;
+  Clock::time_point start_;
+};
+
+// DD001's rules: Adam on log-space (positive, stiffness-like) parameters; a bounded linear
+// parameter moves by its own step against the gradient's sign, the step halved whenever that
+// sign flips, clamped into [lower, upper].
+void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& model,
+                 const std::vector<Parameter>& parameters,
+                 const std::vector<engine::LossTerm>& loss, std::vector<double> u,
+                 GradientFitSummary* summary) {
+  const auto start = Clock::now();
+  Function f(model, parameters, loss, o, summary);
+  const std::size_t n = u.size();
+  std::vector<double> m(n, 0), v(n, 0), g(n), step(n), last_sign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) step[i] = o.learning_rate * std::max(std::abs(u[i]), 1.0);
+  FitSummary& fit = summary->fit;
+  double cost = 0;
+  for (int it = 0; it <= o.max_iterations; ++it) {
+    if (!f.Evaluate(u.data(), &cost, g.data()))
+      throw InputError("fit: the loss is not finite at iteration " + std::to_string(it));
+    double norm = 0;
+    for (double x : g) norm += x * x;
+    Iteration record;
+    record.iteration = it;
+    record.values = f.Values(u.data());
+    record.loss = cost;
+    record.gradient = g;
+    record.evaluations = fit.evaluations;
+    record.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+    fit.iterations.push_back(record);
+    summary->gradient_norm.push_back(std::sqrt(norm));
+    summary->simulation_equivalents.push_back(summary->total_simulation_equivalents);
+    if (o.on_iteration) o.on_iteration(ToJson(o, parameters, *summary));
+    if (cost < o.loss_threshold || it == o.max_iterations) break;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Parameter& p = parameters[i];
+      if (p.log_space) {
+        m[i] = 0.9 * m[i] + 0.1 * g[i];
+        v[i] = 0.999 * v[i] + 0.001 * g[i] * g[i];
+        const double mh = m[i] / (1 - std::pow(0.9, it + 1)),
+                     vh = v[i] / (1 - std::pow(0.999, it + 1));
+        u[i] -= o.learning_rate * mh / (std::sqrt(vh) + 1e-12);
+        continue;
+      }
+      const double sign = g[i] > 0 ? 1.0 : g[i] < 0 ? -1.0 : 0.0;
+      if (sign != 0 && last_sign[i] != 0 && sign != last_sign[i]) step[i] /= 2;
+      if (sign != 0) last_sign[i] = sign;
+      u[i] = std::clamp(u[i] - sign * step[i], p.lower, p.upper);
+    }
+  }
+  fit.final_values = f.Values(u.data());
+  fit.final_loss = cost;
+  fit.converged = cost < o.loss_threshold;
+  fit.stop_reason = fit.converged ? "loss below threshold" : "maximum iterations reached";
+  fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+void FitWithGradient(const GradientFitOptions& o, const engine::DifferentiableXpbd& model,
+                     const std::vector<Parameter>& parameters,
+                     const std::vector<engine::LossTerm>& loss, GradientFitSummary* summary) {
+  *summary = {};
+  const auto start = Clock::now();
+  std::vector<double> u;
+  for (const Parameter& p : parameters) {
+    if (p.log_space && !(p.start > 0))
+      throw InputError("fit: log-space parameter " + p.name + " needs a positive start");
+    u.push_back(p.log_space ? std::log(p.start) : p.start);
+  }
+  if (o.method == GradientFitOptions::Method::kAdam)
+    return FitWithAdam(o, model, parameters, loss, u, summary);
+  auto* function = new Function(model, parameters, loss, o, summary);
+  ceres::GradientProblem problem(function);  // takes ownership
+  ceres::GradientProblemSolver::Options options;
+  options.line_search_direction_type = ceres::LBFGS;
+  options.max_num_iterations = o.max_iterations;
+  options.update_state_every_iteration = true;
+  options.logging_type = ceres::SILENT;
+  options.function_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  History history(*function, u.data(), o, parameters, summary);
+  options.callbacks.push_back(&history);
+  ceres::GradientProblemSolver::Summary s;
+  ceres::Solve(options, problem, u.data(), &s);
+  FitSummary& fit = summary->fit;
+  fit.final_values = function->Values(u.data());
+  fit.final_loss = s.final_cost;
+  fit.converged = s.final_cost < o.loss_threshold;
+  fit.stop_reason = fit.converged ? "loss below threshold" : s.message;
+  fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+nlohmann::json ToJson(const GradientFitOptions& o, const std::vector<Parameter>& parameters,
+                      const GradientFitSummary& s) {
+  FitOptions fit;
+  fit.solver = Solver::kGradientDescent;
+  fit.loss_threshold = o.loss_threshold;
+  fit.max_iterations = o.max_iterations;
+  nlohmann::json j = ToJson(fit, parameters, s.fit);
+  j["solver"] = o.method == GradientFitOptions::Method::kAdam ? "adam" : "lbfgs";
+  j["gradient"] = o.finite_differences ? "model_finite_differences" : "analytic";
+  j["reverse"] = {{"steps", o.reverse.steps},
+                  {"checkpoint_every", o.reverse.checkpoint_every},
+                  {"window", o.reverse.window},
+                  {"clip_norm", o.reverse.clip_norm}};
+  for (std::size_t i = 0; i < j["iterations"].size() && i < s.gradient_norm.size(); ++i) {
+    j["iterations"][i]["gradient_norm"] = s.gradient_norm[i];
+    j["iterations"][i]["simulation_equivalents"] = s.simulation_equivalents[i];
+  }
+  j["simulation_equivalents"] = s.total_simulation_equivalents;
+  return j;
+}
+
+std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
+                                        std::size_t steps, double scale, bool every_axis) {
+  engine::LossTerm term;
+  if (tracking.group.empty()) {
+    term.target = engine::LossTerm::Target::kParticle;
+    term.particles = {std::int32_t(tracking.particle)};
+  } else {
+    term.target = engine::LossTerm::Target::kCentroid;
+    for (std::size_t i : GroupIndices(reference, tracking.group))
+      term.particles.push_back(std::int32_t(i));
+  }
+  if (!every_axis) {
+    term.axis_weight = {0, 0, 0};
+    term.axis_weight[std::size_t(tracking.axis)] = 1;
+  }
+  const std::size_t log_step = std::size_t(std::max(reference.log_step, 1));
+  // A run records frame 0 after its first step, which moves nothing (as Sibernetic's), so
+  // frame f is the model's state after f·log_step steps from the configuration.
+  for (std::size_t f = 1; f < reference.frame_count() && f * log_step <= steps; ++f) {
+    engine::Vec3d c{0, 0, 0};
+    for (std::int32_t i : term.particles)
+      for (int a = 0; a < 3; ++a) c[a] += reference.coordinate(f, std::size_t(i), a);
+    for (double& v : c) v /= double(term.particles.size());
+    term.frame_steps.push_back(f * log_step);
+    term.reference.push_back({c});
+  }
+  if (term.frame_steps.empty())
+    throw InputError("fit: the reference has no frame within the fitted steps");
+  term.weight = 1.0 / (scale * scale * double(term.frame_steps.size()));
+  return {term};
+}
+
+std::vector<engine::LossTerm> OscillatorLoss(std::int32_t particle, int axis, double period_s,
+                                             double equilibrium, double start, double time_step_s,
+                                             std::size_t steps, double scale) {
+  engine::LossTerm term;
+  term.particles = {particle};
+  term.axis_weight = {0, 0, 0};
+  term.axis_weight[std::size_t(axis)] = 1;
+  for (std::size_t t = 1; t <= steps; ++t) {
+    engine::Vec3d y{0, 0, 0};
+    y[std::size_t(axis)] =
+        equilibrium +
+        (start - equilibrium) * std::cos(2 * std::numbers::pi * double(t) * time_step_s / period_s);
+    term.frame_steps.push_back(t);
+    term.reference.push_back({y});
+  }
+  term.weight = 1.0 / (scale * scale * double(steps));
+  return {term};
+}
+
+}  // namespace owval::sgd
