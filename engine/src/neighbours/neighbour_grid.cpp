@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "neighbours/near_candidates.hpp"
+
 namespace owval::engine::internal {
 namespace {
 
@@ -41,7 +43,7 @@ struct Selection {
     if (found < kSlots - 1) {
       target = ++found;
     } else {
-      target = int(std::max_element(distance2, distance2 + kSlots) - distance2);
+      target = FirstLargestOf32(distance2);
     }
   }
 };
@@ -151,27 +153,21 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
                              {0, delta[1], delta[2]},
                              {delta[0], delta[1], delta[2]}};
   Selection selection(k_.h2_cu);
+  // Only candidates within h can ever be taken (the selection's limit starts at h² and only
+  // falls): NearCandidates packs those, in the cell's order, and only they are offered.
   constexpr int kChunk = 128;
-  float d2[kChunk];
+  float near_d2[kChunk + kNearSlack];
+  std::int32_t near_index[kChunk + kNearSlack];
+  const float position[3] = {p.x, p.y, p.z};
   for (const auto& o : offsets) {
     const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
     if (cx < 0 || cy < 0 || cz < 0 || cx >= nx_ || cy >= ny_ || cz >= nz_) continue;
     const Segment cell = CellSegment(CellIndex(cx, cy, cz));
     for (int first = 0; first < cell.count; first += kChunk) {
-      const int n = std::min(kChunk, cell.count - first);
-      const float *x = cell.x + first, *y = cell.y + first, *z = cell.z + first;
-      for (int m = 0; m < n; ++m) {
-        const float dx = p.x - x[m], dy = p.y - y[m], dz = p.z - z[m];
-        d2[m] = Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:311, contracted
-      }
-      const std::int32_t* index = cell.index + first;
-      float limit = selection.limit();  // kept in a register: most candidates fail this test
-      for (int m = 0; m < n; ++m) {
-        if (d2[m] <= limit && index[m] != i) {
-          selection.Take(index[m], d2[m]);
-          limit = selection.limit();
-        }
-      }
+      const CandidateCell chunk{cell.index + first, cell.x + first, cell.y + first, cell.z + first,
+                                std::min(kChunk, cell.count - first)};
+      const int near = NearCandidates(chunk, position, k_.h2_cu, i, near_index, near_d2);
+      for (int m = 0; m < near; ++m) selection.Offer(near_index[m], near_d2[m]);
     }
   }
   for (int k = 0; k < kSlots; ++k) {
