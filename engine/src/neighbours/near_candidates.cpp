@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "kernels/fma.hpp"
+#include "kernels/simd.hpp"
 
 namespace owval::engine::internal {
 namespace {
@@ -66,26 +67,17 @@ __attribute__((target("avx512f"))) int FirstLargestAvx512(const float* d2) {
   return __builtin_ctz(at);
 }
 
-bool HasAvx512() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f");
-}
-
-using NearFunction = int (*)(const CandidateCell&, const float[3], float, std::int32_t,
-                             std::int32_t*, float*);
-
 }  // namespace
 
 int NearCandidates(const CandidateCell& cell, const float p[3], float h2, std::int32_t self,
                    std::int32_t* near_index, float* near_d2) {
-  static const NearFunction near = HasAvx512() ? NearAvx512 : NearScalar;
-  return near(cell, p, h2, self, near_index, near_d2);
+  return UseAvx512() ? NearAvx512(cell, p, h2, self, near_index, near_d2)
+                     : NearScalar(cell, p, h2, self, near_index, near_d2);
 }
 
 int FirstLargestOf32(const float* d2) {
   static_assert(kSlots == 32);
-  static const auto largest = HasAvx512() ? FirstLargestAvx512 : FirstLargestScalar;
-  return largest(d2);
+  return UseAvx512() ? FirstLargestAvx512(d2) : FirstLargestScalar(d2);
 }
 
 }  // namespace owval::engine::internal
