@@ -48,6 +48,15 @@ struct Selection {
   }
 };
 
+// Bit n set when slot n of particle i holds a boundary particle.
+std::uint32_t BoundarySlots(const ParticleState& s, std::int32_t i) {
+  const Neighbour* slots = s.slots(i);
+  std::uint32_t mask = 0;
+  for (int n = 0; n < kSlots && slots[n].index >= 0; ++n)
+    mask |= std::uint32_t(IsBoundary(s.position[slots[n].index].w)) << n;
+  return mask;
+}
+
 }  // namespace
 
 NeighbourGrid::NeighbourGrid(const Box& box, const SphConstants& k) : box_(box), k_(k) {
@@ -181,8 +190,12 @@ void NeighbourGrid::Refresh(ParticleState* state, int threads) {
   ParticleState& s = *state;
   UpdateMoving(s);
   const auto& moving = s.moving;
+  s.boundary_slots.resize(s.size(), 0);
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = 0; n < moving.size(); ++n) FindNeighbours(s, moving[n], s.slots(moving[n]));
+  for (std::size_t n = 0; n < moving.size(); ++n) {
+    FindNeighbours(s, moving[n], s.slots(moving[n]));
+    s.boundary_slots[moving[n]] = BoundarySlots(s, moving[n]);
+  }
   is_active_.resize(s.size(), 0);
   for (std::int32_t b : s.active) is_active_[b] = 0;
   s.active = moving;
@@ -199,8 +212,10 @@ void NeighbourGrid::Refresh(ParticleState* state, int threads) {
   }
   const std::size_t first_boundary = moving.size();
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = first_boundary; n < s.active.size(); ++n)
+  for (std::size_t n = first_boundary; n < s.active.size(); ++n) {
     FindNeighbours(s, s.active[n], s.slots(s.active[n]));
+    s.boundary_slots[s.active[n]] = BoundarySlots(s, s.active[n]);
+  }
 }
 
 }  // namespace owval::engine::internal
