@@ -142,8 +142,7 @@ NeighbourGrid::Segment NeighbourGrid::CellSegment(int cell) const {
           static_z_.data() + b, static_start_[cell + 1] - b};
 }
 
-void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
-  const Float4 p = s.position[i];
+void NeighbourGrid::SearchCells(const Float4& p, int cells[8]) const {
   const int c[3] = {CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2)};
   const float origin[3] = {box_.xmin, box_.ymin, box_.zmin};
   const float x[3] = {p.x, p.y, p.z};
@@ -161,6 +160,25 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
                              {delta[0], 0, delta[2]},
                              {0, delta[1], delta[2]},
                              {delta[0], delta[1], delta[2]}};
+  for (int n = 0; n < 8; ++n) {
+    const int cx = c[0] + offsets[n][0], cy = c[1] + offsets[n][1], cz = c[2] + offsets[n][2];
+    const bool inside = cx >= 0 && cy >= 0 && cz >= 0 && cx < nx_ && cy < ny_ && cz < nz_;
+    cells[n] = inside ? CellIndex(cx, cy, cz) : -1;
+  }
+}
+
+bool NeighbourGrid::SearchesOnlyBoundary(const ParticleState& s, std::int32_t i) const {
+  int cells[8];
+  SearchCells(s.position[i], cells);
+  for (int c : cells)
+    if (c >= 0 && merged_start_[c] >= 0) return false;
+  return true;
+}
+
+void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
+  const Float4 p = s.position[i];
+  int cells[8];
+  SearchCells(p, cells);
   Selection selection(k_.h2_cu);
   // Only candidates within h can ever be taken (the selection's limit starts at h² and only
   // falls): NearCandidates packs those, in the cell's order, and only they are offered.
@@ -168,10 +186,9 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
   float near_d2[kChunk + kNearSlack];
   std::int32_t near_index[kChunk + kNearSlack];
   const float position[3] = {p.x, p.y, p.z};
-  for (const auto& o : offsets) {
-    const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
-    if (cx < 0 || cy < 0 || cz < 0 || cx >= nx_ || cy >= ny_ || cz >= nz_) continue;
-    const Segment cell = CellSegment(CellIndex(cx, cy, cz));
+  for (const int c : cells) {
+    if (c < 0) continue;
+    const Segment cell = CellSegment(c);
     for (int first = 0; first < cell.count; first += kChunk) {
       const CandidateCell chunk{cell.index + first, cell.x + first, cell.y + first, cell.z + first,
                                 std::min(kChunk, cell.count - first)};

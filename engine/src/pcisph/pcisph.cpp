@@ -84,7 +84,9 @@ std::vector<Solver::PhaseTime> Pcisph::phase_seconds() const {
   return out;
 }
 
-std::vector<float> Pcisph::Density() const { return internal::DensityOfAll(k_, grid_, state_); }
+std::vector<float> Pcisph::Density() const {
+  return internal::DensityOfAll(k_, grid_, state_, &boundary_only_density_);
+}
 
 void Pcisph::ResetPressure() {
   ParticleState& s = state_;

@@ -100,6 +100,8 @@ class Pcisph final : public Solver {
   std::vector<float> predicted_density_;
   std::vector<Float4> pressure_acceleration_;
   std::vector<Float4> membrane_scratch_;
+  // Densities of boundary particles with only boundary particles around, for Density().
+  mutable std::vector<float> boundary_only_density_;
   std::size_t step_ = 0;
   bool timing_ = false;
   std::chrono::steady_clock::time_point mark_;
