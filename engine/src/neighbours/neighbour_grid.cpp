@@ -21,28 +21,26 @@ void Bin(const std::vector<std::int32_t>& particles, const std::vector<int>& cel
 }
 
 // Sibernetic's acceptance rule: a candidate no farther than the current target slot takes it;
-// the first 32 fill slots in order, after that the target is the (first) farthest slot.
+// the first 32 fill slots in order, after that the target is the (first) farthest slot. Offered
+// candidates are within h (NearCandidates), so while slots are empty each one takes the next
+// slot: they are copied in bulk, and only later ones are compared.
 struct Selection {
   float distance2[kSlots];
   std::int32_t index[kSlots];
-  int found = 0, target = 0;
+  int filled = 0, target = 0;  // target: the first farthest slot, once all are filled
 
-  explicit Selection(float h2) {
-    std::fill(distance2, distance2 + kSlots, h2);
-    std::fill(index, index + kSlots, -1);
-  }
-  // The distance² a candidate must not exceed to be taken.
-  float limit() const { return distance2[target]; }
-  void Offer(std::int32_t j, float d2) {
-    if (!(d2 <= distance2[target])) return;
-    Take(j, d2);
-  }
-  void Take(std::int32_t j, float d2) {
-    distance2[target] = d2;
-    index[target] = j;
-    if (found < kSlots - 1) {
-      target = ++found;
-    } else {
+  void OfferNear(const std::int32_t* j, const float* d2, int n) {
+    const int copy = std::min(n, kSlots - filled);
+    for (int m = 0; m < copy; ++m) {
+      index[filled + m] = j[m];
+      distance2[filled + m] = d2[m];
+    }
+    filled += copy;
+    if (copy > 0 && filled == kSlots) target = FirstLargestOf32(distance2);
+    for (int m = copy; m < n; ++m) {
+      if (!(d2[m] <= distance2[target])) continue;
+      distance2[target] = d2[m];
+      index[target] = j[m];
       target = FirstLargestOf32(distance2);
     }
   }
@@ -179,7 +177,7 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
   const Float4 p = s.position[i];
   int cells[8];
   SearchCells(p, cells);
-  Selection selection(k_.h2_cu);
+  Selection selection;
   // Only candidates within h can ever be taken (the selection's limit starts at h² and only
   // falls): NearCandidates packs those, in the cell's order, and only they are offered.
   constexpr int kChunk = 128;
@@ -193,14 +191,12 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
       const CandidateCell chunk{cell.index + first, cell.x + first, cell.y + first, cell.z + first,
                                 std::min(kChunk, cell.count - first)};
       const int near = NearCandidates(chunk, position, k_.h2_cu, i, near_index, near_d2);
-      for (int m = 0; m < near; ++m) selection.Offer(near_index[m], near_d2[m]);
+      selection.OfferNear(near_index, near_d2, near);
     }
   }
-  for (int k = 0; k < kSlots; ++k) {
-    slots[k].index = selection.index[k];
-    slots[k].distance_m =
-        selection.index[k] >= 0 ? std::sqrt(selection.distance2[k]) * k_.scale : -1.0f;
-  }
+  for (int k = 0; k < selection.filled; ++k)
+    slots[k] = {selection.index[k], std::sqrt(selection.distance2[k]) * k_.scale};
+  for (int k = selection.filled; k < kSlots; ++k) slots[k] = Neighbour{};
 }
 
 void NeighbourGrid::Refresh(ParticleState* state, int threads) {
