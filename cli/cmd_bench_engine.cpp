@@ -92,9 +92,19 @@ nlohmann::json Profile(const engine::SiberneticConfig& config, const BenchEngine
       throw InputError(a.config, 0,
                        "--whole-run needs a folder of ../shared/reference (configuration and "
                        "meta.json)");
-    reference = nlohmann::json::parse(ReadWholeFile(dir / "meta.json"));
-    o.duration_s = reference.at("timelimit_s").get<double>();
-    o.log_step = reference.at("log_step").get<int>();
+    const std::filesystem::path meta = dir / "meta.json";
+    reference = nlohmann::json::parse(ReadWholeFile(meta), nullptr, false);
+    // The run's length: timelimit_s, or steps_run (or frames at log step 1) time steps.
+    const double steps = reference.value("steps_run", reference.value("frames", 0.0));
+    if (reference.contains("timelimit_s") && reference["timelimit_s"].is_number()) {
+      o.duration_s = reference["timelimit_s"].get<double>();
+    } else if (steps > 0 && reference.value("log_step", 1) == 1) {
+      o.duration_s = steps * reference.value("time_step_s", o.constants.time_step_s) * 1.0000001;
+    } else {
+      throw InputError(meta.string(), 0,
+                       "timelimit_s (s), or steps_run with log_step, expected: the run's length");
+    }
+    o.log_step = std::max(1, reference.value("log_step", 1));
   }
   if (a.time_s > 0) o.duration_s = a.time_s;
   const engine::PhaseProfile p = engine::ProfilePhases(config, o);
@@ -135,7 +145,8 @@ void RunBench(const BenchEngineArgs& a) {
                           {"particles", config.particle_count()},
                           {"moving_particles", config.elastic_count() + config.liquid_count()},
                           {"backend", engine::CanonicalBackend(a.backend)},
-                          {"threads", a.threads > 0 ? a.threads : omp_get_max_threads()},
+                          // 0: the engine's rule (one thread below 4,096 moving particles)
+                          {"threads_requested", a.threads},
                           {"profile", Profile(config, a)}};
     std::cout << out.dump(2) << "\n";
     if (!a.json_out.empty()) WriteFileAtomically(a.json_out, out.dump(2) + "\n");
