@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "neighbours/near_candidates.hpp"
+
 namespace owval::engine::internal {
 namespace {
 
@@ -19,32 +21,39 @@ void Bin(const std::vector<std::int32_t>& particles, const std::vector<int>& cel
 }
 
 // Sibernetic's acceptance rule: a candidate no farther than the current target slot takes it;
-// the first 32 fill slots in order, after that the target is the (first) farthest slot.
+// the first 32 fill slots in order, after that the target is the (first) farthest slot. Offered
+// candidates are within h (NearCandidates), so while slots are empty each one takes the next
+// slot: they are copied in bulk, and only later ones are compared.
 struct Selection {
   float distance2[kSlots];
   std::int32_t index[kSlots];
-  int found = 0, target = 0;
+  int filled = 0, target = 0;  // target: the first farthest slot, once all are filled
 
-  explicit Selection(float h2) {
-    std::fill(distance2, distance2 + kSlots, h2);
-    std::fill(index, index + kSlots, -1);
-  }
-  // The distance² a candidate must not exceed to be taken.
-  float limit() const { return distance2[target]; }
-  void Offer(std::int32_t j, float d2) {
-    if (!(d2 <= distance2[target])) return;
-    Take(j, d2);
-  }
-  void Take(std::int32_t j, float d2) {
-    distance2[target] = d2;
-    index[target] = j;
-    if (found < kSlots - 1) {
-      target = ++found;
-    } else {
-      target = int(std::max_element(distance2, distance2 + kSlots) - distance2);
+  void OfferNear(const std::int32_t* j, const float* d2, int n) {
+    const int copy = std::min(n, kSlots - filled);
+    for (int m = 0; m < copy; ++m) {
+      index[filled + m] = j[m];
+      distance2[filled + m] = d2[m];
+    }
+    filled += copy;
+    if (copy > 0 && filled == kSlots) target = FirstLargestOf32(distance2);
+    for (int m = copy; m < n; ++m) {
+      if (!(d2[m] <= distance2[target])) continue;
+      distance2[target] = d2[m];
+      index[target] = j[m];
+      target = FirstLargestOf32(distance2);
     }
   }
 };
+
+// Bit n set when slot n of particle i holds a boundary particle.
+std::uint32_t BoundarySlots(const ParticleState& s, std::int32_t i) {
+  const Neighbour* slots = s.slots(i);
+  std::uint32_t mask = 0;
+  for (int n = 0; n < kSlots && slots[n].index >= 0; ++n)
+    mask |= std::uint32_t(IsBoundary(s.position[slots[n].index].w)) << n;
+  return mask;
+}
 
 }  // namespace
 
@@ -131,8 +140,7 @@ NeighbourGrid::Segment NeighbourGrid::CellSegment(int cell) const {
           static_z_.data() + b, static_start_[cell + 1] - b};
 }
 
-void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
-  const Float4 p = s.position[i];
+void NeighbourGrid::SearchCells(const Float4& p, int cells[8]) const {
   const int c[3] = {CellCoordinate(p.x, 0), CellCoordinate(p.y, 1), CellCoordinate(p.z, 2)};
   const float origin[3] = {box_.xmin, box_.ymin, box_.zmin};
   const float x[3] = {p.x, p.y, p.z};
@@ -150,43 +158,57 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
                              {delta[0], 0, delta[2]},
                              {0, delta[1], delta[2]},
                              {delta[0], delta[1], delta[2]}};
-  Selection selection(k_.h2_cu);
+  for (int n = 0; n < 8; ++n) {
+    const int cx = c[0] + offsets[n][0], cy = c[1] + offsets[n][1], cz = c[2] + offsets[n][2];
+    const bool inside = cx >= 0 && cy >= 0 && cz >= 0 && cx < nx_ && cy < ny_ && cz < nz_;
+    cells[n] = inside ? CellIndex(cx, cy, cz) : -1;
+  }
+}
+
+bool NeighbourGrid::SearchesOnlyBoundary(const ParticleState& s, std::int32_t i) const {
+  int cells[8];
+  SearchCells(s.position[i], cells);
+  for (int c : cells)
+    if (c >= 0 && merged_start_[c] >= 0) return false;
+  return true;
+}
+
+void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neighbour* slots) const {
+  const Float4 p = s.position[i];
+  int cells[8];
+  SearchCells(p, cells);
+  Selection selection;
+  // Only candidates within h can ever be taken (the selection's limit starts at h² and only
+  // falls): NearCandidates packs those, in the cell's order, and only they are offered.
   constexpr int kChunk = 128;
-  float d2[kChunk];
-  for (const auto& o : offsets) {
-    const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
-    if (cx < 0 || cy < 0 || cz < 0 || cx >= nx_ || cy >= ny_ || cz >= nz_) continue;
-    const Segment cell = CellSegment(CellIndex(cx, cy, cz));
+  float near_d2[kChunk + kNearSlack];
+  std::int32_t near_index[kChunk + kNearSlack];
+  const float position[3] = {p.x, p.y, p.z};
+  for (const int c : cells) {
+    if (c < 0) continue;
+    const Segment cell = CellSegment(c);
     for (int first = 0; first < cell.count; first += kChunk) {
-      const int n = std::min(kChunk, cell.count - first);
-      const float *x = cell.x + first, *y = cell.y + first, *z = cell.z + first;
-      for (int m = 0; m < n; ++m) {
-        const float dx = p.x - x[m], dy = p.y - y[m], dz = p.z - z[m];
-        d2[m] = Fma(dz, dz, Fma(dx, dx, dy * dy));  // sphFluid.cl:311, contracted
-      }
-      const std::int32_t* index = cell.index + first;
-      float limit = selection.limit();  // kept in a register: most candidates fail this test
-      for (int m = 0; m < n; ++m) {
-        if (d2[m] <= limit && index[m] != i) {
-          selection.Take(index[m], d2[m]);
-          limit = selection.limit();
-        }
-      }
+      const CandidateCell chunk{cell.index + first, cell.x + first, cell.y + first, cell.z + first,
+                                std::min(kChunk, cell.count - first)};
+      const int near = NearCandidates(chunk, position, k_.h2_cu, i, near_index, near_d2);
+      selection.OfferNear(near_index, near_d2, near);
     }
   }
-  for (int k = 0; k < kSlots; ++k) {
-    slots[k].index = selection.index[k];
-    slots[k].distance_m =
-        selection.index[k] >= 0 ? std::sqrt(selection.distance2[k]) * k_.scale : -1.0f;
-  }
+  for (int k = 0; k < selection.filled; ++k)
+    slots[k] = {selection.index[k], std::sqrt(selection.distance2[k]) * k_.scale};
+  for (int k = selection.filled; k < kSlots; ++k) slots[k] = Neighbour{};
 }
 
 void NeighbourGrid::Refresh(ParticleState* state, int threads) {
   ParticleState& s = *state;
   UpdateMoving(s);
   const auto& moving = s.moving;
+  s.boundary_slots.resize(s.size(), 0);
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = 0; n < moving.size(); ++n) FindNeighbours(s, moving[n], s.slots(moving[n]));
+  for (std::size_t n = 0; n < moving.size(); ++n) {
+    FindNeighbours(s, moving[n], s.slots(moving[n]));
+    s.boundary_slots[moving[n]] = BoundarySlots(s, moving[n]);
+  }
   is_active_.resize(s.size(), 0);
   for (std::int32_t b : s.active) is_active_[b] = 0;
   s.active = moving;
@@ -203,8 +225,10 @@ void NeighbourGrid::Refresh(ParticleState* state, int threads) {
   }
   const std::size_t first_boundary = moving.size();
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = first_boundary; n < s.active.size(); ++n)
+  for (std::size_t n = first_boundary; n < s.active.size(); ++n) {
     FindNeighbours(s, s.active[n], s.slots(s.active[n]));
+    s.boundary_slots[s.active[n]] = BoundarySlots(s, s.active[n]);
+  }
 }
 
 }  // namespace owval::engine::internal

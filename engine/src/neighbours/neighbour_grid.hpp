@@ -27,6 +27,9 @@ class NeighbourGrid {
   // state.active (moving particles, then the boundary particles some moving particle lists) and
   // fills the active boundary particles' lists.
   void Refresh(ParticleState* state, int threads);
+  // Whether none of the cells particle i searches holds a moving particle (as of the last
+  // Refresh): its list is then made of boundary particles only and does not change.
+  bool SearchesOnlyBoundary(const ParticleState& state, std::int32_t i) const;
   // Whether the last Refresh computed particle i (moving, or a boundary particle next to one).
   bool IsActive(std::int32_t i) const {
     return std::size_t(i) < is_active_.size() && is_active_[std::size_t(i)] != 0;
@@ -34,6 +37,8 @@ class NeighbourGrid {
 
  private:
   int CellCoordinate(float x, int axis) const;
+  // The eight cells particle position p searches, in Sibernetic's order (−1: outside the grid).
+  void SearchCells(const Float4& p, int cells[8]) const;
   int CellIndex(int cx, int cy, int cz) const { return cx + cy * nx_ + cz * nx_ * ny_; }
 
   Box box_;

@@ -32,31 +32,61 @@ Pcisph::Pcisph(const SiberneticConfig& config, const PhysicsConstants& constants
 
 void Pcisph::Step() {
   const bool first = step_ == 0;
+  if (timing_) mark_ = std::chrono::steady_clock::now();
   grid_.Refresh(&state_, threads_);
   if (integrator_ == Integrator::kLeapfrog && !first) MovePositionsLeapfrog(k_, &state_, threads_);
+  Mark(kNeighbours);
   ComputeDensity(k_, &state_, threads_);
+  Mark(kDensity);
   ComputeViscosityGravitySurfaceTension(k_, &state_, threads_);
+  Mark(kForces);
   ResetPressure();
   AddSpringForces(k_, matter_, &state_, threads_);
+  Mark(kSprings);
   const float short_range_pressure = k_.rest_density * pcisph_.delta;
   for (int iteration = 0; iteration < pcisph_.iterations; ++iteration) {
     PredictPositions();
+    Mark(kPredictPositions);
     PredictDensity();
+    Mark(kPredictDensity);
     CorrectPressure();
+    Mark(kCorrectPressure);
     ComputePressureAcceleration(k_, state_, predicted_density_, short_range_pressure,
                                 &pressure_acceleration_, threads_);
+    Mark(kPressureAcceleration);
   }
   if (integrator_ == Integrator::kLeapfrog) {
     IntegrateLeapfrogVelocities(k_, pressure_acceleration_, &state_, first, threads_);
   } else {
     IntegrateSemiImplicitEuler(k_, pressure_acceleration_, &state_, first, threads_);
   }
+  Mark(kIntegrate);
   if (!matter_.membranes.empty())
     InteractWithMembranes(k_, matter_, &state_, &membrane_scratch_, threads_);
+  Mark(kMembranes);
   ++step_;
 }
 
-std::vector<float> Pcisph::Density() const { return internal::DensityOfAll(k_, grid_, state_); }
+void Pcisph::Mark(Phase p) {
+  if (!timing_) return;
+  const auto now = std::chrono::steady_clock::now();
+  phase_s_[p] += std::chrono::duration<double>(now - mark_).count();
+  mark_ = now;
+}
+
+std::vector<Solver::PhaseTime> Pcisph::phase_seconds() const {
+  static constexpr const char* kNames[kPhaseCount] = {
+      "neighbours",        "density",         "forces",           "springs",
+      "predict_positions", "predict_density", "correct_pressure", "pressure_acceleration",
+      "integrate",         "membranes"};
+  std::vector<PhaseTime> out;
+  for (int p = 0; p < kPhaseCount; ++p) out.push_back({kNames[p], phase_s_[p]});
+  return out;
+}
+
+std::vector<float> Pcisph::Density() const {
+  return internal::DensityOfAll(k_, grid_, state_, &boundary_only_density_);
+}
 
 void Pcisph::ResetPressure() {
   ParticleState& s = state_;

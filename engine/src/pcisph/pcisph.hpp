@@ -17,6 +17,8 @@
 // (x*, ρ*, a_p) and its constants (δ, iteration count) make this scheme PCISPH and live here.
 // Only moving particles and the boundary particles in their neighbour lists are computed;
 // boundary particles elsewhere influence nobody, so the result is the same as computing all.
+#include <array>
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,6 +54,8 @@ class Pcisph final : public Solver {
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::int64_t FirstNonFinite() const override;
+  void EnablePhaseTiming() override { timing_ = true; }
+  std::vector<PhaseTime> phase_seconds() const override;
 
   const ParticleState& state() const { return state_; }
 
@@ -64,6 +68,23 @@ class Pcisph final : public Solver {
   void PredictDensity();
   // p += max(0, δ·(ρ* − ρ0)): only the increment is clamped.
   void CorrectPressure();
+
+  // The phases of Step(), in order, for the per-phase profile.
+  enum Phase {
+    kNeighbours,
+    kDensity,
+    kForces,
+    kSprings,
+    kPredictPositions,
+    kPredictDensity,
+    kCorrectPressure,
+    kPressureAcceleration,
+    kIntegrate,
+    kMembranes,
+    kPhaseCount
+  };
+  // Ends the current phase p: adds the time since the last mark to it (when timing).
+  void Mark(Phase p);
 
   SphConstants k_;
   PcisphConstants pcisph_;
@@ -79,7 +100,12 @@ class Pcisph final : public Solver {
   std::vector<float> predicted_density_;
   std::vector<Float4> pressure_acceleration_;
   std::vector<Float4> membrane_scratch_;
+  // Densities of boundary particles with only boundary particles around, for Density().
+  mutable std::vector<float> boundary_only_density_;
   std::size_t step_ = 0;
+  bool timing_ = false;
+  std::chrono::steady_clock::time_point mark_;
+  std::array<double, kPhaseCount> phase_s_{};
 };
 
 }  // namespace owval::engine::internal

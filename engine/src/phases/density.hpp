@@ -34,8 +34,11 @@ float DensitySum(const SphConstants& k, const Neighbour* slots);
 void ComputeDensity(const SphConstants& k, ParticleState* state, int threads);
 
 // ρ of every particle at the current positions: the step's value where it computed one, a fresh
-// sum for boundary particles far from the action. For output.
+// sum for boundary particles far from the action. For output. boundary_only caches, per row, the
+// density of a boundary particle with no moving particle in its search cells (the caller keeps
+// it between calls; it starts empty); without it every such density is summed afresh.
 std::vector<float> DensityOfAll(const SphConstants& k, const NeighbourGrid& grid,
-                                const ParticleState& state);
+                                const ParticleState& state,
+                                std::vector<float>* boundary_only = nullptr);
 
 }  // namespace owval::engine::internal

@@ -45,24 +45,67 @@ bool ProjectOntoPlane(const Float4& p, const Float4& a, const Float4& b, const F
   return true;
 }
 
+// Unit normal of triangle m seen from x: (x − projection)/|x − projection|, or false when the
+// triangle is degenerate or x lies on its plane.
+bool UnitNormal(const ElasticMatter& matter, const ParticleState& s, int m, const Float4& x,
+                Vec3* unit) {
+  const auto& tri = matter.membranes[std::size_t(m)];
+  Vec3 projection;
+  if (!ProjectOntoPlane(x, s.position[tri[0]], s.position[tri[1]], s.position[tri[2]], &projection))
+    return false;
+  const Vec3 normal{x.x - projection.x, x.y - projection.y, x.z - projection.z};
+  const float length = std::sqrt(Dot3(normal, normal));  // sphFluid.cl:1204-1206
+  if (!(length > 0.0f)) return false;
+  *unit = {normal.x / length, normal.y / length, normal.z / length};
+  return true;
+}
+
+// One liquid particle's unit normals by triangle: a triangle is listed by each of its three
+// vertices, so the same normal is asked for up to three times; it is computed once (the same
+// operations, so the same floats). Open addressing over a table larger than 32·7 entries.
+class UnitNormals {
+ public:
+  UnitNormals(const ElasticMatter& matter, const ParticleState& s, const Float4& x)
+      : matter_(matter), s_(s), x_(x) {}
+  bool Get(int m, Vec3* unit) {
+    if (!initialised_) {
+      std::fill(key_, key_ + kSize, -1);
+      initialised_ = true;
+    }
+    int h = (m * 2654435761u) >> 24;  // top 8 bits: kSize = 256
+    while (key_[h] >= 0 && key_[h] != m) h = (h + 1) & (kSize - 1);
+    if (key_[h] != m) {
+      key_[h] = m;
+      ok_[h] = UnitNormal(matter_, s_, m, x_, &unit_[h]);
+    }
+    *unit = unit_[h];
+    return ok_[h];
+  }
+
+ private:
+  static constexpr int kSize = 256;
+  static_assert(kSize > kSlots * kMembraneSlots);
+  const ElasticMatter& matter_;
+  const ParticleState& s_;
+  const Float4 x_;
+  bool initialised_ = false;
+  int key_[kSize];
+  bool ok_[kSize];
+  Vec3 unit_[kSize];
+};
+
 // The unit normals of the triangles listed for elastic particle j, seen from x, averaged; false
 // when a triangle is degenerate or x lies on its plane.
-bool AveragedNormal(const ElasticMatter& matter, const ParticleState& s, std::int32_t j,
-                    const Float4& x, Vec3* average, bool* any) {
+bool AveragedNormal(const ElasticMatter& matter, std::int32_t j, UnitNormals* normals,
+                    Vec3* average, bool* any) {
   Vec3 sum{0, 0, 0};
   int triangles = 0;
   for (int t = 0; t < kMembraneSlots; ++t) {
     const int m = matter.membrane_index[std::size_t(j) * kMembraneSlots + t];
     if (m < 0) break;
-    const auto& tri = matter.membranes[std::size_t(m)];
-    Vec3 projection;
-    if (!ProjectOntoPlane(x, s.position[tri[0]], s.position[tri[1]], s.position[tri[2]],
-                          &projection))
-      return false;
-    const Vec3 normal{x.x - projection.x, x.y - projection.y, x.z - projection.z};
-    const float length = std::sqrt(Dot3(normal, normal));  // sphFluid.cl:1204-1206
-    if (!(length > 0.0f)) return false;
-    sum = {sum.x + normal.x / length, sum.y + normal.y / length, sum.z + normal.z / length};
+    Vec3 unit;
+    if (!normals->Get(m, &unit)) return false;
+    sum = {sum.x + unit.x, sum.y + unit.y, sum.z + unit.z};
     ++triangles;
   }
   *any = triangles > 0;
@@ -78,13 +121,14 @@ Float4 MembraneCorrection(const SphConstants& k, const ElasticMatter& matter,
   Vec3 normals[kSlots];
   float distances[kSlots];
   int found = 0;
+  UnitNormals unit_normals(matter, s, xi);
   const Neighbour* slots = s.slots(i);
   for (int n = 0; n < kSlots && slots[n].index >= 0; ++n) {
     const std::int32_t j = slots[n].index;
     const Float4 xj = s.position[j];
     if (!IsElastic(xj.w)) continue;
     bool any = false;
-    if (!AveragedNormal(matter, s, j, xi, &normals[found], &any)) return {};
+    if (!AveragedNormal(matter, j, &unit_normals, &normals[found], &any)) return {};
     if (!any) continue;
     // Distance with z dropped and the type codes' difference kept (a slip in Sibernetic's port,
     // commit 839ee75; gotcha 16).

@@ -12,9 +12,17 @@ void CorrectAtWalls(const SphConstants& k, const ParticleState& s, std::int32_t 
   Float4 normal{};
   float weight_sum = 0, weighted_depth = 0;
   const Neighbour* slots = s.slots(i);
-  for (int n = 0; n < kSlots; ++n) {
-    const std::int32_t b = slots[n].index;
-    if (b < 0 || !IsBoundary(s.position[b].w)) continue;
+  // Only boundary slots contribute, in slot order (the list's boundary bits, from Refresh; lists
+  // filled some other way have no bits, and every slot is checked).
+  std::uint32_t boundary = 0;
+  if (s.boundary_slots.size() == s.size()) {
+    boundary = s.boundary_slots[std::size_t(i)];
+  } else {
+    for (int n = 0; n < kSlots && slots[n].index >= 0; ++n)
+      boundary |= std::uint32_t(IsBoundary(s.position[slots[n].index].w)) << n;
+  }
+  for (std::uint32_t mask = boundary; mask != 0; mask &= mask - 1) {
+    const std::int32_t b = slots[__builtin_ctz(mask)].index;
     const Float4& xb = s.position[b];
     const float dx = x->x - xb.x, dy = x->y - xb.y, dz = x->z - xb.z;
     const float dist = std::sqrt(Fma(dz, dz, Fma(dy, dy, dx * dx)));  // sphFluid.cl:786-789

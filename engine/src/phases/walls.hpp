@@ -13,7 +13,8 @@ namespace owval::engine::internal {
 // weighted normal, normalised over all four components of the boundary's velocity slot (its wall
 // normal; the 4th component is whatever the file holds, gotcha 4), by Σw(r0 − d)/Σw [eq. 11].
 // With v: the velocity's component into the wall, along the unnormalised normal, is removed and
-// the velocity scaled by the friction factor 0.99 [eq. 12].
+// the velocity scaled by the friction factor 0.99 [eq. 12]. Reads state.boundary_slots[i], which
+// NeighbourGrid::Refresh sets with i's list.
 void CorrectAtWalls(const SphConstants& k, const ParticleState& state, std::int32_t i, Float4* x,
                     Float4* v);
 

@@ -32,6 +32,10 @@ struct ParticleState {
   std::vector<float> density;             // kg/m³
   std::vector<float> pressure;            // Pa
   std::vector<Neighbour> neighbours;      // kSlots per particle
+  // Per particle, bit n set when neighbour slot n holds a boundary particle: set with the lists
+  // (NeighbourGrid::Refresh) for the particles it computes, so that the wall correction visits
+  // only those slots.
+  std::vector<std::uint32_t> boundary_slots;
 
   // Particles that move, and those the step must compute: moving ones plus the boundary
   // particles in their neighbour lists (boundary particles elsewhere affect nobody).

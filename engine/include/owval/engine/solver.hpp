@@ -50,6 +50,16 @@ class Solver {
 
   // Index of the first moving (non-boundary) particle with a non-finite position, or -1.
   virtual std::int64_t FirstNonFinite() const;
+
+  // Per-phase wall time, for `owval bench engine`: once enabled, Step() adds each phase's
+  // seconds (steady clock, two reads per phase) to phase_seconds(). Schemes without phases
+  // report nothing.
+  struct PhaseTime {
+    std::string phase;
+    double seconds = 0;
+  };
+  virtual void EnablePhaseTiming() {}
+  virtual std::vector<PhaseTime> phase_seconds() const { return {}; }
 };
 
 // The canonical names of the built-in backends, in the order `owval run --help` lists them.

@@ -1,0 +1,83 @@
+#include "neighbours/near_candidates.hpp"
+
+#include <immintrin.h>
+
+#include <algorithm>
+
+#include "kernels/fma.hpp"
+#include "kernels/simd.hpp"
+
+namespace owval::engine::internal {
+namespace {
+
+int NearScalar(const CandidateCell& cell, const float p[3], float h2, std::int32_t self,
+               std::int32_t* near_index, float* near_d2) {
+  int near = 0;
+  for (int m = 0; m < cell.count; ++m) {
+    const float dx = p[0] - cell.x[m], dy = p[1] - cell.y[m], dz = p[2] - cell.z[m];
+    const float d2 = Fma(dz, dz, Fma(dx, dx, dy * dy));
+    near_d2[near] = d2;
+    near_index[near] = cell.index[m];
+    near += int(d2 <= h2) & int(cell.index[m] != self);  // no branch: most candidates fail
+  }
+  return near;
+}
+
+// Sixteen candidates per iteration; the packed lanes are compressed in a register and stored
+// whole (a compressing store to memory is slow on some CPUs), hence kNearSlack.
+__attribute__((target("avx512f"))) int NearAvx512(const CandidateCell& cell, const float p[3],
+                                                  float h2, std::int32_t self,
+                                                  std::int32_t* near_index, float* near_d2) {
+  const __m512 px = _mm512_set1_ps(p[0]), py = _mm512_set1_ps(p[1]), pz = _mm512_set1_ps(p[2]);
+  const __m512 limit = _mm512_set1_ps(h2);
+  const __m512i me = _mm512_set1_epi32(self);
+  int near = 0;
+  for (int m = 0; m < cell.count; m += 16) {
+    const int left = cell.count - m;
+    const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1);
+    const __m512 dx = _mm512_sub_ps(px, _mm512_maskz_loadu_ps(lanes, cell.x + m));
+    const __m512 dy = _mm512_sub_ps(py, _mm512_maskz_loadu_ps(lanes, cell.y + m));
+    const __m512 dz = _mm512_sub_ps(pz, _mm512_maskz_loadu_ps(lanes, cell.z + m));
+    const __m512 d2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dx, dx, _mm512_mul_ps(dy, dy)));
+    const __m512i index = _mm512_maskz_loadu_epi32(lanes, cell.index + m);
+    const __mmask16 within = _mm512_mask_cmp_ps_mask(lanes, d2, limit, _CMP_LE_OQ);
+    const __mmask16 take = _mm512_mask_cmpneq_epi32_mask(within, index, me);
+    _mm512_storeu_ps(near_d2 + near, _mm512_maskz_compress_ps(take, d2));
+    _mm512_storeu_si512(near_index + near, _mm512_maskz_compress_epi32(take, index));
+    near += __builtin_popcount(take);
+  }
+  return near;
+}
+
+int FirstLargestScalar(const float* d2) { return int(std::max_element(d2, d2 + kSlots) - d2); }
+
+// Four 8-lane registers (GCC 12's 512-bit max and reduction intrinsics warn about their own
+// undefined operands): the largest value by a max tree, then the first lane equal to it.
+__attribute__((target("avx512f"))) int FirstLargestAvx512(const float* d2) {
+  const __m256 a = _mm256_loadu_ps(d2), b = _mm256_loadu_ps(d2 + 8), c = _mm256_loadu_ps(d2 + 16),
+               d = _mm256_loadu_ps(d2 + 24);
+  __m256 m = _mm256_max_ps(_mm256_max_ps(a, b), _mm256_max_ps(c, d));
+  m = _mm256_max_ps(m, _mm256_permute2f128_ps(m, m, 1));
+  m = _mm256_max_ps(m, _mm256_permute_ps(m, 0b01001110));
+  m = _mm256_max_ps(m, _mm256_permute_ps(m, 0b10110001));
+  const unsigned at = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(a, m, _CMP_EQ_OQ))) |
+                      unsigned(_mm256_movemask_ps(_mm256_cmp_ps(b, m, _CMP_EQ_OQ))) << 8 |
+                      unsigned(_mm256_movemask_ps(_mm256_cmp_ps(c, m, _CMP_EQ_OQ))) << 16 |
+                      unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d, m, _CMP_EQ_OQ))) << 24;
+  return __builtin_ctz(at);
+}
+
+}  // namespace
+
+int NearCandidates(const CandidateCell& cell, const float p[3], float h2, std::int32_t self,
+                   std::int32_t* near_index, float* near_d2) {
+  return UseAvx512() ? NearAvx512(cell, p, h2, self, near_index, near_d2)
+                     : NearScalar(cell, p, h2, self, near_index, near_d2);
+}
+
+int FirstLargestOf32(const float* d2) {
+  static_assert(kSlots == 32);
+  return UseAvx512() ? FirstLargestAvx512(d2) : FirstLargestScalar(d2);
+}
+
+}  // namespace owval::engine::internal
