@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
   } catch (const owval::InputError& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;
+  } catch (const owval::SimulationError& e) {
+    std::fprintf(stderr, "owval: error: %s\n", e.what());
+    return owval::kExitGateFailed;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;

@@ -28,16 +28,23 @@ AtomicOutput::AtomicOutput(fs::path destination)
 AtomicOutput::~AtomicOutput() {
   if (committed_) return;
   if (stream_.is_open()) stream_.close();
+  if (keep_) return;
   std::error_code ignored;
   fs::remove(temporary_, ignored);
 }
 
 std::ofstream& AtomicOutput::stream() {
   if (!stream_.is_open()) {
-    stream_.open(temporary_, std::ios::binary | std::ios::trunc);
+    stream_.open(temporary_, std::ios::binary | (append_ ? std::ios::app : std::ios::trunc));
     if (!stream_) throw InputError(destination_.string(), 0, "cannot open for writing");
   }
   return stream_;
+}
+
+void AtomicOutput::Adopt(const fs::path& existing) {
+  if (stream_.is_open()) throw std::logic_error("AtomicOutput::Adopt after the stream opened");
+  temporary_ = existing;
+  append_ = keep_ = true;
 }
 
 void AtomicOutput::Commit() { CommitAs(destination_); }

@@ -16,4 +16,7 @@ InputError::InputError(const std::string& file, std::size_t line, const std::str
 
 InputError::InputError(const std::string& message) : std::runtime_error(OneLine(message)) {}
 
+SimulationError::SimulationError(const std::string& message)
+    : std::runtime_error(OneLine(message)) {}
+
 }  // namespace owval

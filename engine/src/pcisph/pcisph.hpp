@@ -52,6 +52,11 @@ class Pcisph final : public Solver {
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::int64_t FirstNonFinite() const override;
+  // Everything Step() reads: the particle state (x, v, a, last a, ρ, p, neighbour lists, active
+  // set), x*, ρ*, a_p, the muscle activations and the step counter. The neighbour grid is not
+  // saved: Refresh rebuilds it from the positions at the start of every step.
+  void SaveState(std::string* out) const override;
+  void RestoreState(const std::string& state, const std::string& source) override;
 
   const ParticleState& state() const { return state_; }
 

@@ -24,12 +24,20 @@ class AtomicOutput {
   void Commit();
   // The same, onto another name (a partial trajectory's, when a run is interrupted).
   void CommitAs(const std::filesystem::path& destination);
+  // Continues an existing file instead of a new temporary (a resumed run's output): stream()
+  // then appends to it, Commit() renames it onto the destination, and an uncommitted output
+  // leaves it in place for the next resume.
+  void Adopt(const std::filesystem::path& existing);
+  // Keep the temporary when destroyed uncommitted (a checkpointed run's output, for --resume).
+  void KeepOnFailure() { keep_ = true; }
 
  private:
   std::filesystem::path destination_;
   std::filesystem::path temporary_;
   std::ofstream stream_;
   bool committed_ = false;
+  bool keep_ = false;
+  bool append_ = false;
 };
 
 // Writes the whole string atomically.
