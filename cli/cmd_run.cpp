@@ -285,7 +285,7 @@ void SetUp(CLI::App& app) {
       ->check(CLI::ExistingDirectory);
   cmd->add_flag("--stability", a->stability,
                 "Apply the long-run stability gate to every frame as it is produced (NaN, "
-                "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of moving "
+                "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid "
                 "particles outside): exit 1 when it fails");
   cmd->footer(
       "Exit codes: 0 done, 1 simulation failed (NaN: state dump in --out) or --stability gate "

@@ -44,15 +44,18 @@ StabilityOptions LongRunStabilityOptions() {
   StabilityOptions o;
   o.density_min = 700, o.density_max = 1300;
   o.density_outside_fraction = 0.01;
-  o.density_moving_only = true;
+  o.density_liquid_only = true;
   return o;
 }
 
 StabilityMonitor::StabilityMonitor(const Box& box, std::vector<float> type,
                                    const StabilityOptions& options)
     : box_(box), type_(std::move(type)), o_(options) {
-  for (std::size_t p = 0; p < type_.size(); ++p)
+  for (std::size_t p = 0; p < type_.size(); ++p) {
     if (KindOf(type_[p]) != ParticleKind::kBoundary) moving_.push_back(p);
+    if (!o_.density_liquid_only || KindOf(type_[p]) == ParticleKind::kLiquid)
+      density_checked_.push_back(p);
+  }
 }
 
 // Mean speed of the moving particles (m/s): from velocities when present, otherwise from the
@@ -96,11 +99,9 @@ void StabilityMonitor::Observe(double time_s, const float* x, const float* v, co
   if (!v) previous_.assign(x, x + 3 * type_.size()), previous_time_s_ = time_s;
   if (!rho) return;
   std::size_t out = 0;
-  const std::size_t checked = o_.density_moving_only ? moving_.size() : type_.size();
-  for (std::size_t n = 0; n < checked; ++n) {
-    const float d = rho[o_.density_moving_only ? moving_[n] : n];
-    if (!(d >= o_.density_min && d <= o_.density_max)) ++out;
-  }
+  const std::size_t checked = density_checked_.size();
+  for (std::size_t p : density_checked_)
+    if (!(rho[p] >= o_.density_min && rho[p] <= o_.density_max)) ++out;
   const double fraction = checked ? double(out) / double(checked) : 0;
   r.max_density_outside_fraction = std::max(r.max_density_outside_fraction, fraction);
   if (out && fraction > o_.density_outside_fraction) r.density_out_of_range.Add(f, out);

@@ -159,6 +159,9 @@ RunSummary RunToFiles(const SiberneticConfig& config, const RunOptions& run_opti
     sink.Abort();
   } else {
     sink.Close();
+    // Complete: a checkpoint would name temporaries that no longer exist.
+    std::error_code ignored;
+    fs::remove_all(CheckpointPath(long_run.out).parent_path(), ignored);
   }
   return summary;
 }

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <random>
 
 #include "long_run_support.hpp"
@@ -103,11 +105,18 @@ TEST(LongRun, XpbdCannotCheckpointAndSaysSo) {
   }
 }
 
-// The process is killed (SIGKILL: no handler, no flush) at a random moment past its first
-// checkpoint; --resume then finishes it.
+// The inode of the current checkpoint file (each checkpoint is a new file renamed into place), 0
+// when there is none.
+ino_t CheckpointInode(const fs::path& out) {
+  struct stat st{};
+  return ::stat(CheckpointPath(out).c_str(), &st) == 0 ? st.st_ino : 0;
+}
+
+// The process is killed (SIGKILL: no handler, no flush) at a random step past a checkpoint: after
+// a random number of checkpoints (1-4 of 9) and a random delay; --resume then finishes it.
 TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
   const fs::path whole = ScratchDir("cli_whole"), killed = ScratchDir("cli_killed");
-  const std::vector<std::string> run = {"run", kDemo1.string(), "--time", "0.1", "--log-step",
+  const std::vector<std::string> run = {"run", kDemo1.string(), "--time", "0.05", "--log-step",
                                         "20"};
   auto args = [&](const fs::path& out, std::vector<std::string> extra) {
     std::vector<std::string> all = run;
@@ -118,18 +127,26 @@ TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
   ASSERT_EQ(RunOwval(args(whole, {}), whole.string() + ".log").exit_code, 0);
   std::random_device seed;
   std::mt19937 random(seed());
-  const int delay_ms = std::uniform_int_distribution<int>(0, 600)(random);
+  const int checkpoints = std::uniform_int_distribution<int>(1, 4)(random);
+  const int delay_ms = std::uniform_int_distribution<int>(0, 100)(random);
+  SCOPED_TRACE("killed " + std::to_string(delay_ms) + " ms after checkpoint " +
+               std::to_string(checkpoints));
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = Start(args(killed, {"--checkpoint-every", "250"}), killed.string() + ".log");
-  ASSERT_TRUE(WaitFor([&] { return fs::exists(CheckpointPath(killed)); }, 120));
+  ino_t seen = 0;
+  for (int k = 0; k < checkpoints; ++k) {
+    ASSERT_TRUE(WaitFor([&] { return CheckpointInode(killed) != seen && CheckpointInode(killed); },
+                        120));
+    seen = CheckpointInode(killed);
+  }
   std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
   ::kill(pid, SIGKILL);
   const Finished f = Wait(pid, start);
-  ASSERT_EQ(f.signal, SIGKILL) << "the run ended before the kill (" << delay_ms << " ms)";
+  ASSERT_EQ(f.signal, SIGKILL) << "the run ended before the kill";
   EXPECT_FALSE(fs::exists(killed / "trajectory.h5"));
-  const Finished resumed = RunOwval({"run", "--resume", killed.string()}, killed.string() + ".2.log");
+  const Finished resumed =
+      RunOwval({"run", "--resume", killed.string()}, killed.string() + ".2.log");
   ASSERT_EQ(resumed.exit_code, 0) << Bytes(killed.string() + ".2.log");
-  SCOPED_TRACE("killed " + std::to_string(delay_ms) + " ms after the first checkpoint");
   ExpectSameOutputs(whole, killed);
   for (const auto& entry : fs::directory_iterator(killed))  // no temporary left behind
     EXPECT_NE(entry.path().filename().string().rfind(".", 0), 0u) << entry.path();

@@ -19,7 +19,8 @@
 // (trajectory/writer.hpp) and the solver's state (Solver::SaveState). Resuming
 // (LongRunOptions::resume) continues the outputs from there, whether the run was killed
 // (temporary files) or interrupted (partial files); what it writes is byte for byte what an
-// uninterrupted run writes (text bytes, HDF5 dataset values).
+// uninterrupted run writes (text bytes, HDF5 dataset values). A run that completes removes
+// out/checkpoint/.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
