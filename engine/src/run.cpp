@@ -211,6 +211,10 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
   solver_options.constants = constants;
   const std::unique_ptr<Solver> made = MakeSolver(config, solver_options);
   Solver& solver = *made;
+  if (options.checkpoint_every > 0) {
+    std::string probe;  // a backend that cannot checkpoint says so before the first step
+    solver.SaveState(&probe);
+  }
   if (!options.resume_state.empty()) {
     solver.RestoreState(options.resume_state, options.resume_source);
     if (solver.steps_done() > steps)
