@@ -52,13 +52,15 @@ void SetUp(CLI::App& app) {
   validate->add_option("directory", *dir, "Artifact directory (reference.*, candidate.*)")
       ->check(CLI::ExistingDirectory);
   auto stability = std::make_shared<StabilityArgs>();
-  validate->add_option("--stability", stability->duration,
-                       "Instead: run --scenario for this simulated time (10s, 500ms) and apply "
-                       "the stability gate to every frame as it is produced (NaN, escapes, "
-                       "kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid particles "
-                       "outside)");
-  validate->add_option("--scenario", stability->scenario,
-                       "With --stability: scenario name or configuration (default: the reference demo1)");
+  validate->add_option(
+      "--stability", stability->duration,
+      "Instead: run --scenario for this simulated time (10s, 500ms) and apply "
+      "the stability gate to every frame as it is produced (NaN, escapes, "
+      "kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid particles "
+      "outside)");
+  validate->add_option(
+      "--scenario", stability->scenario,
+      "With --stability: scenario name or configuration (default: the reference demo1)");
   validate->add_option("--log-step", stability->log_step, "With --stability: steps between frames")
       ->check(CLI::PositiveNumber);
   validate->add_option("--out", stability->out,

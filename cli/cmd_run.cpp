@@ -198,8 +198,8 @@ void RunEngine(RunArgs a) {
   files.on_begin = [&](const Trajectory& t) {
     header = t;
     if (a.stability)
-      monitor = std::make_unique<compare::StabilityMonitor>(
-          t.box, t.type, compare::LongRunStabilityOptions());
+      monitor = std::make_unique<compare::StabilityMonitor>(t.box, t.type,
+                                                            compare::LongRunStabilityOptions());
   };
   files.on_frame = [&](const engine::FrameView& f) {
     if (!monitor) return;
@@ -277,8 +277,9 @@ void SetUp(CLI::App& app) {
                 "Record positions only (no velocity, density, pressure): faster");
   cmd->add_flag("--zarr", a->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
   cmd->add_flag("--json", a->json, "Print a JSON summary");
-  cmd->add_option("--checkpoint-every", a->checkpoint_every,
-                  "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)");
+  cmd->add_option(
+      "--checkpoint-every", a->checkpoint_every,
+      "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)");
   cmd->add_option("--resume", a->resume,
                   "Continue the checkpointed run in this output directory with its own "
                   "arguments; the outputs equal an uninterrupted run's byte for byte")

@@ -66,9 +66,9 @@ double StabilityMonitor::MeanSpeed(double time_s, const float* x, const float* v
   for (std::size_t p : moving_) {
     double v2 = 0;
     for (int a = 0; a < 3; ++a) {
-      const double va =
-          v ? v[p * 3 + a]
-            : (x[p * 3 + a] - previous_[p * 3 + a]) * o_.simulation_scale / (time_s - previous_time_s_);
+      const double va = v ? v[p * 3 + a]
+                          : (x[p * 3 + a] - previous_[p * 3 + a]) * o_.simulation_scale /
+                                (time_s - previous_time_s_);
       v2 += va * va;
     }
     sum += std::sqrt(v2);

@@ -15,8 +15,9 @@ using namespace owval::testing;
 constexpr double kMemoryBoundMb = 150;
 
 Finished RunDemo1(double time_s, const fs::path& out, std::vector<std::string> extra = {}) {
-  std::vector<std::string> args = {"run",          kDemo1.string(), "--time", std::to_string(time_s),
-                                   "--log-step",   "20",           "--out",  out.string()};
+  std::vector<std::string> args = {
+      "run", kDemo1.string(), "--time",    std::to_string(time_s), "--log-step",
+      "20",  "--out",         out.string()};
   args.insert(args.end(), extra.begin(), extra.end());
   return RunOwval(args, out.string() + ".log");
 }

@@ -140,9 +140,9 @@ RunSummary RunToFiles(const SiberneticConfig& config, const RunOptions& run_opti
   if (long_run.resume) {
     resume = Load(long_run.out);
     if (resume.fingerprint != fingerprint)
-      throw InputError(CheckpointPath(long_run.out).string(), 0,
-                       "the checkpoint was written for another configuration than " +
-                           config.source);
+      throw InputError(
+          CheckpointPath(long_run.out).string(), 0,
+          "the checkpoint was written for another configuration than " + config.source);
     options.resume_state = resume.solver_state;
     options.resume_source = CheckpointPath(long_run.out).string();
   }

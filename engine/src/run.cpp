@@ -139,7 +139,6 @@ void Provenance(const SiberneticConfig& config, const RunOptions& o, const Physi
   if (!parameters.empty()) t->provenance["scheme_parameters"] = parameters;
 }
 
-
 // The first moving particle whose position or velocity is not finite: (index, quantity), or
 // (-1, "").
 std::pair<std::int64_t, const char*> FirstNonFinite(const Solver& solver) {
@@ -157,8 +156,8 @@ void StopOnNonFinite(const Solver& solver, std::size_t k, const RunOptions& opti
   const auto [bad, quantity] = FirstNonFinite(solver);
   if (bad < 0) return;
   const std::string dump = DumpState(solver, k, options.dump_dir);
-  throw SimulationError("NaN at step " + std::to_string(k) + " in particle " +
-                        std::to_string(bad) + " (" + quantity + ")" +
+  throw SimulationError("NaN at step " + std::to_string(k) + " in particle " + std::to_string(bad) +
+                        " (" + quantity + ")" +
                         (dump.empty() ? " (no state dump: no dump directory given)"
                                       : " (state dumped to " + dump + ")"));
 }

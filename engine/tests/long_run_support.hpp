@@ -1,12 +1,12 @@
 #pragma once
 // Running the owval executable as a child process for the long-run tests: signals, peak
 // resident memory (wait4's rusage) and dataset-by-dataset comparison of two outputs.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -55,9 +55,9 @@ inline pid_t Start(const std::vector<std::string>& args, const fs::path& log) {
 }
 
 struct Finished {
-  int exit_code = -1;     // -1 when killed by a signal
-  int signal = 0;         // the signal that ended it, or 0
-  double peak_rss_mb = 0; // ru_maxrss of the child
+  int exit_code = -1;      // -1 when killed by a signal
+  int signal = 0;          // the signal that ended it, or 0
+  double peak_rss_mb = 0;  // ru_maxrss of the child
   double wall_s = 0;
 };
 

@@ -108,7 +108,7 @@ TEST(LongRun, XpbdCannotCheckpointAndSaysSo) {
 // The inode of the current checkpoint file (each checkpoint is a new file renamed into place), 0
 // when there is none.
 ino_t CheckpointInode(const fs::path& out) {
-  struct stat st{};
+  struct stat st {};
   return ::stat(CheckpointPath(out).c_str(), &st) == 0 ? st.st_ino : 0;
 }
 
@@ -116,8 +116,8 @@ ino_t CheckpointInode(const fs::path& out) {
 // a random number of checkpoints (1-4 of 9) and a random delay; --resume then finishes it.
 TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
   const fs::path whole = ScratchDir("cli_whole"), killed = ScratchDir("cli_killed");
-  const std::vector<std::string> run = {"run", kDemo1.string(), "--time", "0.05", "--log-step",
-                                        "20"};
+  const std::vector<std::string> run = {"run",  kDemo1.string(), "--time",
+                                        "0.05", "--log-step",    "20"};
   auto args = [&](const fs::path& out, std::vector<std::string> extra) {
     std::vector<std::string> all = run;
     all.insert(all.end(), {"--out", out.string()});
@@ -135,8 +135,8 @@ TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
   const pid_t pid = Start(args(killed, {"--checkpoint-every", "250"}), killed.string() + ".log");
   ino_t seen = 0;
   for (int k = 0; k < checkpoints; ++k) {
-    ASSERT_TRUE(WaitFor([&] { return CheckpointInode(killed) != seen && CheckpointInode(killed); },
-                        120));
+    ASSERT_TRUE(
+        WaitFor([&] { return CheckpointInode(killed) != seen && CheckpointInode(killed); }, 120));
     seen = CheckpointInode(killed);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
@@ -157,9 +157,9 @@ TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
 TEST(LongRunProcess, SigintLeavesAReadablePartialTrajectoryAndACheckpoint) {
   const fs::path dir = ScratchDir("cli_sigint");
   const auto start = std::chrono::steady_clock::now();
-  const pid_t pid = Start({"run", kDemo1.string(), "--time", "0.2", "--log-step", "20", "--out",
-                           dir.string()},
-                          dir.string() + ".log");
+  const pid_t pid =
+      Start({"run", kDemo1.string(), "--time", "0.2", "--log-step", "20", "--out", dir.string()},
+            dir.string() + ".log");
   // Some frames in: the text writer's temporary exists once the HDF5 one does.
   ASSERT_TRUE(WaitFor(
       [&] {

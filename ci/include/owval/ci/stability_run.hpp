@@ -15,8 +15,8 @@
 namespace owval::ci {
 
 struct StreamedStabilityOptions {
-  double duration_s = 10;  // simulated time
-  int log_step = 20;       // steps between checked (and written) frames
+  double duration_s = 10;     // simulated time
+  int log_step = 20;          // steps between checked (and written) frames
   std::filesystem::path out;  // where the run's trajectory goes (engine/long_run.hpp outputs)
   std::string backend = "pcisph";
   std::function<void(std::size_t, std::size_t)> on_step;  // (steps done, total); may be empty

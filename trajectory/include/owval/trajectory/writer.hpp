@@ -48,11 +48,11 @@ struct TrajectoryHeader {
 // it after the process that wrote it stopped (killed, interrupted), with the same result as an
 // uninterrupted writer's. Saved by the caller beside its own state (engine/long_run.hpp).
 struct WriterCheckpoint {
-  std::string file;              // the file being written, name only (beside the destination)
-  std::uint64_t frames = 0;      // frames appended before the checkpoint
-  std::uint64_t bytes = 0;       // text: the file's length at the checkpoint
+  std::string file;               // the file being written, name only (beside the destination)
+  std::uint64_t frames = 0;       // frames appended before the checkpoint
+  std::uint64_t bytes = 0;        // text: the file's length at the checkpoint
   std::uint64_t file_frames = 0;  // HDF5: frames in the datasets (whole chunks only)
-  std::string pending;           // HDF5: the frames after those, not yet in the file (binary)
+  std::string pending;            // HDF5: the frames after those, not yet in the file (binary)
 };
 
 struct TrajectoryWriterOptions {
@@ -63,8 +63,8 @@ struct TrajectoryWriterOptions {
 class TrajectoryWriter {
  public:
   virtual ~TrajectoryWriter() = default;
-  // One frame: positions (3 floats a particle, cu); velocities, density and pressure when the header asks
-  // for them. Throws InputError naming the file on an I/O failure (a full disk).
+  // One frame: positions (3 floats a particle, cu); velocities, density and pressure when the
+  // header asks for them. Throws InputError naming the file on an I/O failure (a full disk).
   virtual void AppendFrame(double time_s, const float* positions, const float* velocities = nullptr,
                            const float* density = nullptr, const float* pressure = nullptr) = 0;
   // Writes what is buffered and renames the file onto its destination.
@@ -89,10 +89,9 @@ std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::pa
 // (text truncated, HDF5 datasets shrunk, the `partial` mark removed), its pending frames
 // buffered again. InputError naming the file when neither exists or it is shorter than the
 // checkpoint says.
-std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::path& destination,
-                                                         const TrajectoryHeader& header,
-                                                         const WriterCheckpoint& checkpoint,
-                                                         const TrajectoryWriterOptions& options = {});
+std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(
+    const std::filesystem::path& destination, const TrajectoryHeader& header,
+    const WriterCheckpoint& checkpoint, const TrajectoryWriterOptions& options = {});
 
 // out/trajectory.h5 -> out/trajectory.partial.h5; position_buffer.txt ->
 // position_buffer.partial.txt
