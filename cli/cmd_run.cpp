@@ -176,6 +176,75 @@ void Print(const RunArgs& a, const engine::RunSummary& summary, const nlohmann::
   }
 }
 
+// What the run streams to besides its files: the trajectory's header (for the worm outputs) and,
+// with --stability, the gate's monitor.
+struct Observers {
+  Trajectory header;
+  std::unique_ptr<compare::StabilityMonitor> monitor;
+};
+
+engine::LongRunOptions Files(const RunArgs& a, Observers* seen) {
+  engine::LongRunOptions files;
+  files.out = a.out;
+  files.resume = !a.resume.empty();
+  files.invocation = Invocation(a).dump();
+  files.on_begin = [seen, stability = a.stability](const Trajectory& t) {
+    seen->header = t;
+    if (stability)
+      seen->monitor = std::make_unique<compare::StabilityMonitor>(
+          t.box, t.type, compare::LongRunStabilityOptions());
+  };
+  files.on_frame = [seen](const engine::FrameView& f) {
+    if (!seen->monitor) return;
+    seen->monitor->Observe(f.time_s, f.positions.data(),
+                           f.velocities.empty() ? nullptr : f.velocities.data(),
+                           f.density.empty() ? nullptr : f.density.data());
+  };
+  return files;
+}
+
+nlohmann::json Result(const std::string& source, const std::string& backend,
+                      const engine::RunSummary& summary, const std::vector<std::string>& outputs) {
+  return {{"configuration", source},
+          {"first_step", summary.first_step},
+          {"steps", summary.steps},
+          {"frames", summary.frames},
+          {"wall_s", summary.wall_s},
+          {"steps_per_s", summary.steps_per_s},
+          {"backend", backend},
+          {"reference_equivalent", summary.reference_equivalent},
+          {"muscles_driven", summary.muscles_driven},
+          {"interrupted", summary.interrupted},
+          {"outputs", outputs}};
+}
+
+// Outputs, summary and exit code once the run returned (finished or interrupted).
+void Conclude(const RunArgs& a, const engine::SiberneticConfig& config, const std::string& backend,
+              const engine::RunSummary& summary, const Observers& seen) {
+  for (const std::string& w : summary.warnings)
+    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
+  std::vector<std::string> outputs;
+  for (const fs::path& output : engine::LongRunOutputs(a.out))
+    outputs.push_back((summary.interrupted ? PartialPath(output) : output).string());
+  if (!summary.interrupted)
+    for (const std::string& path : WriteWholeTrajectoryOutputs(seen.header, a, config.source))
+      outputs.push_back(path);
+  nlohmann::json result = Result(config.source, backend, summary, outputs);
+  const compare::StabilityReport* stability = seen.monitor ? &seen.monitor->report() : nullptr;
+  if (stability) result["stability"] = stability->ToJson();
+  Print(a, summary, result, stability);
+  if (summary.interrupted) {
+    std::fprintf(stderr,
+                 "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
+                 "continue with: owval run --resume %s\n",
+                 summary.steps, a.out.c_str(), engine::CheckpointPath(a.out).c_str(),
+                 a.out.c_str());
+    SetExitCode(128 + int(g_stop_signal));  // 130 for SIGINT, 143 for SIGTERM
+  } else if (stability && !stability->pass()) {
+    SetExitCode(kExitGateFailed);
+  }
+}
+
 void RunEngine(RunArgs a) {
   if (!a.resume.empty()) LoadInvocation(&a);
   if (a.config.empty() || a.out.empty())
@@ -189,61 +258,14 @@ void RunEngine(RunArgs a) {
       progress.Update(done, "of " + std::to_string(total) + " steps");
   };
   options.stop_requested = [] { return g_stop_signal != 0; };
-  engine::LongRunOptions files;
-  files.out = a.out;
-  files.resume = !a.resume.empty();
-  files.invocation = Invocation(a).dump();
-  Trajectory header;
-  std::unique_ptr<compare::StabilityMonitor> monitor;
-  files.on_begin = [&](const Trajectory& t) {
-    header = t;
-    if (a.stability)
-      monitor = std::make_unique<compare::StabilityMonitor>(t.box, t.type,
-                                                            compare::LongRunStabilityOptions());
-  };
-  files.on_frame = [&](const engine::FrameView& f) {
-    if (!monitor) return;
-    monitor->Observe(f.time_s, f.positions.data(),
-                     f.velocities.empty() ? nullptr : f.velocities.data(),
-                     f.density.empty() ? nullptr : f.density.data());
-  };
+  Observers seen;
   engine::RunSummary summary;
   {
     const StopSignals signals;
-    summary = engine::RunToFiles(config, options, files);
+    summary = engine::RunToFiles(config, options, Files(a, &seen));
   }
   progress.Finish();
-  for (const std::string& w : summary.warnings)
-    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
-  std::vector<std::string> outputs;
-  for (const fs::path& output : engine::LongRunOutputs(a.out))
-    outputs.push_back((summary.interrupted ? PartialPath(output) : output).string());
-  if (!summary.interrupted)
-    for (const std::string& path : WriteWholeTrajectoryOutputs(header, a, config.source))
-      outputs.push_back(path);
-  nlohmann::json result = {{"configuration", config.source},
-                           {"first_step", summary.first_step},
-                           {"steps", summary.steps},
-                           {"frames", summary.frames},
-                           {"wall_s", summary.wall_s},
-                           {"steps_per_s", summary.steps_per_s},
-                           {"backend", options.backend},
-                           {"reference_equivalent", summary.reference_equivalent},
-                           {"muscles_driven", summary.muscles_driven},
-                           {"interrupted", summary.interrupted},
-                           {"outputs", outputs}};
-  if (monitor) result["stability"] = monitor->report().ToJson();
-  Print(a, summary, result, monitor ? &monitor->report() : nullptr);
-  if (summary.interrupted) {
-    std::fprintf(stderr,
-                 "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
-                 "continue with: owval run --resume %s\n",
-                 summary.steps, a.out.c_str(), engine::CheckpointPath(a.out).c_str(),
-                 a.out.c_str());
-    SetExitCode(128 + int(g_stop_signal));  // 130 for SIGINT, 143 for SIGTERM
-  } else if (monitor && !monitor->report().pass()) {
-    SetExitCode(kExitGateFailed);
-  }
+  Conclude(a, config, options.backend, summary, seen);
 }
 
 void SetUp(CLI::App& app) {
