@@ -1,6 +1,9 @@
 // RunToFiles: engine::Run streamed into the output directory, with checkpoints and resume.
 #include "owval/engine/long_run.hpp"
 
+#include <malloc.h>
+
+#include <fstream>
 #include <memory>
 
 #include "owval/base/atomic_output.hpp"
@@ -37,17 +40,34 @@ std::uint64_t Fingerprint(const SiberneticConfig& c) {
   return h;
 }
 
-std::string Serialize(const CheckpointFile& c) {
-  std::string out;
-  internal::StateWriter w(&out);
+// Written piece by piece into the file: the solver state and pending frames (megabytes) are
+// not copied into one buffer first.
+void WriteCheckpoint(const fs::path& path, const CheckpointFile& c,
+                     const std::string& solver_state) {
+  AtomicOutput file(path);
+  std::ofstream& out = file.stream();
+  auto put = [&out](const std::string& bytes) {
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+  };
+  auto blob = [&](const std::string& bytes) {
+    std::string size;
+    internal::StateWriter(&size).Put(std::uint64_t(bytes.size()));
+    put(size), put(bytes);
+  };
+  std::string head;
+  internal::StateWriter w(&head);
   for (char ch : kCheckpointMagic) w.Put(ch);
   w.Put(kCheckpointVersion), w.Put(c.invocation), w.Put(c.fingerprint), w.Put(c.steps);
   w.Put(c.frames), w.Put(std::uint64_t(c.writers.size()));
+  put(head);
   for (const WriterCheckpoint& k : c.writers) {
-    w.Put(k.file), w.Put(k.frames), w.Put(k.bytes), w.Put(k.file_frames), w.Put(k.pending);
+    std::string fields;
+    internal::StateWriter f(&fields);
+    f.Put(k.file), f.Put(k.frames), f.Put(k.bytes), f.Put(k.file_frames);
+    put(fields), blob(k.pending);
   }
-  w.Put(c.solver_state);
-  return out;
+  blob(solver_state);
+  file.Commit();
 }
 
 CheckpointFile Load(const fs::path& out) {
@@ -101,9 +121,14 @@ class FileSink : public FrameSink {
   }
 
   void Checkpoint(std::size_t steps, std::size_t frames, const std::string& state) override {
-    CheckpointFile c{o_.invocation, fingerprint_, steps, frames, {}, state};
-    for (auto& w : writers_) c.writers.push_back(w->Checkpoint());
-    WriteFileAtomically(CheckpointPath(o_.out), Serialize(c));
+    {
+      CheckpointFile c{o_.invocation, fingerprint_, steps, frames, {}, {}};
+      for (auto& w : writers_) c.writers.push_back(w->Checkpoint());
+      WriteCheckpoint(CheckpointPath(o_.out), c, state);
+    }
+    // The checkpoint's buffers (solver state, pending frames: megabytes) are freed; give the
+    // pages back so that peak memory stays the run's, not the sum of its checkpoints'.
+    ::malloc_trim(0);
   }
 
   void set_fields(bool fields) { fields_ = fields; }
