@@ -35,6 +35,14 @@ TEST(LongRunMemory, Demo1PeakMemoryOfTwoSecondsIsWithinTenPercentOfPointTwo) {
   EXPECT_LE(long_run.peak_rss_mb, kMemoryBoundMb);
 }
 
+// Checkpoints (solver state and pending HDF5 frames, megabytes each) must not pile up.
+TEST(LongRunMemory, Demo1WithNineCheckpointsStaysWithinTheBound) {
+  const Finished run = RunDemo1(0.5, ScratchDir("checkpoints"), {"--checkpoint-every", "2500"});
+  ASSERT_EQ(run.exit_code, 0);
+  std::printf("demo1 0.5 s, 9 checkpoints: %.1f MB peak\n", run.peak_rss_mb);
+  EXPECT_LE(run.peak_rss_mb, kMemoryBoundMb);
+}
+
 TEST(LongRunMemory, Demo1TenSecondsCompletesWithinTheMemoryBoundAndReportsStability) {
   const fs::path out = ScratchDir("ten_seconds");
   const Finished run = RunDemo1(10.0, out, {"--stability", "--json"});
