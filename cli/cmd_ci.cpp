@@ -2,7 +2,11 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
 #include "owval/ci/gates.hpp"
+#include "owval/ci/stability_run.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -10,6 +14,29 @@ namespace {
 void Report(const ci::GateReport& report) {
   std::cout << report.ToText();
   if (!report.pass()) SetExitCode(1);
+}
+
+struct StabilityArgs {
+  std::string duration, out;
+  std::string scenario = std::string(OWVAL_SHARED_DIR) + "/reference/demo1/configuration";
+  int log_step = 20;
+};
+
+void RunStability(const StabilityArgs& a) {
+  if (a.out.empty()) throw InputError("owval ci validate --stability: give --out DIR");
+  ci::StreamedStabilityOptions o;
+  o.duration_s = ci::ParseDuration(a.duration, "--stability");
+  o.log_step = a.log_step;
+  o.out = a.out;
+  const engine::SiberneticConfig config = ResolveConfig(a.scenario);
+  Progress progress("stability", 0, Flags().quiet);
+  o.on_step = [&](std::size_t done, std::size_t total) {
+    if (done % 200 == 0 || done == total)
+      progress.Update(done, "of " + std::to_string(total) + " steps");
+  };
+  const ci::GateReport report = ci::StreamedStability(config, o);
+  progress.Finish();
+  Report(report);
 }
 
 void SetUp(CLI::App& app) {
@@ -22,8 +49,27 @@ void SetUp(CLI::App& app) {
   quick->callback([dir] { Report(ci::QuickTest(*dir)); });
   CLI::App* validate =
       group->add_subcommand("validate", "Stability, incompressibility and parity gates");
-  validate->add_option("directory", *dir)->required()->check(CLI::ExistingDirectory);
-  validate->callback([dir] { Report(ci::Validate(*dir)); });
+  validate->add_option("directory", *dir, "Artifact directory (reference.*, candidate.*)")
+      ->check(CLI::ExistingDirectory);
+  auto stability = std::make_shared<StabilityArgs>();
+  validate->add_option(
+      "--stability", stability->duration,
+      "Instead: run --scenario for this simulated time (10s, 500ms) and apply "
+      "the stability gate to every frame as it is produced (NaN, escapes, "
+      "kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid particles "
+      "outside)");
+  validate->add_option(
+      "--scenario", stability->scenario,
+      "With --stability: scenario name or configuration (default: the reference demo1)");
+  validate->add_option("--log-step", stability->log_step, "With --stability: steps between frames")
+      ->check(CLI::PositiveNumber);
+  validate->add_option("--out", stability->out,
+                       "With --stability: where the run's trajectory goes");
+  validate->callback([dir, stability] {
+    if (!stability->duration.empty()) return RunStability(*stability);
+    if (dir->empty()) throw InputError("owval ci validate: give DIRECTORY or --stability TIME");
+    Report(ci::Validate(*dir));
+  });
 }
 
 const bool registered = RegisterCommand(&SetUp);

@@ -115,7 +115,21 @@ void RunCompare(const CompareArgs& a) {
   const Trajectory candidate = ReadTrajectoryArgument(a.candidate);
   const compare::ParityReport report = compare::CompareTrajectories(reference, candidate, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
-  std::cout << (a.json ? report.ToJson().dump(2) + "\n" : report.ToTable());
+  // A partial trajectory (an interrupted run's) is compared over the frames it has, and said so.
+  const bool reference_partial = reference.provenance.count("partial") > 0,
+             candidate_partial = candidate.provenance.count("partial") > 0;
+  if (a.json) {
+    nlohmann::json j = report.ToJson();
+    j["reference_partial"] = reference_partial, j["candidate_partial"] = candidate_partial;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    for (const auto& [path, partial] :
+         {std::pair{a.reference, reference_partial}, std::pair{a.candidate, candidate_partial}})
+      if (partial)
+        std::cout << "note: " << path
+                  << " is partial (an interrupted run's): compared over the frames it has\n";
+    std::cout << report.ToTable();
+  }
   if (!report.pass()) SetExitCode(kExitGateFailed);
 }
 

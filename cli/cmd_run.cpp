@@ -1,5 +1,6 @@
 // owval run: the engine (PCISPH, Sibernetic's scheme, unless --backend says otherwise) on a
 // configuration or built-in scenario.
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -10,12 +11,15 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
+#include "owval/compare/stability.hpp"
+#include "owval/engine/long_run.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
+#include "owval/trajectory/writer.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -36,6 +40,65 @@ struct RunArgs {
   bool json = false;
   bool no_fields = false;
   bool zarr = false;
+  std::size_t checkpoint_every = 0;
+  std::string resume;  // output directory of a checkpointed run
+  bool stability = false;
+};
+
+// The arguments that define a run, saved in its checkpoints: --resume DIR repeats them.
+nlohmann::json Invocation(const RunArgs& a) {
+  return {{"config", a.config},
+          {"time_s", a.time_s},
+          {"log_step", a.log_step},
+          {"backend", a.backend},
+          {"integrator", a.integrator},
+          {"muscles", a.muscles},
+          {"set", a.set},
+          {"apply_physical_parameters", a.apply_physical_parameters},
+          {"no_fields", a.no_fields},
+          {"zarr", a.zarr},
+          {"checkpoint_every", a.checkpoint_every}};
+}
+
+// --resume DIR: the checkpointed run's own arguments, its directory as --out. Only --threads,
+// --json, --stability and --quiet may change (they change no output byte).
+void LoadInvocation(RunArgs* a) {
+  const fs::path checkpoint = engine::CheckpointPath(a->resume);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(engine::ReadCheckpointInvocation(a->resume));
+    a->config = j.at("config"), a->time_s = j.at("time_s"), a->log_step = j.at("log_step");
+    a->backend = j.at("backend"), a->integrator = j.at("integrator");
+    a->muscles = j.at("muscles"), a->set = j.at("set").get<std::vector<std::string>>();
+    a->apply_physical_parameters = j.at("apply_physical_parameters");
+    a->no_fields = j.at("no_fields"), a->zarr = j.at("zarr");
+    a->checkpoint_every = j.at("checkpoint_every");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(checkpoint.string(), 0, std::string("bad run arguments: ") + e.what());
+  }
+  a->out = a->resume;
+}
+
+// SIGINT / SIGTERM only set a flag; the run polls it between steps, checkpoints and leaves a
+// partial trajectory (no unwinding from a signal handler).
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void OnStopSignal(int signal) { g_stop_signal = signal; }
+
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    int_ = std::signal(SIGINT, OnStopSignal);
+    term_ = std::signal(SIGTERM, OnStopSignal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, int_);
+    std::signal(SIGTERM, term_);
+  }
+
+ private:
+  void (*int_)(int);
+  void (*term_)(int);
 };
 
 // FNV-1a 64 of the configuration file's bytes: identifies the input in WCON provenance.
@@ -74,8 +137,7 @@ std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunArgs& a,
   return written;
 }
 
-void RunEngine(const RunArgs& a) {
-  const engine::SiberneticConfig config = ResolveConfig(a.config);
+engine::RunOptions Options(const RunArgs& a) {
   engine::RunOptions options;
   options.duration_s = a.time_s;
   options.log_step = a.log_step;
@@ -89,58 +151,141 @@ void RunEngine(const RunArgs& a) {
   options.record_fields = !a.no_fields;
   options.backend = engine::CanonicalBackend(a.backend);  // unknown: exit 2 naming the known ones
   options.dump_dir = a.out;
+  options.checkpoint_every = a.checkpoint_every;
   for (const std::string& assignment : a.set) SetConstantAssignment(assignment, &options.constants);
+  return options;
+}
+
+// Worm outputs and OME-Zarr need every frame: read back from the finished trajectory.h5, so
+// only such runs hold the trajectory in memory.
+std::vector<std::string> WriteWholeTrajectoryOutputs(const Trajectory& header, const RunArgs& a,
+                                                     const std::string& source) {
+  if (!a.zarr && !kinematics::IsWorm(header)) return {};
+  return WriteWormOutputs(ReadHdf5(fs::path(a.out) / "trajectory.h5"), a, source);
+}
+
+void Print(const RunArgs& a, const engine::RunSummary& summary, const nlohmann::json& result,
+           const compare::StabilityReport* stability) {
+  if (a.json) {
+    std::cout << result.dump(2) << "\n";
+  } else if (!Flags().quiet) {
+    if (stability) std::fprintf(stderr, "%s", stability->ToTable().c_str());
+    std::fprintf(stderr, "ran steps %zu to %zu in %.2f s (%.0f steps/s), %zu frames -> %s\n",
+                 summary.first_step, summary.steps, summary.wall_s, summary.steps_per_s,
+                 summary.frames, a.out.c_str());
+  }
+}
+
+// What the run streams to besides its files: the trajectory's header (for the worm outputs) and,
+// with --stability, the gate's monitor.
+struct Observers {
+  Trajectory header;
+  std::unique_ptr<compare::StabilityMonitor> monitor;
+};
+
+engine::LongRunOptions Files(const RunArgs& a, Observers* seen) {
+  engine::LongRunOptions files;
+  files.out = a.out;
+  files.resume = !a.resume.empty();
+  files.invocation = Invocation(a).dump();
+  files.on_begin = [seen, stability = a.stability](const Trajectory& t) {
+    seen->header = t;
+    if (stability)
+      seen->monitor = std::make_unique<compare::StabilityMonitor>(
+          t.box, t.type, compare::LongRunStabilityOptions());
+  };
+  files.on_frame = [seen](const engine::FrameView& f) {
+    if (!seen->monitor) return;
+    seen->monitor->Observe(f.time_s, f.positions.data(),
+                           f.velocities.empty() ? nullptr : f.velocities.data(),
+                           f.density.empty() ? nullptr : f.density.data());
+  };
+  return files;
+}
+
+nlohmann::json Result(const std::string& source, const std::string& backend,
+                      const engine::RunSummary& summary, const std::vector<std::string>& outputs) {
+  return {{"configuration", source},
+          {"first_step", summary.first_step},
+          {"steps", summary.steps},
+          {"frames", summary.frames},
+          {"wall_s", summary.wall_s},
+          {"steps_per_s", summary.steps_per_s},
+          {"backend", backend},
+          {"reference_equivalent", summary.reference_equivalent},
+          {"muscles_driven", summary.muscles_driven},
+          {"interrupted", summary.interrupted},
+          {"outputs", outputs}};
+}
+
+// Outputs, summary and exit code once the run returned (finished or interrupted).
+void Conclude(const RunArgs& a, const engine::SiberneticConfig& config, const std::string& backend,
+              const engine::RunSummary& summary, const Observers& seen) {
+  for (const std::string& w : summary.warnings)
+    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
+  std::vector<std::string> outputs;
+  for (const fs::path& output : engine::LongRunOutputs(a.out))
+    outputs.push_back((summary.interrupted ? PartialPath(output) : output).string());
+  if (!summary.interrupted)
+    for (const std::string& path : WriteWholeTrajectoryOutputs(seen.header, a, config.source))
+      outputs.push_back(path);
+  if (!summary.interrupted && !summary.frame_log.empty()) {
+    // An adaptive scheme's time steps, rollbacks and density variation, one entry per frame.
+    nlohmann::json log = {{"backend", backend}, {"frames", nlohmann::json::array()}};
+    for (const std::string& entry : summary.frame_log)
+      log["frames"].push_back(nlohmann::json::parse(entry));
+    WriteFileAtomically(fs::path(a.out) / "step_log.json", log.dump(1) + "\n");
+    outputs.push_back((fs::path(a.out) / "step_log.json").string());
+  }
+  nlohmann::json result = Result(config.source, backend, summary, outputs);
+  const compare::StabilityReport* stability = seen.monitor ? &seen.monitor->report() : nullptr;
+  if (stability) result["stability"] = stability->ToJson();
+  Print(a, summary, result, stability);
+  if (summary.interrupted) {
+    std::fprintf(stderr,
+                 "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
+                 "continue with: owval run --resume %s\n",
+                 summary.steps, a.out.c_str(), engine::CheckpointPath(a.out).c_str(),
+                 a.out.c_str());
+    SetExitCode(128 + int(g_stop_signal));  // 130 for SIGINT, 143 for SIGTERM
+  } else if (stability && !stability->pass()) {
+    SetExitCode(kExitGateFailed);
+  }
+}
+
+void RunEngine(RunArgs a) {
+  if (!a.resume.empty()) LoadInvocation(&a);
+  if (a.config.empty() || a.out.empty())
+    throw InputError("owval run: give CONFIG and --out DIR, or --resume DIR");
+  for (const fs::path& output : engine::LongRunOutputs(a.out)) CheckOutputPath(output);
+  const engine::SiberneticConfig config = ResolveConfig(a.config);
+  engine::RunOptions options = Options(a);
   Progress progress("run", 0, Flags().quiet);
   options.on_step = [&](std::size_t done, std::size_t total) {
     if (done % 50 == 0 || done == total)
       progress.Update(done, "of " + std::to_string(total) + " steps");
   };
+  options.stop_requested = [] { return g_stop_signal != 0; };
+  Observers seen;
   engine::RunSummary summary;
-  const Trajectory t = engine::Run(config, options, &summary);
+  {
+    const StopSignals signals;
+    summary = engine::RunToFiles(config, options, Files(a, &seen));
+  }
   progress.Finish();
-  for (const std::string& w : summary.warnings)
-    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
-  const fs::path out = a.out;
-  WriteSiberneticText(t, out / "position_buffer.txt", TextLayout::kOpenCL);
-  WriteHdf5(t, out / "trajectory.h5");
-  std::vector<std::string> outputs = {(out / "position_buffer.txt").string(),
-                                      (out / "trajectory.h5").string()};
-  for (const std::string& path : WriteWormOutputs(t, a, config.source)) outputs.push_back(path);
-  if (!summary.frame_log.empty()) {
-    // An adaptive scheme's time steps, rollbacks and density variation, one entry per frame.
-    nlohmann::json log = {{"backend", options.backend}, {"frames", nlohmann::json::array()}};
-    for (const std::string& entry : summary.frame_log)
-      log["frames"].push_back(nlohmann::json::parse(entry));
-    WriteFileAtomically(out / "step_log.json", log.dump(1) + "\n");
-    outputs.push_back((out / "step_log.json").string());
-  }
-  nlohmann::json result = {{"configuration", config.source},
-                           {"steps", summary.steps},
-                           {"frames", summary.frames},
-                           {"wall_s", summary.wall_s},
-                           {"steps_per_s", summary.steps_per_s},
-                           {"backend", options.backend},
-                           {"reference_equivalent", summary.reference_equivalent},
-                           {"muscles_driven", summary.muscles_driven},
-                           {"outputs", outputs}};
-  if (a.json) {
-    std::cout << result.dump(2) << "\n";
-  } else if (!Flags().quiet) {
-    std::fprintf(stderr, "ran %zu steps in %.2f s (%.0f steps/s), %zu frames -> %s\n",
-                 summary.steps, summary.wall_s, summary.steps_per_s, summary.frames, out.c_str());
-  }
+  Conclude(a, config, options.backend, summary, seen);
 }
 
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
   cmd->add_option("config", a->config,
-                  "Scenario name (owval scenario list) or Sibernetic configuration file")
-      ->required();
+                  "Scenario name (owval scenario list) or Sibernetic configuration file");
   cmd->add_option("--time", a->time_s, "Simulated time in seconds (steps = (int)(time/dt))");
   cmd->add_option("--log-step", a->log_step, "Steps between frames")->check(CLI::PositiveNumber);
-  cmd->add_option("--out", a->out, "Output directory (position_buffer.txt and trajectory.h5)")
-      ->required();
+  cmd->add_option("--out", a->out,
+                  "Output directory (position_buffer.txt and trajectory.h5, written as frames "
+                  "are produced)");
   std::string backends;
   for (const std::string& name : engine::KnownBackends())
     backends += (backends.empty() ? "" : ", ") + name;
@@ -162,6 +307,21 @@ void SetUp(CLI::App& app) {
                 "Record positions only (no velocity, density, pressure): faster");
   cmd->add_flag("--zarr", a->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
   cmd->add_flag("--json", a->json, "Print a JSON summary");
+  cmd->add_option(
+      "--checkpoint-every", a->checkpoint_every,
+      "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)");
+  cmd->add_option("--resume", a->resume,
+                  "Continue the checkpointed run in this output directory with its own "
+                  "arguments; the outputs equal an uninterrupted run's byte for byte")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_flag("--stability", a->stability,
+                "Apply the long-run stability gate to every frame as it is produced (NaN, "
+                "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid "
+                "particles outside): exit 1 when it fails");
+  cmd->footer(
+      "Exit codes: 0 done, 1 simulation failed (NaN: state dump in --out) or --stability gate "
+      "failed, 2 bad input, 130 (SIGINT) or 143 (SIGTERM) interrupted (partial trajectory "
+      "*.partial.txt/*.partial.h5 and a checkpoint left in --out; continue with --resume).");
   cmd->callback([a] { RunEngine(*a); });
 }
 

@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
   } catch (const owval::EnvironmentError& e) {
     std::fprintf(stderr, "owval: environment: %s\n", e.what());
     return owval::kExitEnvironment;
+  } catch (const owval::SimulationError& e) {
+    std::fprintf(stderr, "owval: error: %s\n", e.what());
+    return owval::kExitGateFailed;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;

@@ -45,22 +45,28 @@ fs::path TemporarySibling(const fs::path& destination) {
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
   if (!destination_.parent_path().empty()) fs::create_directories(destination_.parent_path());
-  SweepStaleTemporaries(destination_);
 }
 
 AtomicOutput::~AtomicOutput() {
   if (committed_) return;
   if (stream_.is_open()) stream_.close();
+  if (keep_) return;
   std::error_code ignored;
   fs::remove(temporary_, ignored);
 }
 
 std::ofstream& AtomicOutput::stream() {
   if (!stream_.is_open()) {
-    stream_.open(temporary_, std::ios::binary | std::ios::trunc);
+    stream_.open(temporary_, std::ios::binary | (append_ ? std::ios::app : std::ios::trunc));
     if (!stream_) throw InputError(destination_.string(), 0, "cannot open for writing");
   }
   return stream_;
+}
+
+void AtomicOutput::Adopt(const fs::path& existing) {
+  if (stream_.is_open()) throw std::logic_error("AtomicOutput::Adopt after the stream opened");
+  temporary_ = existing;
+  append_ = keep_ = true;
 }
 
 void AtomicOutput::Commit() { CommitAs(destination_); }
@@ -104,6 +110,7 @@ void AtomicDirectory::Commit() {
 }
 
 void WriteFileAtomically(const fs::path& destination, const std::string& contents) {
+  SweepStaleTemporaries(destination);
   AtomicOutput out(destination);
   out.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
   out.Commit();

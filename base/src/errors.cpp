@@ -19,4 +19,7 @@ InputError::InputError(const std::string& message) : std::runtime_error(OneLine(
 EnvironmentError::EnvironmentError(const std::string& message)
     : std::runtime_error(OneLine(message)) {}
 
+SimulationError::SimulationError(const std::string& message)
+    : std::runtime_error(OneLine(message)) {}
+
 }  // namespace owval

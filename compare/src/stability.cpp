@@ -14,29 +14,6 @@ bool Outside(const Box& box, const float* x, double tolerance) {
   return false;
 }
 
-// Mean speed of the moving particles at a frame (m/s): from velocities when present, otherwise
-// from the displacement since the previous frame.
-double MeanSpeed(const Trajectory& t, std::size_t frame, const std::vector<std::size_t>& moving,
-                 double scale) {
-  if (moving.empty()) return 0;
-  double sum = 0;
-  for (std::size_t p : moving) {
-    double v2 = 0;
-    for (int a = 0; a < 3; ++a) {
-      double v;
-      if (t.has_velocities()) {
-        v = t.velocities[(frame * t.particle_count() + p) * 3 + a];
-      } else {
-        const double dt = t.time_s[frame] - t.time_s[frame - 1];
-        v = (t.coordinate(frame, p, a) - t.coordinate(frame - 1, p, a)) * scale / dt;
-      }
-      v2 += v * v;
-    }
-    sum += std::sqrt(v2);
-  }
-  return sum / double(moving.size());
-}
-
 std::string Describe(const char* name, const ViolationCount& v) {
   std::ostringstream s;
   s << "  " << name << ": " << v.count;
@@ -63,39 +40,83 @@ bool StabilityReport::pass() const {
          density_out_of_range.count == 0;
 }
 
-StabilityReport CheckStability(const Trajectory& t, const StabilityOptions& o) {
-  StabilityReport r;
-  r.density_checked = t.has_density();
-  r.velocities_from_positions = !t.has_velocities();
-  std::vector<std::size_t> moving;
-  for (std::size_t p = 0; p < t.particle_count(); ++p)
-    if (KindOf(t.type[p]) != ParticleKind::kBoundary) moving.push_back(p);
-  for (std::size_t f = 0; f < t.frame_count(); ++f) {
-    std::size_t bad = 0, outside = 0;
-    for (std::size_t p = 0; p < t.particle_count(); ++p) {
-      const float* x = t.position(f, p);
-      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) {
-        ++bad;
-      } else if (Outside(t.box, x, o.box_tolerance_cu)) {
-        ++outside;
-      }
+StabilityOptions LongRunStabilityOptions() {
+  StabilityOptions o;
+  o.density_min = 700, o.density_max = 1300;
+  o.density_outside_fraction = 0.01;
+  o.density_liquid_only = true;
+  return o;
+}
+
+StabilityMonitor::StabilityMonitor(const Box& box, std::vector<float> type,
+                                   const StabilityOptions& options)
+    : box_(box), type_(std::move(type)), o_(options) {
+  for (std::size_t p = 0; p < type_.size(); ++p) {
+    if (KindOf(type_[p]) != ParticleKind::kBoundary) moving_.push_back(p);
+    if (!o_.density_liquid_only || KindOf(type_[p]) == ParticleKind::kLiquid)
+      density_checked_.push_back(p);
+  }
+}
+
+// Mean speed of the moving particles (m/s): from velocities when present, otherwise from the
+// displacement since the previous frame.
+double StabilityMonitor::MeanSpeed(double time_s, const float* x, const float* v) const {
+  if (moving_.empty()) return 0;
+  double sum = 0;
+  for (std::size_t p : moving_) {
+    double v2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double va = v ? v[p * 3 + a]
+                          : (x[p * 3 + a] - previous_[p * 3 + a]) * o_.simulation_scale /
+                                (time_s - previous_time_s_);
+      v2 += va * va;
     }
-    if (bad) r.non_finite.Add(f, bad);
-    if (outside) r.outside_box.Add(f, outside);
-    if (t.has_velocities() || f > 0) {
-      const double speed = MeanSpeed(t, f, moving, o.simulation_scale);
-      if (std::isfinite(speed)) r.max_mean_speed_m_s = std::max(r.max_mean_speed_m_s, speed);
-      if (!(speed <= o.speed_limit_m_s)) r.blow_up.Add(f);
-    }
-    if (t.has_density()) {
-      std::size_t out = 0;
-      for (std::size_t p = 0; p < t.particle_count(); ++p) {
-        const float rho = t.density[f * t.particle_count() + p];
-        if (!(rho >= o.density_min && rho <= o.density_max)) ++out;
-      }
-      if (out) r.density_out_of_range.Add(f, out);
+    sum += std::sqrt(v2);
+  }
+  return sum / double(moving_.size());
+}
+
+void StabilityMonitor::Observe(double time_s, const float* x, const float* v, const float* rho) {
+  const std::size_t f = report_.frames++;
+  StabilityReport& r = report_;
+  if (f == 0) r.density_checked = rho != nullptr, r.velocities_from_positions = v == nullptr;
+  std::size_t bad = 0, outside = 0;
+  for (std::size_t p = 0; p < type_.size(); ++p) {
+    const float* xp = x + 3 * p;
+    if (!std::isfinite(xp[0]) || !std::isfinite(xp[1]) || !std::isfinite(xp[2])) {
+      ++bad;
+    } else if (Outside(box_, xp, o_.box_tolerance_cu)) {
+      ++outside;
     }
   }
+  if (bad) r.non_finite.Add(f, bad);
+  if (outside) r.outside_box.Add(f, outside);
+  if (v || f > 0) {
+    const double speed = MeanSpeed(time_s, x, v);
+    if (std::isfinite(speed)) r.max_mean_speed_m_s = std::max(r.max_mean_speed_m_s, speed);
+    if (!(speed <= o_.speed_limit_m_s)) r.blow_up.Add(f);
+  }
+  if (!v) previous_.assign(x, x + 3 * type_.size()), previous_time_s_ = time_s;
+  if (!rho) return;
+  std::size_t out = 0;
+  const std::size_t checked = density_checked_.size();
+  for (std::size_t p : density_checked_)
+    if (!(rho[p] >= o_.density_min && rho[p] <= o_.density_max)) ++out;
+  const double fraction = checked ? double(out) / double(checked) : 0;
+  r.max_density_outside_fraction = std::max(r.max_density_outside_fraction, fraction);
+  if (out && fraction > o_.density_outside_fraction) r.density_out_of_range.Add(f, out);
+}
+
+StabilityReport CheckStability(const Trajectory& t, const StabilityOptions& o) {
+  StabilityMonitor monitor(t.box, t.type, o);
+  const std::size_t n = t.particle_count();
+  for (std::size_t f = 0; f < t.frame_count(); ++f)
+    monitor.Observe(t.time_s[f], t.position(f, 0),
+                    t.has_velocities() ? &t.velocities[f * n * 3] : nullptr,
+                    t.has_density() ? &t.density[f * n] : nullptr);
+  StabilityReport r = monitor.report();
+  r.density_checked = t.has_density();
+  r.velocities_from_positions = !t.has_velocities();
   return r;
 }
 
@@ -107,6 +128,8 @@ nlohmann::json StabilityReport::ToJson() const {
           {"density_checked", density_checked},
           {"speed_from_finite_differences", velocities_from_positions},
           {"max_mean_speed_m_s", max_mean_speed_m_s},
+          {"frames", frames},
+          {"max_density_outside_fraction", max_density_outside_fraction},
           {"pass", pass()}};
 }
 
@@ -116,7 +139,9 @@ std::string StabilityReport::ToTable() const {
   s << Describe("NaN/Inf particle-frames", non_finite)
     << Describe("outside-box particle-frames", outside_box) << Describe("blow-up frames", blow_up);
   if (density_checked)
-    s << Describe("density out of range", density_out_of_range);
+    s << Describe("density out of range", density_out_of_range)
+      << "  worst frame's fraction of particles outside the density range: "
+      << max_density_outside_fraction * 100 << "%\n";
   else
     s << "  density: not in this file (not checked)\n";
   s << "  max mean speed: " << max_mean_speed_m_s << " m/s"

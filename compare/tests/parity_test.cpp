@@ -198,6 +198,40 @@ TEST(Stability, BlowUpFromPositionsWhenNoVelocities) {
   EXPECT_EQ(CheckStability(t, strict).blow_up.first_frame, 2u);
 }
 
+// The long-run gate's density rule: liquid only, a frame fails when more than 1% of the liquid
+// particles leave 700-1300 kg/m^3; fed frame by frame, memory O(particles).
+TEST(StabilityMonitor, LiquidDensityRuleToleratesOnePercentAndIgnoresOtherKinds) {
+  Trajectory t;
+  t.box = {0, 100, 0, 100, 0, 100};
+  t.type.assign(200, 1.1f);  // 200 liquid particles, then an elastic and a boundary one
+  t.type.push_back(2.1f);
+  t.type.push_back(3.0f);
+  const std::size_t n = t.type.size();
+  std::vector<float> x(3 * n, 50.0f), v(3 * n, 0.0f), rho(n, 1000.0f);
+  rho[200] = 600, rho[201] = 0;  // elastic and boundary: not checked
+  StabilityMonitor monitor(t.box, t.type, LongRunStabilityOptions());
+  rho[0] = rho[1] = 250;  // 2 of 200 liquid particles: 1%, tolerated
+  monitor.Observe(0, x.data(), v.data(), rho.data());
+  EXPECT_TRUE(monitor.report().pass());
+  rho[2] = 1400;  // 3 of 200: 1.5%
+  monitor.Observe(4e-4, x.data(), v.data(), rho.data());
+  EXPECT_FALSE(monitor.report().pass());
+  EXPECT_EQ(monitor.report().density_out_of_range.first_frame, 1u);
+  EXPECT_DOUBLE_EQ(monitor.report().max_density_outside_fraction, 0.015);
+  EXPECT_EQ(monitor.report().frames, 2u);
+}
+
+TEST(StabilityMonitor, FedFrameByFrameAgreesWithCheckStability) {
+  Trajectory t = TwoLiquidParticles(10);
+  t.position(5, 1)[0] = 12.5f;
+  t.velocities[(7 * 2 + 0) * 3] = 50.0f;
+  const StabilityReport whole = CheckStability(t);
+  StabilityMonitor monitor(t.box, t.type);
+  for (std::size_t f = 0; f < t.frame_count(); ++f)
+    monitor.Observe(t.time_s[f], t.position(f, 0), &t.velocities[f * 6], &t.density[f * 2]);
+  EXPECT_EQ(monitor.report().ToJson(), whole.ToJson());
+}
+
 TEST(Incompressibility, MeasuresMeanAndMaxDeviation) {
   Trajectory t = TwoLiquidParticles(3);
   t.density = {1000, 1000, 1000, 1030, 1000, 1000};  // frame 1 particle 1 is 3% dense

@@ -54,25 +54,50 @@ std::size_t StepCount(const std::string& source, double duration_s, double time_
   return static_cast<std::size_t>(steps);
 }
 
-void RecordFrame(const Solver& solver, double time_s, bool fields, Trajectory* t) {
+// The frame buffers of a run, reused from frame to frame.
+struct FrameBuffers {
+  std::vector<float> positions, velocities, density, pressure;
+};
+
+FrameView Capture(const Solver& solver, bool fields, FrameBuffers* b) {
   const std::span<const Float4> x = solver.positions();
-  t->time_s.push_back(time_s);
-  for (const Float4& p : x) t->positions.insert(t->positions.end(), {p.x, p.y, p.z});
-  if (!fields) return;
+  b->positions.clear();
+  for (const Float4& p : x) b->positions.insert(b->positions.end(), {p.x, p.y, p.z});
+  FrameView f;
+  f.positions = b->positions;
+  if (!fields) return f;
   const std::span<const Float4> v = solver.velocities();
+  b->velocities.clear();
   for (std::size_t i = 0; i < x.size(); ++i) {
     // A boundary's slot holds its normal: it does not move.
     if (internal::IsBoundary(x[i].w)) {
-      t->velocities.insert(t->velocities.end(), {0.0f, 0.0f, 0.0f});
+      b->velocities.insert(b->velocities.end(), {0.0f, 0.0f, 0.0f});
     } else {
-      t->velocities.insert(t->velocities.end(), {v[i].x, v[i].y, v[i].z});
+      b->velocities.insert(b->velocities.end(), {v[i].x, v[i].y, v[i].z});
     }
   }
-  const std::vector<float> density = solver.Density();
-  t->density.insert(t->density.end(), density.begin(), density.end());
+  b->density = solver.Density();
   const std::span<const float> pressure = solver.pressure();
-  t->pressure.insert(t->pressure.end(), pressure.begin(), pressure.end());
+  b->pressure.assign(pressure.begin(), pressure.end());
+  f.velocities = b->velocities, f.density = b->density, f.pressure = b->pressure;
+  return f;
 }
+
+// Keeps every frame: the in-memory Run.
+class MemorySink : public FrameSink {
+ public:
+  explicit MemorySink(Trajectory* t) : t_(t) {}
+  void Begin(const Trajectory& header) override { *t_ = header; }
+  void Frame(const FrameView& f) override {
+    t_->AppendFrame(f.time_s, f.positions.data());
+    t_->velocities.insert(t_->velocities.end(), f.velocities.begin(), f.velocities.end());
+    t_->density.insert(t_->density.end(), f.density.begin(), f.density.end());
+    t_->pressure.insert(t_->pressure.end(), f.pressure.begin(), f.pressure.end());
+  }
+
+ private:
+  Trajectory* t_;
+};
 
 // Writes the solver's state into dir (atomically) and returns the file's path; "" without dir.
 std::string DumpState(const Solver& solver, std::size_t step, const std::filesystem::path& dir) {
@@ -114,11 +139,59 @@ void Provenance(const SiberneticConfig& config, const RunOptions& o, const Physi
   if (!parameters.empty()) t->provenance["scheme_parameters"] = parameters;
 }
 
+// The first moving particle whose position or velocity is not finite: (index, quantity), or
+// (-1, "").
+std::pair<std::int64_t, const char*> FirstNonFinite(const Solver& solver) {
+  const std::int64_t bad = solver.FirstNonFinite();
+  if (bad >= 0) return {bad, "position"};
+  const std::span<const Float4> x = solver.positions(), v = solver.velocities();
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!internal::IsBoundary(x[i].w) &&
+        !(std::isfinite(v[i].x) && std::isfinite(v[i].y) && std::isfinite(v[i].z)))
+      return {std::int64_t(i), "velocity"};
+  return {-1, ""};
+}
+
+void StopOnNonFinite(const Solver& solver, std::size_t k, const RunOptions& options) {
+  const auto [bad, quantity] = FirstNonFinite(solver);
+  if (bad < 0) return;
+  const std::string dump = DumpState(solver, k, options.dump_dir);
+  throw SimulationError("NaN at step " + std::to_string(k) + " in particle " + std::to_string(bad) +
+                        " (" + quantity + ")" +
+                        (dump.empty() ? " (no state dump: no dump directory given)"
+                                      : " (state dumped to " + dump + ")"));
+}
+
+// Frames recorded after steps [0, steps): one per k with k % log_step == 0.
+std::size_t FramesBefore(std::size_t steps, std::size_t log_step) {
+  return (steps + log_step - 1) / log_step;
+}
+
+// The trajectory's metadata (no frames) for FrameSink::Begin.
+Trajectory Header(const SiberneticConfig& config, const RunOptions& options,
+                  const PhysicsConstants& constants, const Solver& solver, bool muscles) {
+  Trajectory t;
+  t.box = config.box;
+  t.time_step_s = constants.time_step_s;
+  t.log_step = std::max(1, options.log_step);
+  for (const Row4& p : config.position) t.type.push_back(p[3]);
+  Provenance(config, options, constants, solver, &t);
+  t.provenance["muscle_signal"] =
+      muscles ? "main_sim.MuscleSimulation swimming/crawling waves (owval closed form)"
+              : "none (all activations zero)";
+  return t;
+}
+
+void Checkpoint(const Solver& solver, std::size_t frames, FrameSink* sink) {
+  std::string state;
+  solver.SaveState(&state);
+  sink->Checkpoint(solver.steps_done(), frames, state);
+}
+
 }  // namespace
 
-Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSummary* summary) {
-  RunSummary local;
-  RunSummary& sum = summary ? *summary : local;
+RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameSink* sink) {
+  RunSummary sum;
   PhysicsConstants constants = options.constants;
   if (!config.physical_parameters.empty()) {
     if (options.apply_physical_parameters) {
@@ -137,45 +210,63 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
   solver_options.constants = constants;
   const std::unique_ptr<Solver> made = MakeSolver(config, solver_options);
   Solver& solver = *made;
+  if (options.checkpoint_every > 0) {
+    std::string probe;  // a backend that cannot checkpoint says so before the first step
+    solver.SaveState(&probe);
+  }
+  if (!options.resume_state.empty()) {
+    solver.RestoreState(options.resume_state, options.resume_source);
+    if (solver.steps_done() > steps)
+      throw InputError(options.resume_source, 0,
+                       "the checkpoint is at step " + std::to_string(solver.steps_done()) +
+                           ", past the run's " + std::to_string(steps) + " steps");
+  }
   sum.reference_equivalent = solver.reference_equivalent();
   sum.muscles_driven = options.muscle_signal == MuscleSignal::kSwimmingWaves ||
                        (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
-  Trajectory t;
-  t.box = config.box;
-  t.time_step_s = constants.time_step_s;
-  t.log_step = std::max(1, options.log_step);
-  for (const Row4& p : config.position) t.type.push_back(p[3]);
-  Provenance(config, options, constants, solver, &t);
-  t.provenance["muscle_signal"] =
-      sum.muscles_driven ? "main_sim.MuscleSimulation swimming/crawling waves (owval closed form)"
-                         : "none (all activations zero)";
+  const std::size_t log_step = std::size_t(std::max(1, options.log_step));
+  sink->Begin(Header(config, options, constants, solver, sum.muscles_driven));
+  sum.first_step = solver.steps_done();
+  std::size_t frames = FramesBefore(sum.first_step, log_step);
+  FrameBuffers buffers;
   const auto start = std::chrono::steady_clock::now();
-  for (std::size_t k = 0; k < steps; ++k) {
+  for (std::size_t k = sum.first_step; k < steps; ++k) {
+    if (options.stop_requested && options.stop_requested()) {
+      sum.interrupted = true;
+      Checkpoint(solver, frames, sink);
+      break;
+    }
     solver.Step();
     // Sibernetic asks for the next activations after each step; step k + 1 uses call k's.
     if (sum.muscles_driven) {
       const auto signal = MuscleSimulationSignal(double(k));
       std::copy(signal.begin(), signal.end(), solver.muscle_activation().begin());
     }
-    const std::int64_t bad = solver.FirstNonFinite();
-    if (bad >= 0) {
-      const std::string dump = DumpState(solver, k, options.dump_dir);
-      throw InputError(config.source, 0,
-                       "NaN at step " + std::to_string(k) + " in particle " + std::to_string(bad) +
-                           (dump.empty() ? " (no state dump: no dump directory given)"
-                                         : " (state dumped to " + dump + ")"));
-    }
-    if (k % std::size_t(t.log_step) == 0) {
-      RecordFrame(solver, double(k) * constants.time_step_s, options.record_fields, &t);
+    StopOnNonFinite(solver, k, options);
+    if (k % log_step == 0) {
+      FrameView f = Capture(solver, options.record_fields, &buffers);
+      f.index = frames++, f.step = k, f.time_s = double(k) * constants.time_step_s;
+      sink->Frame(f);
+      // A scheme's own per-frame record (WCSPH: dt history, rollbacks, density variation).
       if (std::string log = solver.TakeStepLog(); !log.empty())
         sum.frame_log.push_back(std::move(log));
     }
     if (options.on_step) options.on_step(k + 1, steps);
+    if (options.checkpoint_every > 0 && (k + 1) % options.checkpoint_every == 0 && k + 1 < steps)
+      Checkpoint(solver, frames, sink);
   }
-  sum.steps = steps;
-  sum.frames = t.frame_count();
+  sum.steps = solver.steps_done();
+  sum.frames = frames;
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  sum.steps_per_s = sum.wall_s > 0 ? double(steps) / sum.wall_s : 0;
+  sum.steps_per_s = sum.wall_s > 0 ? double(sum.steps - sum.first_step) / sum.wall_s : 0;
+  return sum;
+}
+
+Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSummary* summary) {
+  Trajectory t;
+  MemorySink sink(&t);
+  const RunSummary s = Run(config, options, &sink);
+  if (summary) *summary = s;
   return t;
 }
 

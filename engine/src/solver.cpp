@@ -85,6 +85,14 @@ std::int64_t Solver::FirstNonFinite() const {
   return -1;
 }
 
+void Solver::SaveState(std::string*) const {
+  throw InputError("backend " + name() + " cannot checkpoint (no --checkpoint-every or --resume)");
+}
+
+void Solver::RestoreState(const std::string&, const std::string& source) {
+  throw InputError(source, 0, "backend " + name() + " cannot checkpoint: nothing to resume");
+}
+
 std::vector<std::string> KnownBackends() {
   std::vector<std::string> names;
   for (const BackendEntry& b : Backends()) names.push_back(b.name);

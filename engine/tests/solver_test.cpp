@@ -76,16 +76,18 @@ TEST(RunDump, NaNStateDumpGoesToTheDumpDirectory) {
   try {
     engine::Run(TwoLiquidParticlesAt(50, 50), o);
     FAIL() << "no NaN";
-  } catch (const InputError& e) {
+  } catch (const SimulationError& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("NaN at step 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("(position)"), std::string::npos) << what;
     EXPECT_NE(what.find(dir.string()), std::string::npos) << what;
   }
   EXPECT_TRUE(fs::exists(dir / "owval_nan_dump_step1.txt"));
   o.dump_dir.clear();
   try {
     engine::Run(TwoLiquidParticlesAt(50, 50), o);
-  } catch (const InputError& e) {
+    FAIL() << "no NaN";
+  } catch (const SimulationError& e) {
     EXPECT_NE(std::string(e.what()).find("no state dump"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists("owval_nan_dump_step1.txt"));

@@ -348,14 +348,20 @@ FileFormat DetectFormat(const std::filesystem::path& path) {
 
 Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptions& options,
                           TextReadReport* report) {
+  Trajectory t;
   if (DetectFormat(path) == FileFormat::kHdf5) {
-    Trajectory t = ReadHdf5(path);
+    t = ReadHdf5(path);
     if (report)
       report->description = "owval HDF5: " + std::to_string(t.frame_count()) + " frames, " +
                             std::to_string(t.particle_count()) + " particles";
-    return t;
+  } else {
+    t = ReadSiberneticText(path, options, report);
   }
-  return ReadSiberneticText(path, options, report);
+  // The text format has no metadata: its name (PartialPath) says it is partial.
+  if (path.stem().extension() == ".partial") t.provenance["partial"].assign(1, '1');
+  if (report && t.provenance.count("partial"))
+    report->description += " (partial: an interrupted run's, see its checkpoint)";
+  return t;
 }
 
 void WriteTrajectory(const Trajectory& t, const std::filesystem::path& path, TextLayout layout) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "hdf5_handle.hpp"
 #include "hdf5_preflight.hpp"
@@ -39,8 +40,36 @@ class Hdf5Writer : public TrajectoryWriter {
     positions_ = Create("positions", 3, options);
     if (header.velocities) velocities_ = Create("velocities", 3, options);
     if (header.density) density_ = Create("density", 1, options);
+    if (header.pressure) pressure_ = Create("pressure", 1, options);
     time_ = CreateTime();
     WriteStatic(header);
+  }
+
+  // Continues `file` (a checkpointed run's): datasets shrunk to the checkpoint's whole chunks,
+  // the partial mark removed, the pending frames buffered again.
+  Hdf5Writer(const std::filesystem::path& destination, const TrajectoryHeader& header,
+             const Hdf5WriteOptions& options, const WriterCheckpoint& checkpoint,
+             const std::filesystem::path& file)
+      : out_(destination),
+        name_(file.string()),
+        particles_(header.type.size()),
+        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+    PrepareHdf5();
+    out_.Adopt(file);
+    positions_.values_per_frame = particles_ * 3;
+    if (header.velocities) velocities_.values_per_frame = particles_ * 3;
+    if (header.density) density_.values_per_frame = particles_;
+    if (header.pressure) pressure_.values_per_frame = particles_;
+    OpenExisting();
+    written_ = checkpoint.file_frames;
+    for (Stream* s : Streams()) Shrink(s->set);
+    Shrink(time_);
+    if (H5Aexists(file_, "partial") > 0 && H5Adelete(file_, "partial") < 0)
+      Fail("remove the partial mark");
+    Unpack(checkpoint.pending);
+    if (written_ + times_.size() != checkpoint.frames)
+      throw InputError(name_, 0, "cannot resume: the checkpoint's frame counts disagree");
   }
 
   ~Hdf5Writer() override {
@@ -49,10 +78,11 @@ class Hdf5Writer : public TrajectoryWriter {
   }  // out_ then removes the temporary if not renamed
 
   void AppendFrame(double time_s, const float* positions, const float* velocities,
-                   const float* density) override {
+                   const float* density, const float* pressure) override {
     Buffer(positions_, positions);
     if (velocities_.set >= 0) Buffer(velocities_, velocities);
     if (density_.set >= 0) Buffer(density_, density);
+    if (pressure_.set >= 0) Buffer(pressure_, pressure);
     times_.push_back(time_s);
     if (times_.size() == frames_per_chunk_) {
       const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
@@ -81,7 +111,96 @@ class Hdf5Writer : public TrajectoryWriter {
 
   std::size_t frames_written() const override { return written_ + times_.size(); }
 
+  WriterCheckpoint Checkpoint() override {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+    WriterCheckpoint c;
+    c.file = out_.temporary_path().filename().string();
+    c.frames = frames_written();
+    c.file_frames = written_;
+    c.pending = Pack();
+    CloseHandles();
+    OpenExisting();
+    out_.KeepOnFailure();
+    return c;
+  }
+
  private:
+  std::vector<Stream*> Streams() {
+    std::vector<Stream*> all;
+    for (Stream* s : {&positions_, &velocities_, &density_, &pressure_})
+      if (s->values_per_frame > 0) all.push_back(s);
+    return all;
+  }
+
+  // Opens the temporary for appending with metadata evictions off: HDF5 then writes metadata
+  // only when flushed (the next checkpoint or the end), so a process killed in between leaves
+  // the file as the last checkpoint described it, plus unreferenced chunks past its end.
+  void OpenExisting() {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    H5AC_cache_config_t cache;
+    cache.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+    if (H5Pget_mdc_config(fapl, &cache) < 0) Fail("read the metadata cache configuration");
+    cache.evictions_enabled = false;
+    cache.incr_mode = H5C_incr__off;
+    cache.flash_incr_mode = H5C_flash_incr__off;
+    cache.decr_mode = H5C_decr__off;
+    if (H5Pset_mdc_config(fapl, &cache) < 0) Fail("configure the metadata cache");
+    file_ = H5Fopen(out_.temporary_path().c_str(), H5F_ACC_RDWR, fapl);
+    if (file_ < 0) Fail("reopen the file");
+    const char* names[] = {"positions", "velocities", "density", "pressure"};
+    Stream* streams[] = {&positions_, &velocities_, &density_, &pressure_};
+    for (int i = 0; i < 4; ++i) {
+      if (streams[i]->values_per_frame == 0) continue;
+      streams[i]->set = H5Dopen2(file_, names[i], H5P_DEFAULT);
+      if (streams[i]->set < 0) Fail(std::string("open dataset ") + names[i]);
+      streams[i]->buffer.reserve(frames_per_chunk_ * streams[i]->values_per_frame);
+    }
+    time_ = H5Dopen2(file_, "time", H5P_DEFAULT);
+    if (time_ < 0) Fail("open dataset time");
+  }
+
+  void Shrink(hid_t set) {
+    Handle space(H5Dget_space(set), H5Sclose);
+    std::vector<hsize_t> dims(std::size_t(H5Sget_simple_extent_ndims(space)));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    if (dims.empty() || dims[0] < written_)
+      throw InputError(name_, 0,
+                       "cannot resume: holds " + std::to_string(dims.empty() ? 0 : dims[0]) +
+                           " frames, the checkpoint " + std::to_string(written_));
+    dims[0] = written_;
+    if (H5Dset_extent(set, dims.data()) < 0) Fail("shrink a dataset to the checkpoint");
+  }
+
+  // Buffered frames as bytes: count, times, then each stream's values.
+  std::string Pack() {
+    std::string out;
+    const std::uint64_t n = times_.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof n);
+    out.append(reinterpret_cast<const char*>(times_.data()), n * sizeof(double));
+    for (Stream* s : Streams())
+      out.append(reinterpret_cast<const char*>(s->buffer.data()), s->buffer.size() * sizeof(float));
+    return out;
+  }
+
+  void Unpack(const std::string& in) {
+    std::uint64_t n = 0;
+    std::size_t expected = sizeof n;
+    if (in.size() >= sizeof n) std::memcpy(&n, in.data(), sizeof n);
+    if (n >= frames_per_chunk_) throw InputError(name_, 0, "cannot resume: bad pending frames");
+    expected += n * sizeof(double);
+    for (Stream* s : Streams()) expected += n * s->values_per_frame * sizeof(float);
+    if (in.size() != expected) throw InputError(name_, 0, "cannot resume: bad pending frames");
+    const char* p = in.data() + sizeof n;
+    times_.assign(reinterpret_cast<const double*>(p), reinterpret_cast<const double*>(p) + n);
+    p += n * sizeof(double);
+    for (Stream* s : Streams()) {
+      const std::size_t values = n * s->values_per_frame;
+      s->buffer.resize(values);
+      std::memcpy(s->buffer.data(), p, values * sizeof(float));
+      p += values * sizeof(float);
+    }
+  }
+
   [[noreturn]] void Fail(const std::string& what) const {
     throw InputError(name_, 0, "HDF5: cannot " + what + " (disk full?)");
   }
@@ -177,7 +296,7 @@ class Hdf5Writer : public TrajectoryWriter {
   void Flush() {
     const std::size_t frames = times_.size();
     if (frames == 0) return;
-    for (Stream* s : {&positions_, &velocities_, &density_}) {
+    for (Stream* s : {&positions_, &velocities_, &density_, &pressure_}) {
       if (s->set < 0) continue;
       Extend(s->set, frames, s->buffer.data(), H5T_NATIVE_FLOAT);
       s->buffer.clear();
@@ -193,7 +312,7 @@ class Hdf5Writer : public TrajectoryWriter {
   }
 
   void CloseHandles() {
-    for (Stream* s : {&positions_, &velocities_, &density_})
+    for (Stream* s : {&positions_, &velocities_, &density_, &pressure_})
       if (s->set >= 0) H5Dclose(s->set), s->set = -1;
     if (time_ >= 0) H5Dclose(time_), time_ = -1;
     if (file_ >= 0 && H5Fclose(file_) < 0) {
@@ -208,7 +327,7 @@ class Hdf5Writer : public TrajectoryWriter {
   hsize_t particles_;
   std::size_t frames_per_chunk_, written_ = 0;
   hid_t file_ = -1, time_ = -1;
-  Stream positions_, velocities_, density_;
+  Stream positions_, velocities_, density_, pressure_;
   std::vector<double> times_;
 };
 
@@ -218,6 +337,14 @@ std::unique_ptr<TrajectoryWriter> OpenHdf5Writer(const std::filesystem::path& de
                                                  const TrajectoryHeader& header,
                                                  const Hdf5WriteOptions& options) {
   return std::make_unique<Hdf5Writer>(destination, header, options);
+}
+
+std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& destination,
+                                                   const TrajectoryHeader& header,
+                                                   const Hdf5WriteOptions& options,
+                                                   const WriterCheckpoint& checkpoint) {
+  return std::make_unique<Hdf5Writer>(destination, header, options, checkpoint,
+                                      CheckpointedFile(destination, checkpoint));
 }
 
 }  // namespace owval::internal

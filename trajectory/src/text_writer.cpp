@@ -24,7 +24,8 @@ class TextWriter : public TrajectoryWriter {
     buffer_ = TextHeader(header.box, header.type, header.time_step_s, header.log_step);
   }
 
-  void AppendFrame(double, const float* positions, const float*, const float*) override {
+  void AppendFrame(double, const float* positions, const float*, const float*,
+                   const float*) override {
     const std::size_t rows = (frames_ == 0 || native_) ? type_.size() : moving_;
     for (std::size_t i = 0; i < rows; ++i) AppendRow(buffer_, positions + 3 * i, type_[i]);
     ++frames_;
@@ -42,6 +43,23 @@ class TextWriter : public TrajectoryWriter {
   }
 
   std::size_t frames_written() const override { return frames_; }
+
+  WriterCheckpoint Checkpoint() override {
+    Flush();
+    WriterCheckpoint c;
+    c.file = out_.temporary_path().filename().string();
+    c.frames = frames_;
+    c.bytes = std::filesystem::file_size(out_.temporary_path());
+    out_.KeepOnFailure();
+    return c;
+  }
+
+  // Continues `file`, already cut back to the checkpoint, after `frames` frames.
+  void Continue(const std::filesystem::path& file, std::size_t frames) {
+    out_.Adopt(file);
+    frames_ = frames;
+    buffer_.clear();
+  }
 
  private:
   void Flush() {
@@ -61,6 +79,34 @@ class TextWriter : public TrajectoryWriter {
 
 }  // namespace
 
+std::filesystem::path CheckpointedFile(const std::filesystem::path& destination,
+                                       const WriterCheckpoint& checkpoint) {
+  const std::filesystem::path file = destination.parent_path() / checkpoint.file;
+  if (!checkpoint.file.empty() && checkpoint.file.find('/') == std::string::npos &&
+      std::filesystem::is_regular_file(file))
+    return file;
+  const std::filesystem::path partial = PartialPath(destination);
+  if (std::filesystem::is_regular_file(partial)) return partial;
+  throw InputError(destination.string(), 0,
+                   "cannot resume: neither " + file.string() + " nor " + partial.string() +
+                       " exists (the output of the checkpointed run)");
+}
+
+std::unique_ptr<TrajectoryWriter> ResumeTextWriter(const std::filesystem::path& destination,
+                                                   const TrajectoryHeader& header,
+                                                   TextLayout layout,
+                                                   const WriterCheckpoint& checkpoint) {
+  const std::filesystem::path file = CheckpointedFile(destination, checkpoint);
+  if (std::filesystem::file_size(file) < checkpoint.bytes)
+    throw InputError(file.string(), 0,
+                     "cannot resume: shorter than the checkpoint's " +
+                         std::to_string(checkpoint.bytes) + " bytes");
+  std::filesystem::resize_file(file, checkpoint.bytes);
+  auto writer = std::make_unique<TextWriter>(destination, header, layout);
+  writer->Continue(file, checkpoint.frames);
+  return writer;
+}
+
 std::unique_ptr<TrajectoryWriter> OpenTextWriter(const std::filesystem::path& destination,
                                                  const TrajectoryHeader& header,
                                                  TextLayout layout) {
@@ -76,6 +122,18 @@ std::filesystem::path PartialPath(const std::filesystem::path& destination) {
   partial.replace_filename(destination.stem().string() + ".partial" +
                            destination.extension().string());
   return partial;
+}
+
+std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::path& destination,
+                                                         const TrajectoryHeader& header,
+                                                         const WriterCheckpoint& checkpoint,
+                                                         const TrajectoryWriterOptions& options) {
+  const std::string ext = destination.extension().string();
+  if (ext == ".h5" || ext == ".hdf5")
+    return internal::ResumeHdf5Writer(destination, header, options.hdf5, checkpoint);
+  return internal::ResumeTextWriter(
+      destination, header,
+      options.layout == TextLayout::kAuto ? TextLayout::kOpenCL : options.layout, checkpoint);
 }
 
 std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,

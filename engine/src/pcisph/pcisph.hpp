@@ -56,6 +56,11 @@ class Pcisph final : public Solver {
   std::int64_t FirstNonFinite() const override;
   void EnablePhaseTiming() override { timing_ = true; }
   std::vector<PhaseTime> phase_seconds() const override;
+  // Everything Step() reads: the particle state (x, v, a, last a, ρ, p, neighbour lists, active
+  // set), x*, ρ*, a_p, the muscle activations and the step counter. The neighbour grid is not
+  // saved: Refresh rebuilds it from the positions at the start of every step.
+  void SaveState(std::string* out) const override;
+  void RestoreState(const std::string& state, const std::string& source) override;
 
   const ParticleState& state() const { return state_; }
 

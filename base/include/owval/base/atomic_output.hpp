@@ -24,15 +24,24 @@ class AtomicOutput {
   void Commit();
   // The same, onto another name (a partial trajectory's, when a run is interrupted).
   void CommitAs(const std::filesystem::path& destination);
+  // Continues an existing file instead of a new temporary (a resumed run's output): stream()
+  // then appends to it, Commit() renames it onto the destination, and an uncommitted output
+  // leaves it in place for the next resume.
+  void Adopt(const std::filesystem::path& existing);
+  // Keep the temporary when destroyed uncommitted (a checkpointed run's output, for --resume).
+  void KeepOnFailure() { keep_ = true; }
 
  private:
   std::filesystem::path destination_;
   std::filesystem::path temporary_;
   std::ofstream stream_;
   bool committed_ = false;
+  bool keep_ = false;
+  bool append_ = false;
 };
 
-// A directory of outputs that appears whole or not at all (`owval pipeline`'s report): every file
+// A directory of outputs that appears whole or not at all (`owval pipeline`'s report; it too
+// removes a killed process's temporary directory for the same destination): every file
 // is written into a temporary sibling directory, and Commit() puts it in place of the destination,
 // replacing an older one only then, so an interrupted rerun never mixes old and new artifacts. A
 // destroyed AtomicDirectory that was never committed removes its temporary directory.
@@ -53,7 +62,9 @@ class AtomicDirectory {
   bool committed_ = false;
 };
 
-// Writes the whole string atomically.
+// Writes the whole string atomically. Also removes what a killed process left for the same
+// destination (".NAME.tmp.PID.N" whose PID no longer runs). A streaming AtomicOutput does not:
+// an interrupted run's checkpoint refers to its temporaries, and `owval run --resume` reopens them.
 void WriteFileAtomically(const std::filesystem::path& destination, const std::string& contents);
 
 // Checks, before any work starts, that `destination` can be written: not an existing directory,

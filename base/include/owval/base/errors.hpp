@@ -38,12 +38,22 @@ class Cancelled : public std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
 
+// The simulation itself failed on valid input: a NaN or a diverging particle. One line naming
+// the step, the particle and the quantity; the CLI exits with code 1 (kExitGateFailed), not 2.
+class SimulationError : public std::runtime_error {
+ public:
+  explicit SimulationError(const std::string& message);
+};
+
 // Exit codes shared by every command (design notes §5).
+// kExitInterrupted: a run stopped by SIGINT (128 + the signal, the shell's convention; SIGTERM
+// gives 143), after leaving a partial trajectory and a checkpoint.
 enum ExitCode : int {
   kExitPass = 0,
   kExitGateFailed = 1,
   kExitBadInput = 2,
   kExitEnvironment = 3,
+  kExitInterrupted = 130
 };
 
 }  // namespace owval

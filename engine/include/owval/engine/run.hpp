@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 
 #include "owval/engine/config.hpp"
@@ -33,6 +34,44 @@ struct RunOptions {
   std::filesystem::path dump_dir;
   // Called after every step with (steps done, total steps); may be empty.
   std::function<void(std::size_t, std::size_t)> on_step;
+
+  // Long runs (streaming Run below). Every checkpoint_every steps (0: never) the solver's state
+  // goes to FrameSink::Checkpoint.
+  std::size_t checkpoint_every = 0;
+  // Polled between steps (never from a signal handler); when it returns true the run checkpoints
+  // and returns early with RunSummary::interrupted. May be empty.
+  std::function<bool()> stop_requested;
+  // A Solver::SaveState blob to continue from instead of the configuration's initial state
+  // (owval run --resume); resume_source names it in errors. Empty: start at step 0.
+  std::string resume_state;
+  std::string resume_source;
+};
+
+// One recorded frame, valid during FrameSink::Frame only. Fields are empty when
+// RunOptions::record_fields is false (velocities of boundary particles are 0: their slot holds a
+// wall normal).
+struct FrameView {
+  std::size_t index = 0;  // frame number in the whole run (a resumed run continues the count)
+  std::size_t step = 0;   // the frame follows this step (k % log_step == 0)
+  double time_s = 0;      // step * time step
+  std::span<const float> positions;   // 3 a particle, cu
+  std::span<const float> velocities;  // 3 a particle, m/s
+  std::span<const float> density;     // 1 a particle, kg/m^3
+  std::span<const float> pressure;    // 1 a particle, Pa
+};
+
+// Where a streaming run sends its frames: memory stays O(particles) whatever the run's length.
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  // Once, before the first step: the run's trajectory metadata (box, time step, log step, types,
+  // provenance) without frames.
+  virtual void Begin(const Trajectory& header) = 0;
+  virtual void Frame(const FrameView& frame) = 0;
+  // Every RunOptions::checkpoint_every steps, and when a stop is requested: steps done, frames
+  // recorded so far and Solver::SaveState's blob. Default: ignored.
+  virtual void Checkpoint(std::size_t /*steps_done*/, std::size_t /*frames*/,
+                          const std::string& /*solver_state*/) {}
 };
 
 struct RunSummary {
@@ -42,16 +81,23 @@ struct RunSummary {
   double steps_per_s = 0;
   bool reference_equivalent = true;   // false when constants differ from Sibernetic's
   bool muscles_driven = false;        // activations came from MuscleSimulation's waves
+  bool interrupted = false;           // stop_requested returned true before the last step
+  std::size_t first_step = 0;         // > 0 for a resumed run
   std::vector<std::string> warnings;  // e.g. "[physical parameters] parsed but not applied"
   // Per recorded frame, the solver's TakeStepLog() (adaptive schemes: wcsph); empty otherwise.
   std::vector<std::string> frame_log;
 };
 
 // Runs the configuration with the solver options.backend names (MakeSolver in solver.hpp) and
-// records a frame every log_step steps. Throws InputError for a configuration the engine cannot
-// run (particle outside the box, connection to a missing particle, ...), an unknown backend or a
-// non-physical constant. When a NaN appears it throws InputError naming the step and particle,
-// after writing a state dump into options.dump_dir when one is given (path in the message).
+// sends a frame to `sink` every log_step steps. Throws InputError for a configuration the engine
+// cannot run (particle outside the box, connection to a missing particle, ...), an unknown
+// backend, a non-physical constant or a resume state that does not fit. When a position or
+// velocity becomes NaN or infinite it throws SimulationError naming the step, particle and
+// quantity, after writing a state dump into options.dump_dir when one is given (path in the
+// message).
+RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameSink* sink);
+
+// The same with every frame kept in memory (tests, fits, short runs): memory grows with frames.
 Trajectory Run(const SiberneticConfig& config, const RunOptions& options,
                RunSummary* summary = nullptr);
 

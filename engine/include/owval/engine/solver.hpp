@@ -60,6 +60,16 @@ class Solver {
   };
   virtual void EnablePhaseTiming() {}
   virtual std::vector<PhaseTime> phase_seconds() const { return {}; }
+
+  // Checkpoints (owval run --checkpoint-every, --resume). SaveState appends to `out` everything
+  // the next Step() reads, as versioned binary opening with a header (magic, format version,
+  // backend name, particle count, steps done); RestoreState reads it back into a solver built
+  // from the same configuration and options, after which Step() continues exactly as the saved
+  // solver would have, bit for bit. RestoreState throws InputError naming `source` for a blob of
+  // another backend, format version or particle count, or a truncated one. A scheme that cannot
+  // checkpoint keeps these defaults, which throw InputError "backend X cannot checkpoint".
+  virtual void SaveState(std::string* out) const;
+  virtual void RestoreState(const std::string& state, const std::string& source);
 };
 
 // The canonical names of the built-in backends, in the order `owval run --help` lists them.

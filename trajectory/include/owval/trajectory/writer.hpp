@@ -41,6 +41,18 @@ struct TrajectoryHeader {
   std::map<std::string, std::string> provenance;  // HDF5 only
   bool velocities = false;  // HDF5 only: AppendFrame then takes velocities (3 floats a particle)
   bool density = false;     // HDF5 only: and density (1 float a particle)
+  bool pressure = false;    // HDF5 only: and pressure (1 float a particle)
+};
+
+// Where a writer's output stood at a checkpoint: what ResumeTrajectoryWriter needs to continue
+// it after the process that wrote it stopped (killed, interrupted), with the same result as an
+// uninterrupted writer's. Saved by the caller beside its own state (engine/long_run.hpp).
+struct WriterCheckpoint {
+  std::string file;               // the file being written, name only (beside the destination)
+  std::uint64_t frames = 0;       // frames appended before the checkpoint
+  std::uint64_t bytes = 0;        // text: the file's length at the checkpoint
+  std::uint64_t file_frames = 0;  // HDF5: frames in the datasets (whole chunks only)
+  std::string pending;            // HDF5: the frames after those, not yet in the file (binary)
 };
 
 struct TrajectoryWriterOptions {
@@ -51,20 +63,35 @@ struct TrajectoryWriterOptions {
 class TrajectoryWriter {
  public:
   virtual ~TrajectoryWriter() = default;
-  // One frame: positions (3 floats a particle, cu); velocities and density when the header asks
-  // for them. Throws InputError naming the file on an I/O failure (a full disk).
+  // One frame: positions (3 floats a particle, cu); velocities, density and pressure when the
+  // header asks for them. Throws InputError naming the file on an I/O failure (a full disk).
   virtual void AppendFrame(double time_s, const float* positions, const float* velocities = nullptr,
-                           const float* density = nullptr) = 0;
+                           const float* density = nullptr, const float* pressure = nullptr) = 0;
   // Writes what is buffered and renames the file onto its destination.
   virtual void Close() = 0;
   // Writes what is buffered, marks the file partial and renames it onto PartialPath(destination).
   virtual void Abort() = 0;
   virtual std::size_t frames_written() const = 0;
+  // Makes the output continuable from this frame after a crash and says how (the checkpoint
+  // rule: text flushed, its length recorded; HDF5 closed and reopened with metadata evictions
+  // off, so until the next checkpoint the file on disk stays the one described, and only whole
+  // chunks in it: later frames are written into new chunks only). Afterwards the temporary
+  // outlives an uncommitted writer, for ResumeTrajectoryWriter.
+  virtual WriterCheckpoint Checkpoint() = 0;
 };
 
 std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,
                                                        const TrajectoryHeader& header,
                                                        const TrajectoryWriterOptions& options = {});
+
+// Continues the output a checkpoint describes: checkpoint.file beside `destination`, or
+// PartialPath(destination) when an interrupted run renamed it, cut back to the checkpoint
+// (text truncated, HDF5 datasets shrunk, the `partial` mark removed), its pending frames
+// buffered again. InputError naming the file when neither exists or it is shorter than the
+// checkpoint says.
+std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(
+    const std::filesystem::path& destination, const TrajectoryHeader& header,
+    const WriterCheckpoint& checkpoint, const TrajectoryWriterOptions& options = {});
 
 // out/trajectory.h5 -> out/trajectory.partial.h5; position_buffer.txt ->
 // position_buffer.partial.txt

@@ -1,0 +1,195 @@
+// Long runs (issue 16): streamed outputs, checkpoints, interrupts and resume with identical bytes.
+#include "owval/engine/long_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <random>
+
+#include "long_run_support.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/config.hpp"
+#include "owval/trajectory/writer.hpp"
+
+namespace owval::engine {
+namespace {
+using namespace owval::testing;
+
+RunOptions Demo1Options(double duration_s, int log_step) {
+  RunOptions o;
+  o.duration_s = duration_s;
+  o.log_step = log_step;
+  return o;
+}
+
+void ExpectSameOutputs(const fs::path& a, const fs::path& b) {
+  EXPECT_EQ(Bytes(a / "position_buffer.txt"), Bytes(b / "position_buffer.txt"));
+  ExpectSameHdf5Datasets(a / "trajectory.h5", b / "trajectory.h5");
+}
+
+TEST(LongRun, StreamedOutputsEqualTheInMemoryRunsWriters) {
+  const SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  const RunOptions o = Demo1Options(0.004, 10);  // 200 steps, 20 frames (a chunk and a bit)
+  const fs::path streamed = ScratchDir("streamed"), whole = ScratchDir("whole");
+  LongRunOptions files;
+  files.out = streamed;
+  const RunSummary s = RunToFiles(config, o, files);
+  EXPECT_EQ(s.frames, 20u);
+  EXPECT_FALSE(s.interrupted);
+  const Trajectory t = engine::Run(config, o);
+  WriteSiberneticText(t, whole / "position_buffer.txt", TextLayout::kOpenCL);
+  WriteHdf5(t, whole / "trajectory.h5");
+  ExpectSameOutputs(streamed, whole);
+  EXPECT_FALSE(fs::exists(PartialPath(streamed / "trajectory.h5")));
+}
+
+TEST(LongRun, InterruptedThenResumedEqualsUninterruptedByteForByte) {
+  const SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  RunOptions o = Demo1Options(0.01, 10);  // 500 steps, 50 frames
+  const fs::path whole = ScratchDir("uninterrupted"), cut = ScratchDir("interrupted");
+  LongRunOptions files;
+  files.out = whole;
+  RunToFiles(config, o, files);
+  // Stop at step 337: 34 frames, 32 of them in HDF5 chunks and 2 pending in the checkpoint.
+  std::size_t steps = 0;
+  o.on_step = [&](std::size_t done, std::size_t) { steps = done; };
+  o.stop_requested = [&] { return steps == 337; };
+  o.checkpoint_every = 100;
+  files.out = cut;
+  files.invocation = "the arguments";
+  const RunSummary stopped = RunToFiles(config, o, files);
+  EXPECT_TRUE(stopped.interrupted);
+  EXPECT_EQ(stopped.steps, 337u);
+  EXPECT_TRUE(fs::exists(cut / "position_buffer.partial.txt"));
+  EXPECT_FALSE(fs::exists(cut / "trajectory.h5"));
+  const Trajectory partial = ReadHdf5(cut / "trajectory.partial.h5");
+  EXPECT_EQ(partial.provenance.at("partial"), "1");
+  EXPECT_EQ(partial.frame_count(), 34u);
+  EXPECT_EQ(ReadCheckpointInvocation(cut), "the arguments");
+  o.stop_requested = nullptr;
+  files.resume = true;
+  const RunSummary resumed = RunToFiles(config, o, files);
+  EXPECT_EQ(resumed.first_step, 337u);
+  EXPECT_EQ(resumed.frames, 50u);
+  ExpectSameOutputs(whole, cut);
+  EXPECT_FALSE(fs::exists(cut / "trajectory.partial.h5"));
+}
+
+TEST(LongRun, ResumeRefusesAnotherConfiguration) {
+  SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  RunOptions o = Demo1Options(0.002, 10);
+  const fs::path dir = ScratchDir("other");
+  o.stop_requested = [] { return true; };
+  LongRunOptions files;
+  files.out = dir;
+  EXPECT_TRUE(RunToFiles(config, o, files).interrupted);
+  config.position[0][0] += 0.5f;
+  files.resume = true;
+  o.stop_requested = nullptr;
+  EXPECT_THROW(RunToFiles(config, o, files), InputError);
+}
+
+TEST(LongRun, XpbdCannotCheckpointAndSaysSo) {
+  RunOptions o = Demo1Options(0.002, 10);
+  o.backend = "xpbd";
+  o.checkpoint_every = 10;
+  LongRunOptions files;
+  files.out = ScratchDir("xpbd");
+  try {
+    RunToFiles(ReadSiberneticConfig(kDemo1), o, files);
+    FAIL() << "xpbd checkpointed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("backend xpbd cannot checkpoint"), std::string::npos)
+        << e.what();
+  }
+}
+
+// The inode of the current checkpoint file (each checkpoint is a new file renamed into place), 0
+// when there is none.
+ino_t CheckpointInode(const fs::path& out) {
+  struct stat st {};
+  return ::stat(CheckpointPath(out).c_str(), &st) == 0 ? st.st_ino : 0;
+}
+
+// The process is killed (SIGKILL: no handler, no flush) at a random step past a checkpoint: after
+// a random number of checkpoints (1-4 of 9) and a random delay; --resume then finishes it.
+TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
+  const fs::path whole = ScratchDir("cli_whole"), killed = ScratchDir("cli_killed");
+  const std::vector<std::string> run = {"run",  kDemo1.string(), "--time",
+                                        "0.05", "--log-step",    "20"};
+  auto args = [&](const fs::path& out, std::vector<std::string> extra) {
+    std::vector<std::string> all = run;
+    all.insert(all.end(), {"--out", out.string()});
+    all.insert(all.end(), extra.begin(), extra.end());
+    return all;
+  };
+  ASSERT_EQ(RunOwval(args(whole, {}), whole.string() + ".log").exit_code, 0);
+  std::random_device seed;
+  std::mt19937 random(seed());
+  const int checkpoints = std::uniform_int_distribution<int>(1, 4)(random);
+  const int delay_ms = std::uniform_int_distribution<int>(0, 100)(random);
+  SCOPED_TRACE("killed " + std::to_string(delay_ms) + " ms after checkpoint " +
+               std::to_string(checkpoints));
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = Start(args(killed, {"--checkpoint-every", "250"}), killed.string() + ".log");
+  ino_t seen = 0;
+  for (int k = 0; k < checkpoints; ++k) {
+    ASSERT_TRUE(
+        WaitFor([&] { return CheckpointInode(killed) != seen && CheckpointInode(killed); }, 120));
+    seen = CheckpointInode(killed);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  ::kill(pid, SIGKILL);
+  const Finished f = Wait(pid, start);
+  ASSERT_EQ(f.signal, SIGKILL) << "the run ended before the kill";
+  EXPECT_FALSE(fs::exists(killed / "trajectory.h5"));
+  const Finished resumed =
+      RunOwval({"run", "--resume", killed.string()}, killed.string() + ".2.log");
+  ASSERT_EQ(resumed.exit_code, 0) << Bytes(killed.string() + ".2.log");
+  ExpectSameOutputs(whole, killed);
+  for (const auto& entry : fs::directory_iterator(killed))  // no temporary left behind
+    EXPECT_NE(entry.path().filename().string().rfind(".", 0), 0u) << entry.path();
+}
+
+// SIGINT: exit 130, a readable partial trajectory under names that say so, a checkpoint, and
+// owval inspect saying "partial".
+TEST(LongRunProcess, SigintLeavesAReadablePartialTrajectoryAndACheckpoint) {
+  const fs::path dir = ScratchDir("cli_sigint");
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid =
+      Start({"run", kDemo1.string(), "--time", "0.2", "--log-step", "20", "--out", dir.string()},
+            dir.string() + ".log");
+  // Some frames in: the text writer's temporary exists once the HDF5 one does.
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        if (!fs::exists(dir)) return false;
+        for (const auto& e : fs::directory_iterator(dir))
+          if (e.path().filename().string().find("trajectory.h5.tmp") != std::string::npos)
+            return true;
+        return false;
+      },
+      120));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ::kill(pid, SIGINT);
+  const Finished f = Wait(pid, start);
+  EXPECT_EQ(f.exit_code, 130) << Bytes(dir.string() + ".log");
+  EXPECT_NE(Bytes(dir.string() + ".log").find("--resume"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "trajectory.h5"));
+  EXPECT_FALSE(fs::exists(dir / "position_buffer.txt"));
+  EXPECT_TRUE(fs::exists(CheckpointPath(dir)));
+  const Trajectory h5 = ReadHdf5(dir / "trajectory.partial.h5");
+  EXPECT_EQ(h5.provenance.at("partial"), "1");
+  EXPECT_GT(h5.frame_count(), 0u);
+  const Trajectory text = ReadTrajectory(dir / "position_buffer.partial.txt");
+  EXPECT_EQ(text.frame_count(), h5.frame_count());
+  EXPECT_TRUE(SameBits(text.type, h5.type));
+  const Finished inspect =
+      RunOwval({"inspect", (dir / "trajectory.partial.h5").string()}, dir.string() + ".i.log");
+  EXPECT_EQ(inspect.exit_code, 0);
+  EXPECT_NE(Bytes(dir.string() + ".i.log").find("partial"), std::string::npos)
+      << Bytes(dir.string() + ".i.log");
+}
+
+}  // namespace
+}  // namespace owval::engine
