@@ -101,7 +101,8 @@ TEST(Registry, FindsAliasesAndNamesTheKnownOnes) {
     r.Find("metal");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("owval, xpbd, wcsph, opencl"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("owval, xpbd, wcsph, opencl"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(ParseRegistry(nlohmann::json::parse(R"({"backends": {"owval": {"store": "s"}}})"),
                              "b.json", ""),

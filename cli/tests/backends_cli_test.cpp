@@ -145,7 +145,8 @@ TEST(BackendsCli, UnknownNamesAreExit2ListingTheKnownOnes) {
   const fs::path file = BackendsFile("unknown");
   const Result r = Owval("compare opencl metal" + Flags(file));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("unknown backend \"metal\"; known: owval, xpbd, wcsph, opencl"), std::string::npos)
+  EXPECT_NE(r.err.find("unknown backend \"metal\"; known: owval, xpbd, wcsph, opencl"),
+            std::string::npos)
       << r.err;
   const Result list = Owval("backends list --backends " + file.string());
   EXPECT_EQ(list.exit_code, 0);

@@ -129,7 +129,8 @@ void Wcsph::DeriveScales(const SiberneticConfig& config, const PhysicsConstants&
     bottom = std::max(bottom, along(x));
   }
   const double height = g > 0 ? bottom - top + spacing_m_ : 0;
-  sound_speed_ = std::max(p_.sound_speed_factor * std::sqrt(2 * g * height), p_.min_sound_speed_m_s);
+  sound_speed_ =
+      std::max(p_.sound_speed_factor * std::sqrt(2 * g * height), p_.min_sound_speed_m_s);
   if (!(sound_speed_ > 0))
     throw InputError(config.source, 0,
                      "backend wcsph: the speed of sound is 0 (no gravity or no liquid height): "
@@ -138,8 +139,8 @@ void Wcsph::DeriveScales(const SiberneticConfig& config, const PhysicsConstants&
   for (std::size_t i = 0; i < s_.x.size(); ++i) {
     s_.rho[i] = float(rho0_);
     if (!s_.liquid[i] || !p_.hydrostatic_start || g == 0) continue;
-    const double depth = along({double(s_.x[i]), double(s_.y[i]), double(s_.z[i])}) - top +
-                         0.5 * spacing_m_;
+    const double depth =
+        along({double(s_.x[i]), double(s_.y[i]), double(s_.z[i])}) - top + 0.5 * spacing_m_;
     s_.rho[i] = float(rho0_ * std::pow(1 + rho0_ * g * depth / tait_b_, 1 / p_.tait_gamma));
   }
 }
@@ -163,8 +164,8 @@ void Wcsph::Reorder() {
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::int32_t> order(n);
   for (std::size_t k = 0; k < n; ++k) order[k] = keyed[k].second;
-  for (auto* v : {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho,
-                  &s_.drho})
+  for (auto* v :
+       {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho, &s_.drho})
     Permute(order, v);
   Permute(order, &s_.row);
   Permute(order, &s_.liquid);
