@@ -60,5 +60,24 @@ TEST(FullDisk, ConvertIsExit2WithNoOutputAndNoTemporary) {
   }
 }
 
+// A streamed run: the text and HDF5 writers both fail on the full disk. Nothing under a final
+// name; the run says which output it could not write.
+TEST(FullDisk, RunIsExit2WithNoOutputUnderItsFinalName) {
+  const fs::path dir = Scratch() / "full_run";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const Result r = OwvalOnAFullDisk(
+      "run one_sprig --time 0.02 --log-step 1 --out " + (dir / "out").string(), 24);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "position_buffer.txt"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "trajectory.h5"));
+  std::size_t temporaries = 0;
+  if (fs::exists(dir / "out"))
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+      temporaries += e.path().filename().string().find(".tmp.") != std::string::npos;
+  EXPECT_EQ(temporaries, 0u);
+}
+
 }  // namespace
 }  // namespace owval::testing

@@ -74,7 +74,12 @@ class Hdf5Writer : public TrajectoryWriter {
 
   ~Hdf5Writer() override {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
-    CloseHandles();
+    try {
+      CloseHandles();
+    } catch (const InputError&) {
+      // Unwinding from a failed write (a full disk): the file is being abandoned anyway, and a
+      // destructor must not throw (std::terminate).
+    }
   }  // out_ then removes the temporary if not renamed
 
   void AppendFrame(double time_s, const float* positions, const float* velocities,
