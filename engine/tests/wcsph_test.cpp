@@ -41,7 +41,9 @@ TEST(WendlandC2, GradientMatchesCentralDifferencesAndVanishesOutsideTheSupport) 
   const WendlandC2<double> k = WendlandC2<double>::ForRadius(h);
   std::mt19937 random(17);
   std::uniform_real_distribution<double> u(-1.45, 1.45);
-  const auto w = [&](double x, double y, double z) { return k.W(std::sqrt(x * x + y * y + z * z)); };
+  const auto w = [&](double x, double y, double z) {
+    return k.W(std::sqrt(x * x + y * y + z * z));
+  };
   for (int trial = 0; trial < 200; ++trial) {
     const double x[3] = {u(random), u(random), u(random)};
     const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
@@ -71,8 +73,8 @@ SiberneticConfig Block(int n, bool floor) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k) {
-        c.position.push_back({float(margin + i + 0.5), float(margin + j + 0.5),
-                              float(margin + k + 0.5), 1.1f});
+        c.position.push_back(
+            {float(margin + i + 0.5), float(margin + j + 0.5), float(margin + k + 0.5), 1.1f});
         c.velocity.push_back({0, 0, 0, 0});
       }
   if (floor)
@@ -109,10 +111,10 @@ TEST(WcsphDensityDiffusion, VanishesForUniformDensityAndSmoothsABump) {
   density[centre] = 1010.0f;
   solver.SetDensities(density);
   const std::vector<float> rates = solver.DensityDiffusionRates();
-  EXPECT_LT(rates[centre], 0.0f);          // the bump flattens...
-  EXPECT_GT(rates[centre + 1], 0.0f);      // ...into its neighbours
+  EXPECT_LT(rates[centre], 0.0f);           // the bump flattens...
+  EXPECT_GT(rates[centre + 1], 0.0f);       // ...into its neighbours
   EXPECT_GT(rates[centre + 7 + 49], 0.0f);  // diagonal neighbour too
-  EXPECT_EQ(rates[0], 0.0f);               // outside the support: untouched
+  EXPECT_EQ(rates[0], 0.0f);                // outside the support: untouched
   // The pair term's own sign: denser i, dW/dr < 0 → negative.
   EXPECT_LT(DensityDiffusionPair(1010.0f, 1000.0f, -1.0f, 1e-9f), 0.0f);
 }

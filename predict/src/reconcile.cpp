@@ -1,9 +1,9 @@
 // Phase 3: each predicted quantity measured on the tracked signal (compare::MeasureSignal), the
 // gap, and the likely cause of a gap that is too large.
 #include <algorithm>
-#include <functional>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <sstream>
 

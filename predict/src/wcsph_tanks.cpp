@@ -109,11 +109,11 @@ nlohmann::json DamBreak(const engine::SiberneticConfig& c, const engine::Physics
   for (const auto& [big_t, z] : kMartinMoyce) {
     char name[64];
     std::snprintf(name, sizeof name, "surge_front_Z_at_T_%.3f", big_t);
-    p["predictions"].push_back(Quantity(
-        name, z, "1", big_t * time_unit, "s",
-        "Martin & Moyce 1952 Fig. 3 (n^2 = 2, a = 2.25 in; digitised in PySPH "
-        "db_exp_data.py): Z = z/a at T = t sqrt(2g/a); value_in_si is that t",
-        big_t <= 3.0 ? 0.10 : 0.0, big_t <= 3.0 ? kRelative : kInformative));
+    p["predictions"].push_back(
+        Quantity(name, z, "1", big_t * time_unit, "s",
+                 "Martin & Moyce 1952 Fig. 3 (n^2 = 2, a = 2.25 in; digitised in PySPH "
+                 "db_exp_data.py): Z = z/a at T = t sqrt(2g/a); value_in_si is that t",
+                 big_t <= 3.0 ? 0.10 : 0.0, big_t <= 3.0 ? kRelative : kInformative));
   }
   p["notes"] = {
       "height/width " + std::to_string(height / width) + " (Martin & Moyce's n^2 = 2 case)",

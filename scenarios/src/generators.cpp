@@ -216,7 +216,8 @@ void AddTank(const Tank& t, engine::SiberneticConfig* c) {
 void AddLiquidBlock(const Tank& t, int nx, int ny, int nz, engine::SiberneticConfig* c) {
   for (int j = 0; j < ny; ++j)
     for (int k = 0; k < nz; ++k)
-      for (int i = 0; i < nx; ++i) AddParticle(c, t.Interior(i), t.Interior(j), t.Interior(k), 1.1f);
+      for (int i = 0; i < nx; ++i)
+        AddParticle(c, t.Interior(i), t.Interior(j), t.Interior(k), 1.1f);
 }
 
 }  // namespace

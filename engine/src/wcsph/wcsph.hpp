@@ -120,8 +120,8 @@ class Wcsph final : public Solver {
   WendlandC2<float> kernel_;
   State s_, checkpoint_;
   CellList cells_;
-  std::vector<std::int32_t> process_;       // particles whose rates are computed (liquid first)
-  std::vector<const std::int32_t*> list_;   // per particle: its neighbours
+  std::vector<std::int32_t> process_;      // particles whose rates are computed (liquid first)
+  std::vector<const std::int32_t*> list_;  // per particle: its neighbours
   std::vector<std::int32_t> list_count_;
   std::vector<std::vector<std::int32_t>> buffers_;  // per thread
   std::vector<float> xsph_x_, xsph_y_, xsph_z_, pressure_;

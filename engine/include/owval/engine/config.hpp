@@ -96,24 +96,25 @@ struct PhysicsConstants {
   // The WCSPH scheme's parameters (engine/src/wcsph, docs/wcsph.md); the other schemes ignore
   // them. Each technique of the scheme is a switch (1 on, 0 off).
   struct Wcsph {
-    double h_factor = 1.2;              // h / particle spacing; the Wendland C2 support is 2h
-    double spacing_m = 0;               // particle spacing; 0: the configuration's liquid's
-    double sound_speed_factor = 10;     // c_s = max(factor sqrt(2 g H), c_min), H liquid height
-    double min_sound_speed_m_s = 0;     // c_min
-    double tait_gamma = 7;              // p = c_s^2 rho0/gamma ((rho/rho0)^gamma - 1)
-    double cfl = 0.5;                   // dt_safe = cfl min(h/(c_s + |v|max), sqrt(h/|a|max))
-    int density_diffusion = 1;          // delta-SPH (Molteni & Colagrossi 2009)
-    double diffusion_delta = 0.1;       // its delta
-    int xsph = 1;                       // XSPH velocity smoothing (Monaghan 1989)
-    double xsph_epsilon = 0.5;          // its epsilon
-    double viscosity_alpha = 0.01;      // Monaghan's artificial viscosity alpha (0: none)
-    int optimistic_dt = 1;              // try factor dt_safe, roll back past the threshold
-    double optimistic_factor = 1.5;     // the optimistic step's multiple of dt_safe
-    double rollback_threshold = 0.03;   // max |rho - rho0|/rho0 that triggers a rollback
-    int cooldown_steps = 10;            // steps at dt_safe after a rollback
-    int morton_reorder = 1;             // reorder particles along a Morton curve of cells
-    int reorder_interval = 20;          // steps between reorders
-    int hydrostatic_start = 1;          // start densities from the hydrostatic Tait profile
+    double h_factor = 1.2;           // h / particle spacing; the Wendland C2 support is 2h
+    double spacing_m = 0;            // particle spacing; 0: the configuration's liquid's
+    double sound_speed_factor = 10;  // c_s = max(factor sqrt(2 g H), c_min), H liquid height
+    double min_sound_speed_m_s = 0;  // c_min
+    double tait_gamma = 7;           // p = c_s^2 rho0/gamma ((rho/rho0)^gamma - 1)
+    double cfl = 0.2;  // dt_safe = cfl min(h/(c_s + |v|max), sqrt(h/|a|max)); the record's 0.5
+                       // is unstable with this h (docs/wcsph.md)
+    int density_diffusion = 1;         // delta-SPH (Molteni & Colagrossi 2009)
+    double diffusion_delta = 0.1;      // its delta
+    int xsph = 1;                      // XSPH velocity smoothing (Monaghan 1989)
+    double xsph_epsilon = 0.5;         // its epsilon
+    double viscosity_alpha = 0.01;     // Monaghan's artificial viscosity alpha (0: none)
+    int optimistic_dt = 1;             // try factor dt_safe, roll back past the threshold
+    double optimistic_factor = 1.5;    // the optimistic step's multiple of dt_safe
+    double rollback_threshold = 0.03;  // max |rho - rho0|/rho0 that triggers a rollback
+    int cooldown_steps = 10;           // steps at dt_safe after a rollback
+    int morton_reorder = 1;            // reorder particles along a Morton curve of cells
+    int reorder_interval = 20;         // steps between reorders
+    int hydrostatic_start = 1;         // start densities from the hydrostatic Tait profile
   } wcsph;
 
   // A short description of where the constants differ from Sibernetic's defaults ("" if none);
