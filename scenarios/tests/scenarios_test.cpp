@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -142,6 +143,24 @@ TEST(Generators, RefuseUnknownParametersAndImpossibleGeometry) {
   EXPECT_THROW(HangingChain({{"beads", 40}}), InputError);  // below the floor
   EXPECT_THROW(LiquidColumn({{"layers", 15}}), InputError);
   EXPECT_THROW(Generate("tornado", {}), InputError);
+}
+
+TEST(WcsphTanks, DamBreakColumnIsTwiceAsHighAsWideAndWallsAreThreeLayers) {
+  const engine::SiberneticConfig c = DamBreak({});
+  EXPECT_EQ(c.liquid_count(), 16u * 32u * 6u);
+  float low_x = 1e9f, high_x = -1e9f, low_y = 1e9f, high_y = -1e9f;
+  for (const auto& p : c.position) {
+    if (KindOf(p[3]) != ParticleKind::kLiquid) continue;
+    low_x = std::min(low_x, p[0]);
+    high_x = std::max(high_x, p[0]);
+    low_y = std::min(low_y, p[1]);
+    high_y = std::max(high_y, p[1]);
+  }
+  EXPECT_NEAR((high_y - low_y + 1.67f) / (high_x - low_x + 1.67f), 2.0f, 1e-4f);
+  EXPECT_NEAR(low_x, 1.67f * 3.5f, 1e-4f);  // against the third wall layer
+  const engine::SiberneticConfig tank = HydrostaticTank({{"sites_x", 4}, {"sites_z", 3}});
+  EXPECT_EQ(tank.liquid_count(), 4u * 24u * 3u);
+  EXPECT_THROW(DamBreak({{"height_ratio", -1}}), InputError);
 }
 
 TEST(Manifests, EveryBuiltInScenarioLoadsAndGenerates) {

@@ -136,11 +136,13 @@ void Wcsph::DeriveScales(const SiberneticConfig& config, const PhysicsConstants&
                      "backend wcsph: the speed of sound is 0 (no gravity or no liquid height): "
                      "set wcsph_min_sound_speed_m_s");
   tait_b_ = sound_speed_ * sound_speed_ * rho0_ / p_.tait_gamma;
+  // Walls start at the density of the liquid beside them, or ρ0 above the liquid's surface.
   for (std::size_t i = 0; i < s_.x.size(); ++i) {
     s_.rho[i] = float(rho0_);
-    if (!s_.liquid[i] || !p_.hydrostatic_start || g == 0) continue;
+    if (!p_.hydrostatic_start || g == 0) continue;
     const double depth =
         along({double(s_.x[i]), double(s_.y[i]), double(s_.z[i])}) - top + 0.5 * spacing_m_;
+    if (depth <= 0) continue;
     s_.rho[i] = float(rho0_ * std::pow(1 + rho0_ * g * depth / tait_b_, 1 / p_.tait_gamma));
   }
 }
@@ -382,8 +384,10 @@ void Wcsph::Step() {
     stats_.dt_safe_s = safe;
     const bool try_optimistic = p_.optimistic_dt && cooldown_ == 0;
     double dt = try_optimistic ? p_.optimistic_factor * safe : safe;
-    const bool last = dt >= remaining;
-    if (last) dt = remaining;
+    // The rest of the nominal step in equal parts no longer than dt: no sliver of a last step.
+    const double parts = std::max(1.0, std::ceil(remaining / dt * (1 - 1e-9)));
+    dt = remaining / parts;
+    const bool last = parts == 1;
     const bool optimistic = try_optimistic && dt > safe;
     if (optimistic) Checkpoint();
     Substep(dt);
