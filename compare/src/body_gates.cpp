@@ -72,15 +72,14 @@ void GateMembrane(const Trajectory& ref, const Trajectory& cand, const Pairs& pa
   Gate g = MakeGate("liquid.fraction_above_membrane",
                     "max over time of the difference in the liquid fraction above the sheet", 0,
                     gates.membrane_liquid_fraction, "of the liquid");
+  double a = 0, b = 0;  // the fractions at the latest paired frame
   for (const auto& [fr, fc] : pairs) {
-    const double a = LiquidFractionAbove(ref, fr, liquid, elastic);
-    const double b = LiquidFractionAbove(cand, fc, liquid, elastic);
+    a = LiquidFractionAbove(ref, fr, liquid, elastic);
+    b = LiquidFractionAbove(cand, fc, liquid, elastic);
     g.value = std::max(g.value, std::abs(a - b));
   }
-  const auto& [last_r, last_c] = pairs.back();
-  g.detail = "at the last frame: reference " +
-             std::to_string(LiquidFractionAbove(ref, last_r, liquid, elastic)) + ", candidate " +
-             std::to_string(LiquidFractionAbove(cand, last_c, liquid, elastic));
+  g.detail =
+      "at the last frame: reference " + std::to_string(a) + ", candidate " + std::to_string(b);
   Decide(&g);
   r->gates.push_back(g);
 }
