@@ -27,13 +27,17 @@ inline std::string Slurp(const std::filesystem::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// Runs `owval --quiet ARGS` (ARGS as a shell would split them).
-inline Result Owval(const std::string& args) {
+// Runs a shell command line, capturing its exit code, stdout and stderr.
+inline Result RunCaptured(const std::string& command_line) {
   const auto out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
-  const std::string command =
-      std::string(OWVAL_EXE) + " --quiet " + args + " > " + out.string() + " 2> " + err.string();
+  const std::string command = command_line + " > " + out.string() + " 2> " + err.string();
   const int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+}
+
+// Runs `owval --quiet ARGS` (ARGS as a shell would split them).
+inline Result Owval(const std::string& args) {
+  return RunCaptured(std::string(OWVAL_EXE) + " --quiet " + args);
 }
 
 // Sibernetic's reference runs (../shared/reference). CI always has them: there, with

@@ -17,12 +17,8 @@ const fs::path kOneSprig =
 
 // `owval --quiet ARGS` with files limited to `kib` KiB.
 Result OwvalOnAFullDisk(const std::string& args, int kib) {
-  const auto out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
-  const std::string command = "bash -c 'trap \"\" XFSZ; ulimit -f " + std::to_string(kib) +
-                              "; exec " + std::string(OWVAL_EXE) + " --quiet " + args + "' > " +
-                              out.string() + " 2> " + err.string();
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+  return RunCaptured("bash -c 'trap \"\" XFSZ; ulimit -f " + std::to_string(kib) + "; exec " +
+                     std::string(OWVAL_EXE) + " --quiet " + args + "'");
 }
 
 // Files in `dir` other than the ones the test put there.
