@@ -145,7 +145,7 @@ void RunBench(const BenchEngineArgs& a) {
                           {"particles", config.particle_count()},
                           {"moving_particles", config.elastic_count() + config.liquid_count()},
                           {"backend", engine::CanonicalBackend(a.backend)},
-                          // 0: the engine's rule (one thread below 4,096 moving particles)
+                          // 0: the engine's rule (idle cores; one below 4,096 particles)
                           {"threads_requested", a.threads},
                           {"profile", Profile(config, a)}};
     std::cout << out.dump(2) << "\n";

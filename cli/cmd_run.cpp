@@ -302,7 +302,8 @@ void SetUp(CLI::App& app) {
                   "is then not reference-equivalent");
   cmd->add_flag("--apply-physical-parameters", a->apply_physical_parameters,
                 "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
-  cmd->add_option("--threads", a->threads, "OpenMP threads (default: all)");
+  cmd->add_option("--threads", a->threads,
+                  "OpenMP threads (default: every idle core; one below 4,096 particles)");
   cmd->add_flag("--no-fields", a->no_fields,
                 "Record positions only (no velocity, density, pressure): faster");
   cmd->add_flag("--zarr", a->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
