@@ -6,6 +6,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
+#include "owval/engine/constants.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -38,7 +39,7 @@ void RunPredict(const PredictArgs& a) {
   // Sibernetic ignores [physical parameters]; --set changes a constant explicitly, and the
   // prediction then notes that it is no longer about Sibernetic's defaults.
   engine::PhysicsConstants constants;
-  for (const std::string& c : a.constants) SetConstantAssignment(c, &constants);
+  for (const std::string& c : a.constants) engine::SetConstantAssignment(&constants, c);
   const predict::Prediction p = predict::Predict(config, constants, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, p.ToJson().dump(2) + "\n");
   std::cout << (a.json ? p.ToJson().dump(2) + "\n" : predict::PredictionMarkdown(p));

@@ -12,10 +12,6 @@ namespace owval::cli {
 // A scenario name (a manifest in the data directory's scenarios/) or a configuration file.
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path);
 
-// "NAME=VALUE" onto a PhysicsConstants field by the engine's constants table
-// (owval/engine/constants.hpp): unknown names and non-physical values are InputError.
-void SetConstantAssignment(const std::string& assignment, engine::PhysicsConstants* constants);
-
 // A trajectory named on the command line: any format, the text layout detected unless `layout`
 // (auto | opencl | native) says otherwise, the progress line following --quiet.
 Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& layout = "auto",

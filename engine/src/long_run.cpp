@@ -132,7 +132,12 @@ class FileSink : public FrameSink {
   }
 
   void set_fields(bool fields) { fields_ = fields; }
+  // The outputs are one set: a rerun into the same directory first removes the previous run's
+  // files, so a kill between the renames below leaves the new text without a trajectory.h5,
+  // never beside the old run's.
   void Close() {
+    std::error_code ignored;
+    for (const fs::path& output : LongRunOutputs(o_.out)) fs::remove(output, ignored);
     for (auto& w : writers_) w->Close();
   }
   void Abort() {

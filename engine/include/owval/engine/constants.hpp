@@ -48,6 +48,10 @@ std::string CheckConstant(const ConstantInfo& constant, double value);
 // or a value its rule refuses (naming the constant and the rule).
 void SetConstant(PhysicsConstants* constants, const std::string& name, double value);
 
+// "NAME=VALUE" (a --set argument) onto the constant: InputError quoting the assignment when it is
+// not NAME=NUMBER, and as SetConstant otherwise.
+void SetConstantAssignment(PhysicsConstants* constants, const std::string& assignment);
+
 // Throws InputError naming the first constant whose value its rule refuses.
 void ValidateConstants(const PhysicsConstants& constants);
 

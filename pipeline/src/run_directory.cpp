@@ -1,0 +1,195 @@
+#include "owval/pipeline/run_directory.hpp"
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/engine/long_run.hpp"
+#include "owval/engine/solver.hpp"
+#include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/worm_track.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/worm_formats.hpp"
+#include "owval/trajectory/writer.hpp"
+
+namespace owval::pipeline {
+namespace {
+namespace fs = std::filesystem;
+
+// FNV-1a 64 of the configuration file's bytes: identifies the input in WCON provenance.
+std::string ConfigurationHash(const std::string& source) {
+  std::error_code ec;
+  if (!fs::is_regular_file(source, ec)) return "";
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : ReadWholeFile(source)) h = (h ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+// A worm run also writes Sibernetic's worm_motion_log.txt and worm.wcon (and the OME-Zarr when
+// asked): the formats other OpenWorm tools read.
+std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunRequest& r,
+                                          const std::string& source) {
+  std::vector<std::string> written;
+  const fs::path out = r.out;
+  if (r.zarr) {
+    WriteOmeZarr(t, out / "trajectory.zarr");
+    written.push_back((out / "trajectory.zarr").string());
+  }
+  if (!kinematics::IsWorm(t)) return written;
+  kinematics::WriteWormMotionLog(t, out / "worm_motion_log.txt");
+  const nlohmann::json settings = {
+      {"configuration", source}, {"configuration_fnv1a64", ConfigurationHash(source)},
+      {"backend", r.backend},    {"integrator", r.integrator},
+      {"muscles", r.muscles},    {"log_step", r.log_step},
+      {"time_s", r.time_s}};
+  WormTrack track = kinematics::TrackFromTrajectory(t, settings);
+  track.software_version = OWVAL_VERSION;
+  WriteWcon(track, out / "worm.wcon");
+  written.push_back((out / "worm_motion_log.txt").string());
+  written.push_back((out / "worm.wcon").string());
+  return written;
+}
+
+// Worm outputs and OME-Zarr need every frame: read back from the finished trajectory.h5, so
+// only such runs hold the trajectory in memory.
+std::vector<std::string> WriteWholeTrajectoryOutputs(const Trajectory& header, const RunRequest& r,
+                                                     const std::string& source) {
+  if (!r.zarr && !kinematics::IsWorm(header)) return {};
+  return WriteWormOutputs(ReadHdf5(fs::path(r.out) / "trajectory.h5"), r, source);
+}
+
+// An adaptive scheme's time steps, rollbacks and density variation, one entry per frame.
+std::string WriteStepLog(const RunRequest& r, const std::string& backend,
+                         const std::vector<std::string>& frame_log) {
+  nlohmann::json log = {{"backend", backend}, {"frames", nlohmann::json::array()}};
+  for (const std::string& entry : frame_log) log["frames"].push_back(nlohmann::json::parse(entry));
+  const fs::path path = fs::path(r.out) / "step_log.json";
+  WriteFileAtomically(path, log.dump(1) + "\n");
+  return path.string();
+}
+
+// What the run streams to besides its files: the trajectory's header (for the worm outputs) and,
+// with stability, the gate's monitor.
+struct Observers {
+  Trajectory header;
+  std::unique_ptr<compare::StabilityMonitor> monitor;
+};
+
+engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, Observers* seen) {
+  engine::LongRunOptions files;
+  files.out = r.out;
+  files.resume = o.resume;
+  files.invocation = r.ToJson().dump();
+  files.on_begin = [seen, stability = o.stability](const Trajectory& t) {
+    seen->header = t;
+    if (stability)
+      seen->monitor = std::make_unique<compare::StabilityMonitor>(
+          t.box, t.type, compare::LongRunStabilityOptions());
+  };
+  files.on_frame = [seen](const engine::FrameView& f) {
+    if (!seen->monitor) return;
+    seen->monitor->Observe(f.time_s, f.positions.data(),
+                           f.velocities.empty() ? nullptr : f.velocities.data(),
+                           f.density.empty() ? nullptr : f.density.data());
+  };
+  return files;
+}
+
+}  // namespace
+
+nlohmann::json RunRequest::ToJson() const {
+  return {{"config", config},
+          {"time_s", time_s},
+          {"log_step", log_step},
+          {"backend", backend},
+          {"integrator", integrator},
+          {"muscles", muscles},
+          {"set", set},
+          {"apply_physical_parameters", apply_physical_parameters},
+          {"no_fields", no_fields},
+          {"zarr", zarr},
+          {"checkpoint_every", checkpoint_every}};
+}
+
+RunRequest RunRequest::FromCheckpoint(const std::string& out) {
+  RunRequest r;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(engine::ReadCheckpointInvocation(out));
+    r.config = j.at("config"), r.time_s = j.at("time_s"), r.log_step = j.at("log_step");
+    r.backend = j.at("backend"), r.integrator = j.at("integrator");
+    r.muscles = j.at("muscles"), r.set = j.at("set").get<std::vector<std::string>>();
+    r.apply_physical_parameters = j.at("apply_physical_parameters");
+    r.no_fields = j.at("no_fields"), r.zarr = j.at("zarr");
+    r.checkpoint_every = j.at("checkpoint_every");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(engine::CheckpointPath(out).string(), 0,
+                     std::string("bad run arguments: ") + e.what());
+  }
+  r.out = out;
+  return r;
+}
+
+nlohmann::json RunDirectorySummary::ToJson(const std::string& configuration) const {
+  nlohmann::json j = {{"configuration", configuration},
+                      {"first_step", run.first_step},
+                      {"steps", run.steps},
+                      {"frames", run.frames},
+                      {"wall_s", run.wall_s},
+                      {"steps_per_s", run.steps_per_s},
+                      {"backend", backend},
+                      {"reference_equivalent", run.reference_equivalent},
+                      {"muscles_driven", run.muscles_driven},
+                      {"interrupted", run.interrupted},
+                      {"outputs", outputs}};
+  if (stability) j["stability"] = stability->ToJson();
+  return j;
+}
+
+engine::RunOptions EngineOptions(const RunRequest& r) {
+  engine::RunOptions options;
+  options.duration_s = r.time_s;
+  options.log_step = r.log_step;
+  options.integrator = r.integrator == "leapfrog" ? engine::Integrator::kLeapfrog
+                                                  : engine::Integrator::kSemiImplicitEuler;
+  options.apply_physical_parameters = r.apply_physical_parameters;
+  options.muscle_signal = r.muscles == "off"     ? engine::MuscleSignal::kOff
+                          : r.muscles == "waves" ? engine::MuscleSignal::kSwimmingWaves
+                                                 : engine::MuscleSignal::kAuto;
+  options.record_fields = !r.no_fields;
+  options.backend = engine::CanonicalBackend(r.backend);  // unknown: exit 2 naming the known ones
+  options.dump_dir = r.out;
+  options.checkpoint_every = r.checkpoint_every;
+  for (const std::string& assignment : r.set)
+    engine::SetConstantAssignment(&options.constants, assignment);
+  return options;
+}
+
+void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& request,
+                      const RunDirectoryOptions& o, RunDirectorySummary* summary) {
+  for (const fs::path& output : engine::LongRunOutputs(request.out)) CheckOutputPath(output);
+  engine::RunOptions options = EngineOptions(request);
+  options.threads = o.threads;
+  options.on_step = o.on_step;
+  options.stop_requested = o.stop_requested;
+  Observers seen;
+  summary->run = engine::RunToFiles(config, options, Files(request, o, &seen));
+  summary->backend = options.backend;
+  const bool interrupted = summary->run.interrupted;
+  for (const fs::path& output : engine::LongRunOutputs(request.out))
+    summary->outputs.push_back((interrupted ? PartialPath(output) : output).string());
+  if (!interrupted) {
+    for (const std::string& path : WriteWholeTrajectoryOutputs(seen.header, request, config.source))
+      summary->outputs.push_back(path);
+    if (!summary->run.frame_log.empty())
+      summary->outputs.push_back(WriteStepLog(request, options.backend, summary->run.frame_log));
+  }
+  if (seen.monitor)
+    summary->stability = std::make_unique<compare::StabilityReport>(seen.monitor->report());
+}
+
+}  // namespace owval::pipeline
