@@ -48,6 +48,9 @@ Scenario ReadScenario(const fs::path& directory) {
   s.log_step = static_cast<int>(log_step);
   s.time_s = TimeOf(meta, s.time_step_s, s.log_step, file);
   if (!(s.time_s > 0)) throw InputError(file.string(), 0, "time: expected > 0");
+  if (meta.contains("wall_s")) s.recorded_wall_s = Number(meta, "wall_s", file);
+  if (meta.contains("wall_includes") && meta["wall_includes"].is_string())
+    s.recorded_wall_includes = meta["wall_includes"];
   return s;
 }
 

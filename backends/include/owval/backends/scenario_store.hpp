@@ -16,6 +16,8 @@ struct Scenario {
   double time_s = 0;
   double time_step_s = 2e-5;
   int log_step = 1;
+  double recorded_wall_s = 0;  // meta.json's wall_s: the recorded run's wall time (0: not given)
+  std::string recorded_wall_includes;  // what that wall time covers
 };
 
 // Reads directory/meta.json. InputError naming the file and field when it cannot.

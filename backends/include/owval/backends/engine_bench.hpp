@@ -1,0 +1,31 @@
+#pragma once
+// owval bench engine: the in-process speed of a solver on one configuration (steps/s on one
+// thread and on all, with the median step), or, with `phases`, where a run's time goes: each phase
+// of the step and the frames' fields (engine::ProfilePhases), over a number of steps or a
+// reference scenario's whole run (its meta.json's time and log step, beside Sibernetic's recorded
+// wall time). The end-to-end figure (process start to last byte) is bench backends' (bench.hpp).
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "owval/backends/scenario_store.hpp"
+#include "owval/engine/config.hpp"
+
+namespace owval::backends {
+
+struct EngineBenchOptions {
+  std::string backend = "pcisph";
+  std::size_t steps = 1000;
+  bool phases = false;
+  int threads = 0;  // for phases; 0: the engine's rule
+  // Phases over the whole recorded run of this scenario instead of `steps` (null: not).
+  const Scenario* whole_run = nullptr;
+  double time_s = 0;  // phases: simulated seconds instead of steps (0: not given)
+  int log_step = 0;   // phases: steps between frames (0: one frame)
+};
+
+// The JSON `owval bench engine` prints.
+nlohmann::json BenchEngine(const engine::SiberneticConfig& config,
+                           const EngineBenchOptions& options);
+
+}  // namespace owval::backends

@@ -1,0 +1,108 @@
+#include "owval/backends/engine_bench.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "owval/engine/profile.hpp"
+#include "owval/engine/run.hpp"
+#include "owval/engine/solver.hpp"
+
+namespace owval::backends {
+namespace {
+
+// `steps` steps on `threads` threads, one frame: the physics, not the recording.
+nlohmann::json Measure(const engine::SiberneticConfig& config, std::size_t steps, int threads,
+                       const std::string& backend) {
+  engine::RunOptions o;
+  o.backend = backend;
+  o.duration_s = double(steps) * o.constants.time_step_s * 1.0000001;
+  o.log_step = int(steps) + 1;
+  o.record_fields = false;
+  o.threads = threads;
+  std::vector<double> step_ms;
+  auto last = std::chrono::steady_clock::now();
+  o.on_step = [&](std::size_t, std::size_t) {
+    const auto now = std::chrono::steady_clock::now();
+    step_ms.push_back(std::chrono::duration<double, std::milli>(now - last).count());
+    last = now;
+  };
+  engine::RunSummary summary;
+  engine::Run(config, o, &summary);
+  std::sort(step_ms.begin(), step_ms.end());
+  const double median = step_ms.empty() ? 0 : step_ms[step_ms.size() / 2];
+  const double moving = double(config.elastic_count() + config.liquid_count());
+  return {{"threads", threads},
+          {"steps", summary.steps},
+          {"wall_s", summary.wall_s},
+          {"steps_per_s", summary.steps_per_s},
+          {"median_ms_per_step", median},
+          {"particle_steps_per_s", summary.steps_per_s * double(config.particle_count())},
+          {"moving_particle_steps_per_s", summary.steps_per_s * moving}};
+}
+
+engine::RunOptions ProfiledRun(const EngineBenchOptions& a) {
+  engine::RunOptions o;
+  o.backend = a.backend;
+  o.threads = a.threads;
+  o.duration_s = double(a.steps) * o.constants.time_step_s * 1.0000001;
+  o.log_step = a.log_step > 0 ? a.log_step : int(a.steps) + 1;
+  if (a.whole_run) {
+    o.duration_s = a.whole_run->time_s;
+    o.log_step = a.whole_run->log_step;
+  }
+  if (a.time_s > 0) o.duration_s = a.time_s;
+  return o;
+}
+
+nlohmann::json Profile(const engine::SiberneticConfig& config, const EngineBenchOptions& a) {
+  const engine::RunOptions o = ProfiledRun(a);
+  const engine::PhaseProfile p = engine::ProfilePhases(config, o);
+  nlohmann::json phases = nlohmann::json::object();
+  double step_s = 0;
+  for (const auto& t : p.step) {
+    phases[t.phase] = t.seconds;
+    step_s += t.seconds;
+  }
+  nlohmann::json out = {{"steps", p.steps},
+                        {"frames", p.frames},
+                        {"log_step", o.log_step},
+                        {"fields", o.record_fields},
+                        {"wall_s", p.wall_s},
+                        {"ms_per_step", p.steps ? 1e3 * p.wall_s / double(p.steps) : 0.0},
+                        {"step_phases_s", phases},
+                        {"step_s", step_s},
+                        {"muscle_signal_s", p.muscles_s},
+                        {"nan_check_s", p.check_s},
+                        {"frame_fields_s", p.frame_s}};
+  if (a.whole_run && a.whole_run->recorded_wall_s > 0) {
+    out["sibernetic_wall_s"] = a.whole_run->recorded_wall_s;
+    out["sibernetic_wall_includes"] = a.whole_run->recorded_wall_includes;
+    out["note"] =
+        "in-process steps and frame copies only; the end-to-end figure (process start to last "
+        "byte) is owval bench backends owval --scenario " +
+        a.whole_run->name;
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json BenchEngine(const engine::SiberneticConfig& config, const EngineBenchOptions& a) {
+  nlohmann::json out = {{"benchmark", a.phases ? "engine phases" : "engine"},
+                        {"configuration", config.source},
+                        {"particles", config.particle_count()},
+                        {"moving_particles", config.elastic_count() + config.liquid_count()},
+                        {"backend", engine::CanonicalBackend(a.backend)}};
+  if (a.phases) {
+    out["threads_requested"] = a.threads;  // 0: the engine's rule
+    out["profile"] = Profile(config, a);
+  } else {
+    out["single_thread"] = Measure(config, a.steps, 1, a.backend);
+    out["all_threads"] = Measure(config, a.steps, omp_get_max_threads(), a.backend);
+  }
+  return out;
+}
+
+}  // namespace owval::backends
