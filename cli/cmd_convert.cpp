@@ -4,7 +4,7 @@
 #include "command.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
-#include "owval/kinematics/worm_track.hpp"
+#include "owval/pipeline/run_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
@@ -28,9 +28,7 @@ void RunConvert(const ConvertArgs& a) {
     nlohmann::json settings = {{"source", a.in}};
     for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
       if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
-    WormTrack track = kinematics::TrackFromTrajectory(t, settings);
-    track.software_version = OWVAL_VERSION;
-    WriteWcon(track, a.out);
+    pipeline::WriteWormWcon(t, settings, a.out);
   } else if (ext == ".zarr") {
     WriteOmeZarr(t, a.out);
   } else {

@@ -47,9 +47,7 @@ std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunRequest&
       {"backend", r.backend},    {"integrator", r.integrator},
       {"muscles", r.muscles},    {"log_step", r.log_step},
       {"time_s", r.time_s}};
-  WormTrack track = kinematics::TrackFromTrajectory(t, settings);
-  track.software_version = OWVAL_VERSION;
-  WriteWcon(track, out / "worm.wcon");
+  WriteWormWcon(t, settings, out / "worm.wcon");
   written.push_back((out / "worm_motion_log.txt").string());
   written.push_back((out / "worm.wcon").string());
   return written;
@@ -101,6 +99,13 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
 }
 
 }  // namespace
+
+void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings, const fs::path& path) {
+  if (!kinematics::IsWorm(t)) throw InputError(kinematics::kNotAWorm);
+  WormTrack track = kinematics::TrackFromTrajectory(t, settings);
+  track.software_version = OWVAL_VERSION;
+  WriteWcon(track, path);
+}
 
 nlohmann::json RunRequest::ToJson() const {
   return {{"config", config},

@@ -10,6 +10,7 @@
 //   pipeline::RunIntoDirectory(config, request, {}, &summary);
 //   std::cout << summary.ToJson().dump(2);
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,7 @@
 #include "owval/compare/stability.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/trajectory/trajectory.hpp"
 
 namespace owval::pipeline {
 
@@ -61,6 +63,12 @@ struct RunDirectorySummary {
   // What `owval run --json` prints.
   nlohmann::json ToJson(const std::string& configuration) const;
 };
+
+// The worm's WCON (trajectory/worm_formats.hpp) from a trajectory, `settings` as its provenance
+// and owval's version as the writing software: what `run` and `convert x.wcon` write. InputError
+// when the trajectory is not a worm.
+void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings,
+                   const std::filesystem::path& path);
 
 // The engine's options for the request: unknown backend, bad --set assignment: InputError.
 engine::RunOptions EngineOptions(const RunRequest& request);
