@@ -12,21 +12,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double Number(const nlohmann::json& meta, const char* key, const fs::path& file) {
-  if (!meta.contains(key) || !meta[key].is_number())
-    throw InputError(file.string(), 0, std::string(key) + ": expected a number");
-  return meta[key].get<double>();
-}
-
 double TimeOf(const nlohmann::json& meta, double dt, int log_step, const fs::path& file) {
-  if (meta.contains("timelimit_s")) return Number(meta, "timelimit_s", file);
+  if (meta.contains("timelimit_s")) return NumberField(meta, "timelimit_s", file);
   if (meta.contains("command") && meta["command"].is_string()) {
     std::smatch m;
     const std::string command = meta["command"];
     if (std::regex_search(command, m, std::regex(R"(timelimit=([0-9.eE+-]+))")))
       return std::stod(m[1]);
   }
-  if (meta.contains("frames")) return Number(meta, "frames", file) * log_step * dt;
+  if (meta.contains("frames")) return NumberField(meta, "frames", file) * log_step * dt;
   throw InputError(file.string(), 0, "no time: expected timelimit_s, timelimit= or frames");
 }
 
@@ -41,14 +35,14 @@ Scenario ReadScenario(const fs::path& directory) {
   std::error_code ec;
   if (fs::is_regular_file(directory / "configuration", ec))
     s.configuration = directory / "configuration";
-  s.time_step_s = Number(meta, "time_step_s", file);
-  const double log_step = Number(meta, "log_step", file);
+  s.time_step_s = NumberField(meta, "time_step_s", file);
+  const double log_step = NumberField(meta, "log_step", file);
   if (!(s.time_step_s > 0) || !(log_step >= 1) || log_step != std::floor(log_step))
     throw InputError(file.string(), 0, "time_step_s > 0 and integer log_step >= 1 expected");
   s.log_step = static_cast<int>(log_step);
   s.time_s = TimeOf(meta, s.time_step_s, s.log_step, file);
   if (!(s.time_s > 0)) throw InputError(file.string(), 0, "time: expected > 0");
-  if (meta.contains("wall_s")) s.recorded_wall_s = Number(meta, "wall_s", file);
+  if (meta.contains("wall_s")) s.recorded_wall_s = NumberField(meta, "wall_s", file);
   if (meta.contains("wall_includes") && meta["wall_includes"].is_string())
     s.recorded_wall_includes = meta["wall_includes"];
   return s;

@@ -12,11 +12,11 @@ namespace fs = std::filesystem;
 namespace {
 
 double Positive(const nlohmann::json& run, const char* key, const fs::path& file) {
-  if (!run.contains(key) || !run[key].is_number() || !(run[key].get<double>() > 0) ||
-      !std::isfinite(run[key].get<double>()))
-    throw InputError(file.string(), 0,
-                     std::string("\"sibernetic.") + key + "\": expected a positive number");
-  return run[key].get<double>();
+  const std::string field = std::string("sibernetic.") + key;
+  const double value = NumberField(run, key, file, field);
+  if (!(value > 0))
+    throw InputError(file.string(), 0, "\"" + field + "\": expected a positive number");
+  return value;
 }
 
 Scenario FromManifest(const fs::path& file, const fs::path& checkout) {

@@ -1,5 +1,7 @@
 #include "owval/base/json_file.hpp"
 
+#include <cmath>
+
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 
@@ -30,6 +32,15 @@ nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
 
 nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
   return ParseJsonText(ReadWholeFile(path), path.string());
+}
+
+double NumberField(const nlohmann::json& object, const std::string& key,
+                   const std::filesystem::path& file, const std::string& field) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_number() ||
+      !std::isfinite(object[key].get<double>()))
+    throw InputError(file.string(), 0,
+                     "\"" + (field.empty() ? key : field) + "\": expected a finite number");
+  return object[key].get<double>();
 }
 
 }  // namespace owval

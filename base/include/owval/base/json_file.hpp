@@ -14,4 +14,10 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path);
 // Parses `text` read from `name` (for messages), as ReadJsonFile.
 nlohmann::json ParseJsonText(const std::string& text, const std::string& name);
 
+// object[key] as a finite number: InputError naming the file and the field (`field`, the key's
+// path in the document such as "sibernetic.time_s"; the key when empty) when it is missing, not
+// a number or not finite.
+double NumberField(const nlohmann::json& object, const std::string& key,
+                   const std::filesystem::path& file, const std::string& field = "");
+
 }  // namespace owval
