@@ -46,31 +46,11 @@ void RunPredict(const PredictArgs& a) {
 }
 
 // "--tolerance 0.01" (every gated quantity) or "--tolerance NAME=0.01".
-predict::ReconcileOptions ParseTolerances(const std::vector<std::string>& given) {
-  predict::ReconcileOptions o;
-  for (const std::string& t : given) {
-    const auto eq = t.find('=');
-    const std::string number = eq == std::string::npos ? t : t.substr(eq + 1);
-    double value = 0;
-    try {
-      std::size_t used = 0;
-      value = std::stod(number, &used);
-      if (used != number.size() || !(value >= 0)) throw std::invalid_argument(t);
-    } catch (const std::exception&) {
-      throw InputError("--tolerance " + t + ": expected a number >= 0 or QUANTITY=NUMBER");
-    }
-    if (eq == std::string::npos)
-      o.tolerance = value;
-    else
-      o.tolerances[t.substr(0, eq)] = value;
-  }
-  return o;
-}
-
 void RunReconcile(const PredictArgs& a) {
   const predict::Prediction p =
       predict::Prediction::FromJson(ReadJsonFile(a.prediction), a.prediction);
-  const predict::ReconcileOptions options = ParseTolerances(a.tolerances);
+  predict::ReconcileOptions options;
+  for (const std::string& t : a.tolerances) options.AddTolerance(t);
   const predict::Reconciliation r =
       predict::Reconcile(p, ReadTrajectoryArgument(a.trajectory), options);
   if (!a.out.empty()) WriteFileAtomically(a.out, r.ToJson().dump(2) + "\n");

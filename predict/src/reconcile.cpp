@@ -255,4 +255,21 @@ std::string ReconcileMarkdown(const Reconciliation& r) {
   return s.str();
 }
 
+void ReconcileOptions::AddTolerance(const std::string& text) {
+  const auto eq = text.find('=');
+  const std::string number = eq == std::string::npos ? text : text.substr(eq + 1);
+  double value = 0;
+  try {
+    std::size_t used = 0;
+    value = std::stod(number, &used);
+    if (used != number.size() || !(value >= 0)) throw std::invalid_argument(text);
+  } catch (const std::exception&) {
+    throw InputError("--tolerance " + text + ": expected a number >= 0 or QUANTITY=NUMBER");
+  }
+  if (eq == std::string::npos)
+    tolerance = value;
+  else
+    tolerances[text.substr(0, eq)] = value;
+}
+
 }  // namespace owval::predict

@@ -39,6 +39,10 @@ std::string PredictionMarkdown(const Prediction& prediction);
 struct ReconcileOptions {
   std::optional<double> tolerance;           // replaces every gated quantity's tolerance
   std::map<std::string, double> tolerances;  // per quantity name (wins over `tolerance`)
+
+  // "VALUE" (every gated quantity) or "QUANTITY=VALUE", VALUE a number >= 0: InputError quoting
+  // the text otherwise.
+  void AddTolerance(const std::string& text);
 };
 
 // Measures each predicted quantity on the tracked signal of `trajectory` (the particle or group
