@@ -206,6 +206,23 @@ TEST(CliRun, XpbdBackendRunsAndIsNotReferenceEquivalent) {
             2);
 }
 
+// The adaptive scheme's record is written frame by frame beside the trajectory (memory does not
+// grow with the run), one entry per frame, and is part of the run's outputs.
+TEST(CliRun, WcsphStepLogHasOneEntryPerFrame) {
+  const fs::path out = Scratch() / "wcsph_step_log";
+  const Result r = Owval(
+      "run hydrostatic_tank --backend wcsph --time 0.0004 --log-step 5 --json "
+      "--out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(r.out);
+  const auto log = nlohmann::json::parse(Slurp(out / "step_log.json"));
+  EXPECT_EQ(log["backend"], "wcsph");
+  ASSERT_EQ(log["frames"].size(), summary["frames"].get<std::size_t>());
+  EXPECT_TRUE(log["frames"].back().contains("max_density_variation"));
+  EXPECT_EQ(summary["outputs"].back(), (out / "step_log.json").string());
+}
+
 // Issue 18 items 12 and 14: usage errors are one short line; particle indices are not wrapped;
 // --max-memory bounds what an input may allocate.
 TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {

@@ -86,17 +86,19 @@ FrameView Capture(const Solver& solver, bool fields, FrameBuffers* b) {
 // Keeps every frame: the in-memory Run.
 class MemorySink : public FrameSink {
  public:
-  explicit MemorySink(Trajectory* t) : t_(t) {}
+  MemorySink(Trajectory* t, std::vector<std::string>* step_logs) : t_(t), step_logs_(step_logs) {}
   void Begin(const Trajectory& header) override { *t_ = header; }
   void Frame(const FrameView& f) override {
     t_->AppendFrame(f.time_s, f.positions.data());
     t_->velocities.insert(t_->velocities.end(), f.velocities.begin(), f.velocities.end());
     t_->density.insert(t_->density.end(), f.density.begin(), f.density.end());
     t_->pressure.insert(t_->pressure.end(), f.pressure.begin(), f.pressure.end());
+    if (!f.step_log.empty()) step_logs_->emplace_back(f.step_log);
   }
 
  private:
   Trajectory* t_;
+  std::vector<std::string>* step_logs_;
 };
 
 // Writes the solver's state into dir (atomically) and returns the file's path; "" without dir.
@@ -246,10 +248,9 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
     if (k % log_step == 0) {
       FrameView f = Capture(solver, options.record_fields, &buffers);
       f.index = frames++, f.step = k, f.time_s = double(k) * constants.time_step_s;
+      const std::string step_log = solver.TakeStepLog();
+      f.step_log = step_log;
       sink->Frame(f);
-      // A scheme's own per-frame record (WCSPH: dt history, rollbacks, density variation).
-      if (std::string log = solver.TakeStepLog(); !log.empty())
-        sum.frame_log.push_back(std::move(log));
     }
     if (options.on_step) options.on_step(k + 1, steps);
     if (options.checkpoint_every > 0 && (k + 1) % options.checkpoint_every == 0 && k + 1 < steps)
@@ -264,9 +265,11 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
 
 Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSummary* summary) {
   Trajectory t;
-  MemorySink sink(&t);
-  const RunSummary s = Run(config, options, &sink);
-  if (summary) *summary = s;
+  std::vector<std::string> step_logs;
+  MemorySink sink(&t, &step_logs);
+  RunSummary s = Run(config, options, &sink);
+  s.frame_log = std::move(step_logs);
+  if (summary) *summary = std::move(s);
   return t;
 }
 

@@ -61,21 +61,41 @@ std::vector<std::string> WriteWholeTrajectoryOutputs(const Trajectory& header, c
   return WriteWormOutputs(ReadHdf5(fs::path(r.out) / "trajectory.h5"), r, source);
 }
 
-// An adaptive scheme's time steps, rollbacks and density variation, one entry per frame.
-std::string WriteStepLog(const RunRequest& r, const std::string& backend,
-                         const std::vector<std::string>& frame_log) {
-  nlohmann::json log = {{"backend", backend}, {"frames", nlohmann::json::array()}};
-  for (const std::string& entry : frame_log) log["frames"].push_back(nlohmann::json::parse(entry));
-  const fs::path path = fs::path(r.out) / "step_log.json";
-  WriteFileAtomically(path, log.dump(1) + "\n");
-  return path.string();
-}
+// An adaptive scheme's time steps, rollbacks and density variation, one entry per frame, written
+// as the frames come (memory does not grow with the run) and renamed into place when it completes.
+class StepLogStream {
+ public:
+  StepLogStream(fs::path path, std::string backend)
+      : path_(std::move(path)), backend_(std::move(backend)) {}
+  void Append(std::string_view entry) {
+    if (!file_) {
+      file_ = std::make_unique<AtomicOutput>(path_);
+      file_->stream() << "{\"backend\": " << nlohmann::json(backend_).dump() << ", \"frames\": [\n";
+    } else {
+      file_->stream() << ",\n";
+    }
+    file_->stream() << entry;
+  }
+  // The file's path when the run wrote one, else "".
+  std::string Commit() {
+    if (!file_) return "";
+    file_->stream() << "\n]}\n";
+    file_->Commit();
+    return path_.string();
+  }
+
+ private:
+  fs::path path_;
+  std::string backend_;
+  std::unique_ptr<AtomicOutput> file_;
+};
 
 // What the run streams to besides its files: the trajectory's header (for the worm outputs) and,
 // with stability, the gate's monitor.
 struct Observers {
   Trajectory header;
   std::unique_ptr<compare::StabilityMonitor> monitor;
+  std::unique_ptr<StepLogStream> step_log;
 };
 
 engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, Observers* seen) {
@@ -90,6 +110,7 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
           t.box, t.type, compare::LongRunStabilityOptions());
   };
   files.on_frame = [seen](const engine::FrameView& f) {
+    if (!f.step_log.empty()) seen->step_log->Append(f.step_log);
     if (!seen->monitor) return;
     seen->monitor->Observe(f.time_s, f.positions.data(),
                            f.velocities.empty() ? nullptr : f.velocities.data(),
@@ -182,6 +203,8 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   options.on_step = o.on_step;
   options.stop_requested = o.stop_requested;
   Observers seen;
+  seen.step_log =
+      std::make_unique<StepLogStream>(fs::path(request.out) / "step_log.json", options.backend);
   summary->run = engine::RunToFiles(config, options, Files(request, o, &seen));
   summary->backend = options.backend;
   const bool interrupted = summary->run.interrupted;
@@ -190,8 +213,8 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   if (!interrupted) {
     for (const std::string& path : WriteWholeTrajectoryOutputs(seen.header, request, config.source))
       summary->outputs.push_back(path);
-    if (!summary->run.frame_log.empty())
-      summary->outputs.push_back(WriteStepLog(request, options.backend, summary->run.frame_log));
+    if (const std::string path = seen.step_log->Commit(); !path.empty())
+      summary->outputs.push_back(path);
   }
   if (seen.monitor)
     summary->stability = std::make_unique<compare::StabilityReport>(seen.monitor->report());

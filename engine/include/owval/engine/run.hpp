@@ -6,6 +6,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "owval/engine/config.hpp"
 #include "owval/engine/muscles.hpp"
@@ -58,6 +59,9 @@ struct FrameView {
   std::span<const float> velocities;  // 3 a particle, m/s
   std::span<const float> density;     // 1 a particle, kg/m^3
   std::span<const float> pressure;    // 1 a particle, Pa
+  // The scheme's own record of the steps since the previous frame (Solver::TakeStepLog: WCSPH's
+  // dt history, rollbacks, density variation), JSON; empty for schemes without one.
+  std::string_view step_log;
 };
 
 // Where a streaming run sends its frames: memory stays O(particles) whatever the run's length.
@@ -84,7 +88,8 @@ struct RunSummary {
   bool interrupted = false;           // stop_requested returned true before the last step
   std::size_t first_step = 0;         // > 0 for a resumed run
   std::vector<std::string> warnings;  // e.g. "[physical parameters] parsed but not applied"
-  // Per recorded frame, the solver's TakeStepLog() (adaptive schemes: wcsph); empty otherwise.
+  // Per recorded frame, FrameView::step_log: kept by the in-memory Run only (a streaming run's
+  // sink sees each one with its frame); empty for schemes without one.
   std::vector<std::string> frame_log;
 };
 
