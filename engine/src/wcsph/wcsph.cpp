@@ -59,7 +59,7 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
   for (int a = 0; a < 3; ++a) gravity_[a] = float(constants.gravity[a]);
   const std::size_t n = config.particle_count();
   State& s = s_;
-  for (auto* v : {&s.x, &s.y, &s.z, &s.vx, &s.vy, &s.vz, &s.ax, &s.ay, &s.az, &s.rho, &s.drho})
+  for (auto* v : {&s.x, &s.y, &s.z, &s.vx, &s.vy, &s.vz, &s.ax, &s.ay, &s.az, &s.rho})
     v->assign(n, 0.0f);
   s.row.resize(n);
   s.liquid.resize(n);
@@ -94,6 +94,7 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
                          float(box_high_[2] + margin)};
   cells_.Configure(low, high, kernel_.support);
   pressure_.assign(n, 0.0f);
+  drho_.assign(n, 0.0f);
   xsph_x_.assign(n, 0.0f);
   xsph_y_.assign(n, 0.0f);
   xsph_z_.assign(n, 0.0f);
@@ -166,8 +167,7 @@ void Wcsph::Reorder() {
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::int32_t> order(n);
   for (std::size_t k = 0; k < n; ++k) order[k] = keyed[k].second;
-  for (auto* v :
-       {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho, &s_.drho})
+  for (auto* v : {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho})
     Permute(order, v);
   Permute(order, &s_.row);
   Permute(order, &s_.liquid);
@@ -179,24 +179,24 @@ void Wcsph::Reorder() {
 void Wcsph::BuildNeighbours() {
   const std::size_t n = s_.x.size();
   cells_.Build(s_.x.data(), s_.y.data(), s_.z.data(), n);
-  std::vector<char> cell_has_liquid(std::size_t(cells_.cells()), 0);
+  cell_has_liquid_.assign(std::size_t(cells_.cells()), 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (s_.liquid[i]) cell_has_liquid[std::size_t(cells_.CellOf(i))] = 1;
+    if (s_.liquid[i]) cell_has_liquid_[std::size_t(cells_.CellOf(i))] = 1;
   process_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (s_.liquid[i]) process_.push_back(std::int32_t(i));
+  process_liquid_ = process_.size();
   int around[27];
   for (std::size_t i = 0; i < n; ++i) {
     if (s_.liquid[i]) continue;
     const int count = cells_.Around(cells_.CellOf(i), around);
     for (int c = 0; c < count; ++c)
-      if (cell_has_liquid[std::size_t(around[c])]) {
+      if (cell_has_liquid_[std::size_t(around[c])]) {
         process_.push_back(std::int32_t(i));
         break;
       }
   }
-  std::fill(list_count_.begin(), list_count_.end(), 0);
-  std::vector<std::size_t> begin(n, 0);
+  list_begin_.resize(n);
   const float support2 = kernel_.support2;
 #pragma omp parallel num_threads(threads_)
   {
@@ -208,7 +208,7 @@ void Wcsph::BuildNeighbours() {
       const std::int32_t i = process_[k];
       const bool wall = !s_.liquid[i];
       const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-      begin[i] = buffer.size();
+      list_begin_[i] = buffer.size();
       const int count = cells_.Around(cells_.CellOf(std::size_t(i)), cells);
       for (int c = 0; c < count; ++c)
         for (const std::int32_t* j = cells_.begin(cells[c]); j != cells_.end(cells[c]); ++j) {
@@ -216,43 +216,41 @@ void Wcsph::BuildNeighbours() {
           const float dx = xi - s_.x[*j], dy = yi - s_.y[*j], dz = zi - s_.z[*j];
           if (dx * dx + dy * dy + dz * dz < support2) buffer.push_back(*j);
         }
-      list_count_[i] = std::int32_t(buffer.size() - begin[i]);
+      list_count_[i] = std::int32_t(buffer.size() - list_begin_[i]);
     }
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < process_.size(); ++k)
-      list_[process_[k]] = buffer.data() + begin[process_[k]];
+      list_[process_[k]] = buffer.data() + list_begin_[process_[k]];
   }
 }
 
+// Pressures of all, accelerations of the liquid, at the current positions and densities.
 void Wcsph::Evaluate() {
   const std::size_t n = s_.x.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    pressure_[i] = Pressure(s_.rho[i]);
-    s_.drho[i] = 0;
+#pragma omp parallel num_threads(threads_)
+  {
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) pressure_[i] = Pressure(s_.rho[i]);
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < process_liquid_; ++k) Accelerate(std::size_t(process_[k]));
   }
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t k = 0; k < process_.size(); ++k) EvaluateParticle(std::size_t(process_[k]));
 }
 
-// Density rate and acceleration of one particle from its list (walls: the density rate only).
-void Wcsph::EvaluateParticle(std::size_t i) {
+// Pressure force, artificial viscosity [Mon92] and gravity on liquid particle i.
+void Wcsph::Accelerate(std::size_t i) {
   const float m = float(mass_), h = float(h_), c = float(sound_speed_);
   const float alpha = float(p_.viscosity_alpha);
-  const bool diffusion = p_.density_diffusion != 0;
   const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
   const float vxi = s_.vx[i], vyi = s_.vy[i], vzi = s_.vz[i];
   const float rhoi = s_.rho[i], pri = pressure_[i] / (rhoi * rhoi);
-  float ax = 0, ay = 0, az = 0, drho = 0, diffuse = 0;
+  float ax = 0, ay = 0, az = 0;
   const std::int32_t* list = list_[i];
   for (std::int32_t k = 0; k < list_count_[i]; ++k) {
     const std::size_t j = std::size_t(list[k]);
     const float dx = xi - s_.x[j], dy = yi - s_.y[j], dz = zi - s_.z[j];
     const float r2 = dx * dx + dy * dy + dz * dz;
     const float f = kernel_.GradientOverR(std::sqrt(r2));  // ∇_i W_ij = f · r_ij
-    const float dvx = vxi - s_.vx[j], dvy = vyi - s_.vy[j], dvz = vzi - s_.vz[j];
-    const float vr = dvx * dx + dvy * dy + dvz * dz;
-    drho += m * f * vr;
+    const float vr = (vxi - s_.vx[j]) * dx + (vyi - s_.vy[j]) * dy + (vzi - s_.vz[j]) * dz;
     const float rhoj = s_.rho[j];
     float coefficient = pri + pressure_[j] / (rhoj * rhoj);
     if (alpha > 0 && vr < 0) {
@@ -263,52 +261,66 @@ void Wcsph::EvaluateParticle(std::size_t i) {
     ax += push * dx;
     ay += push * dy;
     az += push * dz;
-    if (diffusion && s_.liquid[j]) diffuse += DensityDiffusionPair(rhoi, rhoj, f, m / rhoj);
   }
-  s_.drho[i] = drho + 2.0f * float(p_.diffusion_delta) * h * c * diffuse;
-  if (!s_.liquid[i]) return;
   s_.ax[i] = ax + gravity_[0];
   s_.ay[i] = ay + gravity_[1];
   s_.az[i] = az + gravity_[2];
 }
 
-// XSPH [Mon89 eq. 2.6]: u_i = v_i + ε Σ_j m/ρ̄_ij (v_j − v_i) W_ij over the liquid neighbours.
-void Wcsph::ComputeXsph() {
+// The density rates of every computed particle and the liquid's XSPH velocities.
+void Wcsph::DensityRates() {
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (std::size_t k = 0; k < process_.size(); ++k) DensityRate(std::size_t(process_[k]));
+}
+
+// Continuity [Mon92] plus δ-SPH [MC09] from the densities the sub-step starts with; for a liquid
+// particle also XSPH [Mon89 eq. 2.6]: u_i = v_i + ε Σ_j m/ρ̄_ij (v_j − v_i) W_ij over the liquid.
+void Wcsph::DensityRate(std::size_t i) {
   const float m = float(mass_), epsilon = p_.xsph ? float(p_.xsph_epsilon) : 0.0f;
+  const bool diffusion = p_.density_diffusion != 0, liquid = s_.liquid[i];
+  const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
+  const float vxi = s_.vx[i], vyi = s_.vy[i], vzi = s_.vz[i], rhoi = s_.rho[i];
+  float drho = 0, diffuse = 0, ux = 0, uy = 0, uz = 0;
+  const std::int32_t* list = list_[i];
+  for (std::int32_t k = 0; k < list_count_[i]; ++k) {
+    const std::size_t j = std::size_t(list[k]);
+    const float dx = xi - s_.x[j], dy = yi - s_.y[j], dz = zi - s_.z[j];
+    const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const float f = kernel_.GradientOverR(r);
+    const float dvx = s_.vx[j] - vxi, dvy = s_.vy[j] - vyi, dvz = s_.vz[j] - vzi;
+    drho -= m * f * (dvx * dx + dvy * dy + dvz * dz);
+    if (!s_.liquid[j]) continue;
+    const float rhoj = s_.rho[j];
+    if (diffusion) diffuse += DensityDiffusionPair(rhoi, rhoj, f, m / rhoj);
+    if (!liquid || epsilon == 0) continue;
+    const float w = kernel_.W(r) * m / (0.5f * (rhoi + rhoj));
+    ux += w * dvx;
+    uy += w * dvy;
+    uz += w * dvz;
+  }
+  drho_[i] = drho + 2.0f * float(p_.diffusion_delta * h_ * sound_speed_) * diffuse;
+  if (!liquid) return;
+  xsph_x_[i] = vxi + epsilon * ux;
+  xsph_y_[i] = vyi + epsilon * uy;
+  xsph_z_[i] = vzi + epsilon * uz;
+}
+
+// ρ += dt Dρ for every computed particle; walls never fall below ρ0 (they do not pull [CGD07]).
+void Wcsph::AdvanceDensity(double dt) {
+  const float step = float(dt), floor = float(rho0_);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t k = 0; k < process_.size(); ++k) {
     const std::size_t i = std::size_t(process_[k]);
-    if (!s_.liquid[i]) continue;
-    float ux = 0, uy = 0, uz = 0;
-    if (epsilon > 0) {
-      const std::int32_t* list = list_[i];
-      for (std::int32_t q = 0; q < list_count_[i]; ++q) {
-        const std::size_t j = std::size_t(list[q]);
-        if (!s_.liquid[j]) continue;
-        const float dx = s_.x[i] - s_.x[j], dy = s_.y[i] - s_.y[j], dz = s_.z[i] - s_.z[j];
-        const float w = kernel_.W(std::sqrt(dx * dx + dy * dy + dz * dz)) * m /
-                        (0.5f * (s_.rho[i] + s_.rho[j]));
-        ux += w * (s_.vx[j] - s_.vx[i]);
-        uy += w * (s_.vy[j] - s_.vy[i]);
-        uz += w * (s_.vz[j] - s_.vz[i]);
-      }
-    }
-    xsph_x_[i] = s_.vx[i] + epsilon * ux;
-    xsph_y_[i] = s_.vy[i] + epsilon * uy;
-    xsph_z_[i] = s_.vz[i] + epsilon * uz;
+    s_.rho[i] += step * drho_[i];
+    if (k >= process_liquid_) s_.rho[i] = std::max(s_.rho[i], floor);
   }
 }
 
-void Wcsph::Kick(double dt) {
-  const float half = float(0.5 * dt), floor = float(rho0_);
-  const std::size_t n = s_.x.size();
+void Wcsph::Kick(double half_dt) {
+  const float half = float(half_dt);
 #pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    s_.rho[i] += half * s_.drho[i];
-    if (!s_.liquid[i]) {
-      s_.rho[i] = std::max(s_.rho[i], floor);  // walls never pull [CGD07]
-      continue;
-    }
+  for (std::size_t k = 0; k < process_liquid_; ++k) {
+    const std::size_t i = std::size_t(process_[k]);
     s_.vx[i] += half * s_.ax[i];
     s_.vy[i] += half * s_.ay[i];
     s_.vz[i] += half * s_.az[i];
@@ -318,29 +330,52 @@ void Wcsph::Kick(double dt) {
 // x += dt u (XSPH velocity), kept inside the box (a leak through a one-layer wall stops there).
 void Wcsph::Drift(double dt) {
   const float step = float(dt);
-  const std::size_t n = s_.x.size();
 #pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!s_.liquid[i]) continue;
+  for (std::size_t k = 0; k < process_liquid_; ++k) {
+    const std::size_t i = std::size_t(process_[k]);
     s_.x[i] = std::clamp(s_.x[i] + step * xsph_x_[i], box_low_[0], box_high_[0]);
     s_.y[i] = std::clamp(s_.y[i] + step * xsph_y_[i], box_low_[1], box_high_[1]);
     s_.z[i] = std::clamp(s_.z[i] + step * xsph_z_[i], box_low_[2], box_high_[2]);
   }
 }
 
-// Velocity Verlet, kick-drift-kick: the rates at the start are those of the last evaluation.
+// Kick-drift-kick; the drift carries the density with the positions (see wcsph.hpp). The rates
+// of the first kick are those of the last evaluation.
 void Wcsph::Substep(double dt) {
-  Kick(dt);
-  ComputeXsph();
+  Kick(0.5 * dt);
+  Mark(kKick);
+  DensityRates();
+  AdvanceDensity(dt);
+  Mark(kDensity);
   Drift(dt);
+  Mark(kDrift);
   if (p_.morton_reorder && ++s_.since_reorder >= std::size_t(p_.reorder_interval)) {
     Reorder();
     s_.since_reorder = 0;
   }
+  Mark(kReorder);
   BuildNeighbours();
+  Mark(kNeighbours);
   Evaluate();
-  Kick(dt);
+  Mark(kForces);
+  Kick(0.5 * dt);
+  Mark(kKick);
   s_.time_s += dt;
+}
+
+void Wcsph::Mark(Phase p) {
+  if (!timing_) return;
+  const auto now = std::chrono::steady_clock::now();
+  phase_s_[p] += std::chrono::duration<double>(now - mark_).count();
+  mark_ = now;
+}
+
+std::vector<Solver::PhaseTime> Wcsph::phase_seconds() const {
+  static constexpr const char* kNames[kPhaseCount] = {
+      "kick", "density_xsph", "drift", "reorder", "neighbours", "forces", "dt_control"};
+  std::vector<PhaseTime> out;
+  for (int p = 0; p < kPhaseCount; ++p) out.push_back({kNames[p], phase_s_[p]});
+  return out;
 }
 
 double Wcsph::SafeDt() const {
@@ -378,6 +413,7 @@ void Wcsph::Restore() {
 // One nominal step: adaptive sub-steps up to step_ × time_step_s (step 0 only evaluates).
 void Wcsph::Step() {
   const double target = double(step_) * nominal_dt_;
+  if (timing_) mark_ = std::chrono::steady_clock::now();
   while (step_ > 0 && s_.time_s < target) {
     const double remaining = target - s_.time_s;
     const double safe = SafeDt();
@@ -390,16 +426,19 @@ void Wcsph::Step() {
     const bool last = parts == 1;
     const bool optimistic = try_optimistic && dt > safe;
     if (optimistic) Checkpoint();
+    Mark(kControl);
     Substep(dt);
     if (last) s_.time_s = target;
     const double variation = MaxDensityVariation();
     if (optimistic && variation > p_.rollback_threshold) {
       Restore();
+      Mark(kControl);
       ++stats_.rollbacks;
       ++log_rollbacks_;
       cooldown_ = std::size_t(p_.cooldown_steps);
       continue;
     }
+    Mark(kControl);
     if (!optimistic && cooldown_ > 0) --cooldown_;
     ++stats_.substeps;
     stats_.last_dt_s = dt;
@@ -465,7 +504,7 @@ std::vector<float> Wcsph::DensityDiffusionRates() const {
 }
 
 std::vector<Float4> Wcsph::XsphVelocities() const {
-  const_cast<Wcsph*>(this)->ComputeXsph();
+  const_cast<Wcsph*>(this)->DensityRates();
   std::vector<Float4> out(s_.x.size());
   for (std::size_t i = 0; i < s_.x.size(); ++i)
     if (s_.liquid[i]) out[std::size_t(s_.row[i])] = {xsph_x_[i], xsph_y_[i], xsph_z_[i], 0.0f};
