@@ -69,9 +69,12 @@ std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
   return FinalMean(series);
 }
 
-// hydrostatic_tank: mean pressure of the liquid within half a spacing of mid-depth (each
-// frame's positions), averaged over the last 10% of frames.
-std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p) {
+// hydrostatic_tank: the pressure of the liquid within half a spacing of mid-depth (each frame's
+// positions), averaged over the last 10% of frames: the mean of the particles' pressures, or
+// (root_mean_square) the square root of the mean of their squares, which also counts the
+// particle-to-particle scatter that the mean hides: sqrt(mean^2 + variance).
+std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p,
+                                       bool root_mean_square) {
   if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
   const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
   const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
@@ -81,10 +84,11 @@ std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p)
     std::size_t n = 0;
     for (std::size_t i : liquid)
       if (std::abs(t.coordinate(f, i, 1) - mid) < half) {
-        sum += t.pressure[f * t.particle_count() + i];
+        const double pressure = t.pressure[f * t.particle_count() + i];
+        sum += root_mean_square ? pressure * pressure : pressure;
         ++n;
       }
-    if (n > 0) series.push_back(sum / double(n));
+    if (n > 0) series.push_back(root_mean_square ? std::sqrt(sum / double(n)) : sum / double(n));
   }
   if (series.empty()) return std::nullopt;
   return FinalMean(series);
@@ -115,7 +119,8 @@ std::optional<double> SurgeFront(const Trajectory& t, const Prediction& p, doubl
 
 std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
                               const Prediction& p) {
-  if (q == "mid_depth_pressure") return MidDepthPressure(t, p);
+  if (q == "mid_depth_pressure") return MidDepthPressure(t, p, false);
+  if (q == "mid_depth_pressure_rms") return MidDepthPressure(t, p, true);
   const std::string front = "surge_front_Z_at_T_";
   if (q.rfind(front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(front.size())));
   const compare::SignalMetrics& m = s.metrics;
