@@ -69,12 +69,9 @@ std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
   return FinalMean(series);
 }
 
-// hydrostatic_tank: the pressure of the liquid within half a spacing of mid-depth (each frame's
-// positions), averaged over the last 10% of frames: the mean of the particles' pressures, or
-// (root_mean_square) the square root of the mean of their squares, which also counts the
-// particle-to-particle scatter that the mean hides: sqrt(mean^2 + variance).
-std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p,
-                                       bool root_mean_square) {
+// hydrostatic_tank: mean pressure of the liquid within half a spacing of mid-depth (each
+// frame's positions), averaged over the last 10% of frames.
+std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p) {
   if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
   const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
   const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
@@ -84,11 +81,36 @@ std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p,
     std::size_t n = 0;
     for (std::size_t i : liquid)
       if (std::abs(t.coordinate(f, i, 1) - mid) < half) {
-        const double pressure = t.pressure[f * t.particle_count() + i];
-        sum += root_mean_square ? pressure * pressure : pressure;
+        sum += t.pressure[f * t.particle_count() + i];
         ++n;
       }
-    if (n > 0) series.push_back(root_mean_square ? std::sqrt(sum / double(n)) : sum / double(n));
+    if (n > 0) series.push_back(sum / double(n));
+  }
+  if (series.empty()) return std::nullopt;
+  return FinalMean(series);
+}
+
+// hydrostatic_tank: the same particles' root-mean-square error against the profile at their
+// own height, p(y) = p_mid (H - y)/(H - y_mid), over p_mid: the particle-to-particle error
+// that the mean hides. Averaged over the last 10% of frames.
+std::optional<double> MidDepthPressureError(const Trajectory& t, const Prediction& p) {
+  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
+  const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
+  const double surface = p.InputValue("free_surface_y"), p_mid = p.ValueOf("mid_depth_pressure");
+  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  std::vector<double> series;
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i : liquid) {
+      const double y = t.coordinate(f, i, 1);
+      if (std::abs(y - mid) >= half) continue;
+      const double error =
+          t.pressure[f * t.particle_count() + i] - p_mid * (surface - y) / (surface - mid);
+      sum += error * error;
+      ++n;
+    }
+    if (n > 0) series.push_back(std::sqrt(sum / double(n)) / p_mid);
   }
   if (series.empty()) return std::nullopt;
   return FinalMean(series);
@@ -119,8 +141,8 @@ std::optional<double> SurgeFront(const Trajectory& t, const Prediction& p, doubl
 
 std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
                               const Prediction& p) {
-  if (q == "mid_depth_pressure") return MidDepthPressure(t, p, false);
-  if (q == "mid_depth_pressure_rms") return MidDepthPressure(t, p, true);
+  if (q == "mid_depth_pressure") return MidDepthPressure(t, p);
+  if (q == "mid_depth_pressure_rms_error") return MidDepthPressureError(t, p);
   const std::string front = "surge_front_Z_at_T_";
   if (q.rfind(front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(front.size())));
   const compare::SignalMetrics& m = s.metrics;
@@ -206,9 +228,12 @@ ReconcileRow Row(const PredictedQuantity& q, const std::optional<double>& measur
   // Positions gap in cu, everything else relative to the prediction.
   row.gap_in_cu = q.tolerance_kind == ToleranceKind::kAbsoluteCu ||
                   (q.tolerance_kind == ToleranceKind::kInformative && q.unit == "cu");
+  // An informative quantity predicted as 0 (an error that should vanish): the gap is the
+  // measured value itself.
+  const bool absolute = row.gap_in_cu || (!gated && q.value == 0);
   if (measured) {
     row.measured = *measured;
-    row.gap = row.gap_in_cu ? *measured - q.value : (*measured - q.value) / q.value;
+    row.gap = absolute ? *measured - q.value : (*measured - q.value) / q.value;
   }
   if (gated) row.pass = measured && std::abs(*row.gap) <= row.tolerance;
   if (gated && !measured)

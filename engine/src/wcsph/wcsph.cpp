@@ -7,6 +7,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "neighbours/near_candidates.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/engine/muscles.hpp"
 #include "state/particle_state.hpp"
@@ -102,7 +103,9 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
   out_density_.assign(n, 0.0f);
   list_.assign(n, nullptr);
   list_count_.assign(n, 0);
-  buffers_.resize(std::size_t(threads_));
+  scratch_.resize(std::size_t(threads_));
+  list_begin_.assign(n, 0);
+  list_owner_.assign(n, 0);
   if (p_.morton_reorder) Reorder();
   BuildNeighbours();
   Evaluate();
@@ -175,52 +178,97 @@ void Wcsph::Reorder() {
 
 // Cell list, then each computed particle's list: a liquid particle lists every particle within
 // the support, a wall particle (computed only when a liquid particle is within one cell) lists
-// the liquid ones. Per-thread buffers, in index order within each particle's list.
+// the liquid ones. Lists are built cell by cell (ListCell), each cell by one thread; within a
+// list, neighbours come in the order of the 27 cells and of the index within a cell.
 void Wcsph::BuildNeighbours() {
   const std::size_t n = s_.x.size();
   cells_.Build(s_.x.data(), s_.y.data(), s_.z.data(), n);
   cell_has_liquid_.assign(std::size_t(cells_.cells()), 0);
+  cell_active_.assign(std::size_t(cells_.cells()), 0);
   for (std::size_t i = 0; i < n; ++i)
     if (s_.liquid[i]) cell_has_liquid_[std::size_t(cells_.CellOf(i))] = 1;
+  int around[27];
+  active_cells_.clear();
+  for (int c = 0; c < cells_.cells(); ++c) {
+    if (!cell_has_liquid_[std::size_t(c)]) continue;
+    const int count = cells_.Around(c, around);
+    for (int k = 0; k < count; ++k) cell_active_[std::size_t(around[k])] = 1;
+  }
+  for (int c = 0; c < cells_.cells(); ++c)
+    if (cell_active_[std::size_t(c)] && cells_.begin(c) != cells_.end(c))
+      active_cells_.push_back(c);
   process_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (s_.liquid[i]) process_.push_back(std::int32_t(i));
   process_liquid_ = process_.size();
-  int around[27];
-  for (std::size_t i = 0; i < n; ++i) {
-    if (s_.liquid[i]) continue;
-    const int count = cells_.Around(cells_.CellOf(i), around);
-    for (int c = 0; c < count; ++c)
-      if (cell_has_liquid_[std::size_t(around[c])]) {
-        process_.push_back(std::int32_t(i));
-        break;
-      }
-  }
-  list_begin_.resize(n);
-  const float support2 = kernel_.support2;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!s_.liquid[i] && cell_active_[std::size_t(cells_.CellOf(i))])
+      process_.push_back(std::int32_t(i));
 #pragma omp parallel num_threads(threads_)
   {
-    std::vector<std::int32_t>& buffer = buffers_[std::size_t(omp_get_thread_num())];
-    buffer.clear();
-    int cells[27];
+    const int thread = omp_get_thread_num();
+    ListScratch& scratch = scratch_[std::size_t(thread)];
+    scratch.lists.clear();
+#pragma omp for schedule(dynamic, 8)
+    for (std::size_t k = 0; k < active_cells_.size(); ++k)
+      ListCell(active_cells_[k], &scratch, thread);
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < process_.size(); ++k) {
-      const std::int32_t i = process_[k];
-      const bool wall = !s_.liquid[i];
-      const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-      list_begin_[i] = buffer.size();
-      const int count = cells_.Around(cells_.CellOf(std::size_t(i)), cells);
-      for (int c = 0; c < count; ++c)
-        for (const std::int32_t* j = cells_.begin(cells[c]); j != cells_.end(cells[c]); ++j) {
-          if (*j == i || (wall && !s_.liquid[*j])) continue;
-          const float dx = xi - s_.x[*j], dy = yi - s_.y[*j], dz = zi - s_.z[*j];
-          if (dx * dx + dy * dy + dz * dz < support2) buffer.push_back(*j);
-        }
-      list_count_[i] = std::int32_t(buffer.size() - list_begin_[i]);
+      const std::size_t i = std::size_t(process_[k]);
+      list_[i] = scratch_[std::size_t(list_owner_[i])].lists.data() + list_begin_[i];
     }
-#pragma omp for schedule(static)
-    for (std::size_t k = 0; k < process_.size(); ++k)
-      list_[process_[k]] = buffer.data() + list_begin_[process_[k]];
+  }
+}
+
+void Wcsph::Candidates::Clear() {
+  x.clear();
+  y.clear();
+  z.clear();
+  index.clear();
+}
+
+void Wcsph::Candidates::Add(const State& s, std::int32_t j) {
+  x.push_back(s.x[std::size_t(j)]);
+  y.push_back(s.y[std::size_t(j)]);
+  z.push_back(s.z[std::size_t(j)]);
+  index.push_back(j);
+}
+
+// The lists of one cell's particles: the particles of its 27 cells within the support of the
+// cell's box (a third of them fall further) gathered once into contiguous candidates, then each
+// particle keeps those within its support (NearCandidates: AVX-512 when the CPU has it).
+void Wcsph::ListCell(int cell, ListScratch* scratch, int thread) {
+  ListScratch& c = *scratch;
+  c.all.Clear();
+  c.liquid.Clear();
+  float low[3], high[3];
+  cells_.Bounds(cell, low, high);
+  const float support2 = kernel_.support2, slack = 1e-3f * kernel_.support;
+  const auto outside = [&](float v, int a) {
+    return std::max(0.0f, std::max(low[a] - slack - v, v - high[a] - slack));
+  };
+  int around[27];
+  const int count = cells_.Around(cell, around);
+  for (int a = 0; a < count; ++a)
+    for (const std::int32_t* j = cells_.begin(around[a]); j != cells_.end(around[a]); ++j) {
+      const float dx = outside(s_.x[*j], 0), dy = outside(s_.y[*j], 1), dz = outside(s_.z[*j], 2);
+      if (dx * dx + dy * dy + dz * dz >= support2) continue;
+      c.all.Add(s_, *j);
+      if (s_.liquid[*j]) c.liquid.Add(s_, *j);
+    }
+  c.kept.resize(c.all.index.size() + kNearSlack);
+  c.d2.resize(c.kept.size());
+  for (const std::int32_t* p = cells_.begin(cell); p != cells_.end(cell); ++p) {
+    const std::size_t i = std::size_t(*p);
+    const Candidates& from = s_.liquid[i] ? c.all : c.liquid;
+    const CandidateCell candidates{from.index.data(), from.x.data(), from.y.data(), from.z.data(),
+                                   int(from.index.size())};
+    const float at[3] = {s_.x[i], s_.y[i], s_.z[i]};
+    const int kept = NearCandidates(candidates, at, support2, *p, c.kept.data(), c.d2.data());
+    list_begin_[i] = c.lists.size();
+    list_owner_[i] = thread;
+    list_count_[i] = kept;
+    c.lists.insert(c.lists.end(), c.kept.begin(), c.kept.begin() + kept);
   }
 }
 
@@ -231,7 +279,7 @@ void Wcsph::Evaluate() {
   {
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) pressure_[i] = Pressure(s_.rho[i]);
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 256)
     for (std::size_t k = 0; k < process_liquid_; ++k) Accelerate(std::size_t(process_[k]));
   }
 }
@@ -269,7 +317,7 @@ void Wcsph::Accelerate(std::size_t i) {
 
 // The density rates of every computed particle and the liquid's XSPH velocities.
 void Wcsph::DensityRates() {
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
   for (std::size_t k = 0; k < process_.size(); ++k) DensityRate(std::size_t(process_[k]));
 }
 

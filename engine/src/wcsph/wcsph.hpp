@@ -105,6 +105,18 @@ class Wcsph final : public Solver {
     double time_s = 0;
   };
 
+  // Per thread: the lists it wrote and the candidates of the cell it is listing.
+  struct Candidates {
+    std::vector<float> x, y, z;
+    std::vector<std::int32_t> index;
+    void Clear();
+    void Add(const State& s, std::int32_t j);
+  };
+  struct ListScratch {
+    std::vector<std::int32_t> lists, kept;
+    std::vector<float> d2;
+    Candidates all, liquid;  // every candidate; the liquid ones (for walls)
+  };
   // The phases of a sub-step, for the per-phase profile.
   enum Phase { kKick, kDensity, kDrift, kReorder, kNeighbours, kForces, kControl, kPhaseCount };
 
@@ -116,6 +128,7 @@ class Wcsph final : public Solver {
   void AdvanceDensity(double dt);
   void Drift(double dt);
   void BuildNeighbours();
+  void ListCell(int cell, ListScratch* scratch, int thread);
   void Evaluate();  // pressures and the liquid's accelerations
   void Accelerate(std::size_t i);
   void Mark(Phase p);
@@ -139,9 +152,11 @@ class Wcsph final : public Solver {
   std::size_t process_liquid_ = 0;         // how many of process_ are liquid
   std::vector<const std::int32_t*> list_;  // per particle: its neighbours
   std::vector<std::int32_t> list_count_;
-  std::vector<std::vector<std::int32_t>> buffers_;  // per thread
-  std::vector<std::size_t> list_begin_;             // scratch of BuildNeighbours
-  std::vector<char> cell_has_liquid_;               // scratch of BuildNeighbours
+  std::vector<ListScratch> scratch_;
+  std::vector<std::size_t> list_begin_;   // per particle: offset in its thread's lists
+  std::vector<std::int32_t> list_owner_;  // per particle: the thread that listed it
+  std::vector<char> cell_has_liquid_, cell_active_;
+  std::vector<std::int32_t> active_cells_;  // cells with liquid within one cell
   std::vector<float> drho_, xsph_x_, xsph_y_, xsph_z_, pressure_;
   std::vector<Float4> out_position_, out_velocity_, wall_velocity_;
   std::vector<float> out_pressure_, out_density_, muscles_;
