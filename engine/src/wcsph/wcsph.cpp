@@ -198,8 +198,11 @@ void Wcsph::BuildNeighbours() {
     if (cell_active_[std::size_t(c)] && cells_.begin(c) != cells_.end(c))
       active_cells_.push_back(c);
   process_.clear();
-  for (std::size_t i = 0; i < n; ++i)
+  liquid32_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    liquid32_[i] = s_.liquid[i];
     if (s_.liquid[i]) process_.push_back(std::int32_t(i));
+  }
   process_liquid_ = process_.size();
   for (std::size_t i = 0; i < n; ++i)
     if (!s_.liquid[i] && cell_active_[std::size_t(cells_.CellOf(i))])
@@ -284,73 +287,10 @@ void Wcsph::Evaluate() {
   }
 }
 
-// Pressure force, artificial viscosity [Mon92] and gravity on liquid particle i.
-void Wcsph::Accelerate(std::size_t i) {
-  const float m = float(mass_), h = float(h_), c = float(sound_speed_);
-  const float alpha = float(p_.viscosity_alpha);
-  const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-  const float vxi = s_.vx[i], vyi = s_.vy[i], vzi = s_.vz[i];
-  const float rhoi = s_.rho[i], pri = pressure_[i] / (rhoi * rhoi);
-  float ax = 0, ay = 0, az = 0;
-  const std::int32_t* list = list_[i];
-  for (std::int32_t k = 0; k < list_count_[i]; ++k) {
-    const std::size_t j = std::size_t(list[k]);
-    const float dx = xi - s_.x[j], dy = yi - s_.y[j], dz = zi - s_.z[j];
-    const float r2 = dx * dx + dy * dy + dz * dz;
-    const float f = kernel_.GradientOverR(std::sqrt(r2));  // ∇_i W_ij = f · r_ij
-    const float vr = (vxi - s_.vx[j]) * dx + (vyi - s_.vy[j]) * dy + (vzi - s_.vz[j]) * dz;
-    const float rhoj = s_.rho[j];
-    float coefficient = pri + pressure_[j] / (rhoj * rhoj);
-    if (alpha > 0 && vr < 0) {
-      const float mu = h * vr / (r2 + 0.01f * h * h);
-      coefficient += -alpha * c * mu / (0.5f * (rhoi + rhoj));
-    }
-    const float push = -m * coefficient * f;
-    ax += push * dx;
-    ay += push * dy;
-    az += push * dz;
-  }
-  s_.ax[i] = ax + gravity_[0];
-  s_.ay[i] = ay + gravity_[1];
-  s_.az[i] = az + gravity_[2];
-}
-
 // The density rates of every computed particle and the liquid's XSPH velocities.
 void Wcsph::DensityRates() {
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
   for (std::size_t k = 0; k < process_.size(); ++k) DensityRate(std::size_t(process_[k]));
-}
-
-// Continuity [Mon92] plus δ-SPH [MC09] from the densities the sub-step starts with; for a liquid
-// particle also XSPH [Mon89 eq. 2.6]: u_i = v_i + ε Σ_j m/ρ̄_ij (v_j − v_i) W_ij over the liquid.
-void Wcsph::DensityRate(std::size_t i) {
-  const float m = float(mass_), epsilon = p_.xsph ? float(p_.xsph_epsilon) : 0.0f;
-  const bool diffusion = p_.density_diffusion != 0, liquid = s_.liquid[i];
-  const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-  const float vxi = s_.vx[i], vyi = s_.vy[i], vzi = s_.vz[i], rhoi = s_.rho[i];
-  float drho = 0, diffuse = 0, ux = 0, uy = 0, uz = 0;
-  const std::int32_t* list = list_[i];
-  for (std::int32_t k = 0; k < list_count_[i]; ++k) {
-    const std::size_t j = std::size_t(list[k]);
-    const float dx = xi - s_.x[j], dy = yi - s_.y[j], dz = zi - s_.z[j];
-    const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const float f = kernel_.GradientOverR(r);
-    const float dvx = s_.vx[j] - vxi, dvy = s_.vy[j] - vyi, dvz = s_.vz[j] - vzi;
-    drho -= m * f * (dvx * dx + dvy * dy + dvz * dz);
-    if (!s_.liquid[j]) continue;
-    const float rhoj = s_.rho[j];
-    if (diffusion) diffuse += DensityDiffusionPair(rhoi, rhoj, f, m / rhoj);
-    if (!liquid || epsilon == 0) continue;
-    const float w = kernel_.W(r) * m / (0.5f * (rhoi + rhoj));
-    ux += w * dvx;
-    uy += w * dvy;
-    uz += w * dvz;
-  }
-  drho_[i] = drho + 2.0f * float(p_.diffusion_delta * h_ * sound_speed_) * diffuse;
-  if (!liquid) return;
-  xsph_x_[i] = vxi + epsilon * ux;
-  xsph_y_[i] = vyi + epsilon * uy;
-  xsph_z_[i] = vzi + epsilon * uz;
 }
 
 // ρ += dt Dρ for every computed particle; walls never fall below ρ0 (they do not pull [CGD07]).

@@ -124,13 +124,17 @@ class Wcsph final : public Solver {
   void Kick(double half_dt);
   // Density rates and XSPH velocities at the current positions (one pass over the lists).
   void DensityRates();
-  void DensityRate(std::size_t i);
+  void DensityRate(std::size_t i);  // pairs.cpp, as Accelerate
+  void DensityRateAvx512(std::size_t i);
   void AdvanceDensity(double dt);
   void Drift(double dt);
   void BuildNeighbours();
   void ListCell(int cell, ListScratch* scratch, int thread);
   void Evaluate();  // pressures and the liquid's accelerations
+  // Pair sums of one particle (pairs.cpp), in 16 lanes by neighbour position k mod 16, the
+  // lanes then added in order: the AVX-512 twins compute the same floats.
   void Accelerate(std::size_t i);
+  void AccelerateAvx512(std::size_t i);
   void Mark(Phase p);
   void Reorder();
   double SafeDt() const;
@@ -156,6 +160,7 @@ class Wcsph final : public Solver {
   std::vector<std::size_t> list_begin_;   // per particle: offset in its thread's lists
   std::vector<std::int32_t> list_owner_;  // per particle: the thread that listed it
   std::vector<char> cell_has_liquid_, cell_active_;
+  std::vector<std::int32_t> liquid32_;      // s_.liquid as 32-bit lanes (gathers)
   std::vector<std::int32_t> active_cells_;  // cells with liquid within one cell
   std::vector<float> drho_, xsph_x_, xsph_y_, xsph_z_, pressure_;
   std::vector<Float4> out_position_, out_velocity_, wall_velocity_;
