@@ -78,6 +78,15 @@ int CellList::Around(int cell, int out[27]) const {
   return count;
 }
 
+void CellList::Bounds(int cell, float low[3], float high[3]) const {
+  const int at[3] = {cell % nx_, (cell / nx_) % ny_, cell / (nx_ * ny_)};
+  const float size = 1.0f / inverse_size_;
+  for (int a = 0; a < 3; ++a) {
+    low[a] = low_[a] + float(at[a]) * size;
+    high[a] = low[a] + size;
+  }
+}
+
 std::uint32_t CellList::MortonKey(int cell) const {
   const std::uint32_t cx = std::uint32_t(cell % nx_), cy = std::uint32_t((cell / nx_) % ny_),
                       cz = std::uint32_t(cell / (nx_ * ny_));

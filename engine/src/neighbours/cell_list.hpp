@@ -29,6 +29,8 @@ class CellList {
   const std::int32_t* end(int cell) const { return &items_[start_[cell + 1]]; }
   // The (up to) 27 cells around `cell`, itself included; returns how many.
   int Around(int cell, int out[27]) const;
+  // The cell's extent (m): [low, high) on each axis.
+  void Bounds(int cell, float low[3], float high[3]) const;
   // The Morton key of a cell: its coordinates' bits interleaved (10 bits per axis).
   std::uint32_t MortonKey(int cell) const;
 

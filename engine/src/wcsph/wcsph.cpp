@@ -7,6 +7,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "neighbours/near_candidates.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/engine/muscles.hpp"
 #include "state/particle_state.hpp"
@@ -59,7 +60,7 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
   for (int a = 0; a < 3; ++a) gravity_[a] = float(constants.gravity[a]);
   const std::size_t n = config.particle_count();
   State& s = s_;
-  for (auto* v : {&s.x, &s.y, &s.z, &s.vx, &s.vy, &s.vz, &s.ax, &s.ay, &s.az, &s.rho, &s.drho})
+  for (auto* v : {&s.x, &s.y, &s.z, &s.vx, &s.vy, &s.vz, &s.ax, &s.ay, &s.az, &s.rho})
     v->assign(n, 0.0f);
   s.row.resize(n);
   s.liquid.resize(n);
@@ -94,6 +95,7 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
                          float(box_high_[2] + margin)};
   cells_.Configure(low, high, kernel_.support);
   pressure_.assign(n, 0.0f);
+  drho_.assign(n, 0.0f);
   xsph_x_.assign(n, 0.0f);
   xsph_y_.assign(n, 0.0f);
   xsph_z_.assign(n, 0.0f);
@@ -101,7 +103,9 @@ Wcsph::Wcsph(const SiberneticConfig& config, const PhysicsConstants& constants, 
   out_density_.assign(n, 0.0f);
   list_.assign(n, nullptr);
   list_count_.assign(n, 0);
-  buffers_.resize(std::size_t(threads_));
+  scratch_.resize(std::size_t(threads_));
+  list_begin_.assign(n, 0);
+  list_owner_.assign(n, 0);
   if (p_.morton_reorder) Reorder();
   BuildNeighbours();
   Evaluate();
@@ -166,8 +170,7 @@ void Wcsph::Reorder() {
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::int32_t> order(n);
   for (std::size_t k = 0; k < n; ++k) order[k] = keyed[k].second;
-  for (auto* v :
-       {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho, &s_.drho})
+  for (auto* v : {&s_.x, &s_.y, &s_.z, &s_.vx, &s_.vy, &s_.vz, &s_.ax, &s_.ay, &s_.az, &s_.rho})
     Permute(order, v);
   Permute(order, &s_.row);
   Permute(order, &s_.liquid);
@@ -175,140 +178,137 @@ void Wcsph::Reorder() {
 
 // Cell list, then each computed particle's list: a liquid particle lists every particle within
 // the support, a wall particle (computed only when a liquid particle is within one cell) lists
-// the liquid ones. Per-thread buffers, in index order within each particle's list.
+// the liquid ones. Lists are built cell by cell (ListCell), each cell by one thread; within a
+// list, neighbours come in the order of the 27 cells and of the index within a cell.
 void Wcsph::BuildNeighbours() {
   const std::size_t n = s_.x.size();
   cells_.Build(s_.x.data(), s_.y.data(), s_.z.data(), n);
-  std::vector<char> cell_has_liquid(std::size_t(cells_.cells()), 0);
+  cell_has_liquid_.assign(std::size_t(cells_.cells()), 0);
+  cell_active_.assign(std::size_t(cells_.cells()), 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (s_.liquid[i]) cell_has_liquid[std::size_t(cells_.CellOf(i))] = 1;
-  process_.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (s_.liquid[i]) process_.push_back(std::int32_t(i));
+    if (s_.liquid[i]) cell_has_liquid_[std::size_t(cells_.CellOf(i))] = 1;
   int around[27];
-  for (std::size_t i = 0; i < n; ++i) {
-    if (s_.liquid[i]) continue;
-    const int count = cells_.Around(cells_.CellOf(i), around);
-    for (int c = 0; c < count; ++c)
-      if (cell_has_liquid[std::size_t(around[c])]) {
-        process_.push_back(std::int32_t(i));
-        break;
-      }
+  active_cells_.clear();
+  for (int c = 0; c < cells_.cells(); ++c) {
+    if (!cell_has_liquid_[std::size_t(c)]) continue;
+    const int count = cells_.Around(c, around);
+    for (int k = 0; k < count; ++k) cell_active_[std::size_t(around[k])] = 1;
   }
-  std::fill(list_count_.begin(), list_count_.end(), 0);
-  std::vector<std::size_t> begin(n, 0);
-  const float support2 = kernel_.support2;
+  for (int c = 0; c < cells_.cells(); ++c)
+    if (cell_active_[std::size_t(c)] && cells_.begin(c) != cells_.end(c))
+      active_cells_.push_back(c);
+  process_.clear();
+  liquid32_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    liquid32_[i] = s_.liquid[i];
+    if (s_.liquid[i]) process_.push_back(std::int32_t(i));
+  }
+  process_liquid_ = process_.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!s_.liquid[i] && cell_active_[std::size_t(cells_.CellOf(i))])
+      process_.push_back(std::int32_t(i));
 #pragma omp parallel num_threads(threads_)
   {
-    std::vector<std::int32_t>& buffer = buffers_[std::size_t(omp_get_thread_num())];
-    buffer.clear();
-    int cells[27];
+    const int thread = omp_get_thread_num();
+    ListScratch& scratch = scratch_[std::size_t(thread)];
+    scratch.lists.clear();
+#pragma omp for schedule(dynamic, 8)
+    for (std::size_t k = 0; k < active_cells_.size(); ++k)
+      ListCell(active_cells_[k], &scratch, thread);
 #pragma omp for schedule(static)
     for (std::size_t k = 0; k < process_.size(); ++k) {
-      const std::int32_t i = process_[k];
-      const bool wall = !s_.liquid[i];
-      const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-      begin[i] = buffer.size();
-      const int count = cells_.Around(cells_.CellOf(std::size_t(i)), cells);
-      for (int c = 0; c < count; ++c)
-        for (const std::int32_t* j = cells_.begin(cells[c]); j != cells_.end(cells[c]); ++j) {
-          if (*j == i || (wall && !s_.liquid[*j])) continue;
-          const float dx = xi - s_.x[*j], dy = yi - s_.y[*j], dz = zi - s_.z[*j];
-          if (dx * dx + dy * dy + dz * dz < support2) buffer.push_back(*j);
-        }
-      list_count_[i] = std::int32_t(buffer.size() - begin[i]);
+      const std::size_t i = std::size_t(process_[k]);
+      list_[i] = scratch_[std::size_t(list_owner_[i])].lists.data() + list_begin_[i];
     }
-#pragma omp for schedule(static)
-    for (std::size_t k = 0; k < process_.size(); ++k)
-      list_[process_[k]] = buffer.data() + begin[process_[k]];
   }
 }
 
+void Wcsph::Candidates::Clear() {
+  x.clear();
+  y.clear();
+  z.clear();
+  index.clear();
+}
+
+void Wcsph::Candidates::Add(const State& s, std::int32_t j) {
+  x.push_back(s.x[std::size_t(j)]);
+  y.push_back(s.y[std::size_t(j)]);
+  z.push_back(s.z[std::size_t(j)]);
+  index.push_back(j);
+}
+
+// The lists of one cell's particles: the particles of its 27 cells within the support of the
+// cell's box (a third of them fall further) gathered once into contiguous candidates, then each
+// particle keeps those within its support (NearCandidates: AVX-512 when the CPU has it).
+void Wcsph::ListCell(int cell, ListScratch* scratch, int thread) {
+  ListScratch& c = *scratch;
+  c.all.Clear();
+  c.liquid.Clear();
+  float low[3], high[3];
+  cells_.Bounds(cell, low, high);
+  const float support2 = kernel_.support2, slack = 1e-3f * kernel_.support;
+  const auto outside = [&](float v, int a) {
+    return std::max(0.0f, std::max(low[a] - slack - v, v - high[a] - slack));
+  };
+  int around[27];
+  const int count = cells_.Around(cell, around);
+  for (int a = 0; a < count; ++a)
+    for (const std::int32_t* j = cells_.begin(around[a]); j != cells_.end(around[a]); ++j) {
+      const float dx = outside(s_.x[*j], 0), dy = outside(s_.y[*j], 1), dz = outside(s_.z[*j], 2);
+      if (dx * dx + dy * dy + dz * dz >= support2) continue;
+      c.all.Add(s_, *j);
+      if (s_.liquid[*j]) c.liquid.Add(s_, *j);
+    }
+  c.kept.resize(c.all.index.size() + kNearSlack);
+  c.d2.resize(c.kept.size());
+  for (const std::int32_t* p = cells_.begin(cell); p != cells_.end(cell); ++p) {
+    const std::size_t i = std::size_t(*p);
+    const Candidates& from = s_.liquid[i] ? c.all : c.liquid;
+    const CandidateCell candidates{from.index.data(), from.x.data(), from.y.data(), from.z.data(),
+                                   int(from.index.size())};
+    const float at[3] = {s_.x[i], s_.y[i], s_.z[i]};
+    const int kept = NearCandidates(candidates, at, support2, *p, c.kept.data(), c.d2.data());
+    list_begin_[i] = c.lists.size();
+    list_owner_[i] = thread;
+    list_count_[i] = kept;
+    c.lists.insert(c.lists.end(), c.kept.begin(), c.kept.begin() + kept);
+  }
+}
+
+// Pressures of all, accelerations of the liquid, at the current positions and densities.
 void Wcsph::Evaluate() {
   const std::size_t n = s_.x.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    pressure_[i] = Pressure(s_.rho[i]);
-    s_.drho[i] = 0;
+#pragma omp parallel num_threads(threads_)
+  {
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) pressure_[i] = Pressure(s_.rho[i]);
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t k = 0; k < process_liquid_; ++k) Accelerate(std::size_t(process_[k]));
   }
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t k = 0; k < process_.size(); ++k) EvaluateParticle(std::size_t(process_[k]));
 }
 
-// Density rate and acceleration of one particle from its list (walls: the density rate only).
-void Wcsph::EvaluateParticle(std::size_t i) {
-  const float m = float(mass_), h = float(h_), c = float(sound_speed_);
-  const float alpha = float(p_.viscosity_alpha);
-  const bool diffusion = p_.density_diffusion != 0;
-  const float xi = s_.x[i], yi = s_.y[i], zi = s_.z[i];
-  const float vxi = s_.vx[i], vyi = s_.vy[i], vzi = s_.vz[i];
-  const float rhoi = s_.rho[i], pri = pressure_[i] / (rhoi * rhoi);
-  float ax = 0, ay = 0, az = 0, drho = 0, diffuse = 0;
-  const std::int32_t* list = list_[i];
-  for (std::int32_t k = 0; k < list_count_[i]; ++k) {
-    const std::size_t j = std::size_t(list[k]);
-    const float dx = xi - s_.x[j], dy = yi - s_.y[j], dz = zi - s_.z[j];
-    const float r2 = dx * dx + dy * dy + dz * dz;
-    const float f = kernel_.GradientOverR(std::sqrt(r2));  // ∇_i W_ij = f · r_ij
-    const float dvx = vxi - s_.vx[j], dvy = vyi - s_.vy[j], dvz = vzi - s_.vz[j];
-    const float vr = dvx * dx + dvy * dy + dvz * dz;
-    drho += m * f * vr;
-    const float rhoj = s_.rho[j];
-    float coefficient = pri + pressure_[j] / (rhoj * rhoj);
-    if (alpha > 0 && vr < 0) {
-      const float mu = h * vr / (r2 + 0.01f * h * h);
-      coefficient += -alpha * c * mu / (0.5f * (rhoi + rhoj));
-    }
-    const float push = -m * coefficient * f;
-    ax += push * dx;
-    ay += push * dy;
-    az += push * dz;
-    if (diffusion && s_.liquid[j]) diffuse += DensityDiffusionPair(rhoi, rhoj, f, m / rhoj);
-  }
-  s_.drho[i] = drho + 2.0f * float(p_.diffusion_delta) * h * c * diffuse;
-  if (!s_.liquid[i]) return;
-  s_.ax[i] = ax + gravity_[0];
-  s_.ay[i] = ay + gravity_[1];
-  s_.az[i] = az + gravity_[2];
+// The density rates of every computed particle and the liquid's XSPH velocities.
+void Wcsph::DensityRates() {
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
+  for (std::size_t k = 0; k < process_.size(); ++k) DensityRate(std::size_t(process_[k]));
 }
 
-// XSPH [Mon89 eq. 2.6]: u_i = v_i + ε Σ_j m/ρ̄_ij (v_j − v_i) W_ij over the liquid neighbours.
-void Wcsph::ComputeXsph() {
-  const float m = float(mass_), epsilon = p_.xsph ? float(p_.xsph_epsilon) : 0.0f;
+// ρ += dt Dρ for every computed particle; walls never fall below ρ0 (they do not pull [CGD07]).
+void Wcsph::AdvanceDensity(double dt) {
+  const float step = float(dt), floor = float(rho0_);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t k = 0; k < process_.size(); ++k) {
     const std::size_t i = std::size_t(process_[k]);
-    if (!s_.liquid[i]) continue;
-    float ux = 0, uy = 0, uz = 0;
-    if (epsilon > 0) {
-      const std::int32_t* list = list_[i];
-      for (std::int32_t q = 0; q < list_count_[i]; ++q) {
-        const std::size_t j = std::size_t(list[q]);
-        if (!s_.liquid[j]) continue;
-        const float dx = s_.x[i] - s_.x[j], dy = s_.y[i] - s_.y[j], dz = s_.z[i] - s_.z[j];
-        const float w = kernel_.W(std::sqrt(dx * dx + dy * dy + dz * dz)) * m /
-                        (0.5f * (s_.rho[i] + s_.rho[j]));
-        ux += w * (s_.vx[j] - s_.vx[i]);
-        uy += w * (s_.vy[j] - s_.vy[i]);
-        uz += w * (s_.vz[j] - s_.vz[i]);
-      }
-    }
-    xsph_x_[i] = s_.vx[i] + epsilon * ux;
-    xsph_y_[i] = s_.vy[i] + epsilon * uy;
-    xsph_z_[i] = s_.vz[i] + epsilon * uz;
+    s_.rho[i] += step * drho_[i];
+    if (k >= process_liquid_) s_.rho[i] = std::max(s_.rho[i], floor);
   }
 }
 
-void Wcsph::Kick(double dt) {
-  const float half = float(0.5 * dt), floor = float(rho0_);
-  const std::size_t n = s_.x.size();
+void Wcsph::Kick(double half_dt) {
+  const float half = float(half_dt);
 #pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    s_.rho[i] += half * s_.drho[i];
-    if (!s_.liquid[i]) {
-      s_.rho[i] = std::max(s_.rho[i], floor);  // walls never pull [CGD07]
-      continue;
-    }
+  for (std::size_t k = 0; k < process_liquid_; ++k) {
+    const std::size_t i = std::size_t(process_[k]);
     s_.vx[i] += half * s_.ax[i];
     s_.vy[i] += half * s_.ay[i];
     s_.vz[i] += half * s_.az[i];
@@ -318,29 +318,52 @@ void Wcsph::Kick(double dt) {
 // x += dt u (XSPH velocity), kept inside the box (a leak through a one-layer wall stops there).
 void Wcsph::Drift(double dt) {
   const float step = float(dt);
-  const std::size_t n = s_.x.size();
 #pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!s_.liquid[i]) continue;
+  for (std::size_t k = 0; k < process_liquid_; ++k) {
+    const std::size_t i = std::size_t(process_[k]);
     s_.x[i] = std::clamp(s_.x[i] + step * xsph_x_[i], box_low_[0], box_high_[0]);
     s_.y[i] = std::clamp(s_.y[i] + step * xsph_y_[i], box_low_[1], box_high_[1]);
     s_.z[i] = std::clamp(s_.z[i] + step * xsph_z_[i], box_low_[2], box_high_[2]);
   }
 }
 
-// Velocity Verlet, kick-drift-kick: the rates at the start are those of the last evaluation.
+// Kick-drift-kick; the drift carries the density with the positions (see wcsph.hpp). The rates
+// of the first kick are those of the last evaluation.
 void Wcsph::Substep(double dt) {
-  Kick(dt);
-  ComputeXsph();
+  Kick(0.5 * dt);
+  Mark(kKick);
+  DensityRates();
+  AdvanceDensity(dt);
+  Mark(kDensity);
   Drift(dt);
+  Mark(kDrift);
   if (p_.morton_reorder && ++s_.since_reorder >= std::size_t(p_.reorder_interval)) {
     Reorder();
     s_.since_reorder = 0;
   }
+  Mark(kReorder);
   BuildNeighbours();
+  Mark(kNeighbours);
   Evaluate();
-  Kick(dt);
+  Mark(kForces);
+  Kick(0.5 * dt);
+  Mark(kKick);
   s_.time_s += dt;
+}
+
+void Wcsph::Mark(Phase p) {
+  if (!timing_) return;
+  const auto now = std::chrono::steady_clock::now();
+  phase_s_[p] += std::chrono::duration<double>(now - mark_).count();
+  mark_ = now;
+}
+
+std::vector<Solver::PhaseTime> Wcsph::phase_seconds() const {
+  static constexpr const char* kNames[kPhaseCount] = {
+      "kick", "density_xsph", "drift", "reorder", "neighbours", "forces", "dt_control"};
+  std::vector<PhaseTime> out;
+  for (int p = 0; p < kPhaseCount; ++p) out.push_back({kNames[p], phase_s_[p]});
+  return out;
 }
 
 double Wcsph::SafeDt() const {
@@ -378,6 +401,7 @@ void Wcsph::Restore() {
 // One nominal step: adaptive sub-steps up to step_ × time_step_s (step 0 only evaluates).
 void Wcsph::Step() {
   const double target = double(step_) * nominal_dt_;
+  if (timing_) mark_ = std::chrono::steady_clock::now();
   while (step_ > 0 && s_.time_s < target) {
     const double remaining = target - s_.time_s;
     const double safe = SafeDt();
@@ -390,16 +414,19 @@ void Wcsph::Step() {
     const bool last = parts == 1;
     const bool optimistic = try_optimistic && dt > safe;
     if (optimistic) Checkpoint();
+    Mark(kControl);
     Substep(dt);
     if (last) s_.time_s = target;
     const double variation = MaxDensityVariation();
     if (optimistic && variation > p_.rollback_threshold) {
       Restore();
+      Mark(kControl);
       ++stats_.rollbacks;
       ++log_rollbacks_;
       cooldown_ = std::size_t(p_.cooldown_steps);
       continue;
     }
+    Mark(kControl);
     if (!optimistic && cooldown_ > 0) --cooldown_;
     ++stats_.substeps;
     stats_.last_dt_s = dt;
@@ -465,7 +492,7 @@ std::vector<float> Wcsph::DensityDiffusionRates() const {
 }
 
 std::vector<Float4> Wcsph::XsphVelocities() const {
-  const_cast<Wcsph*>(this)->ComputeXsph();
+  const_cast<Wcsph*>(this)->DensityRates();
   std::vector<Float4> out(s_.x.size());
   for (std::size_t i = 0; i < s_.x.size(); ++i)
     if (s_.liquid[i]) out[std::size_t(s_.row[i])] = {xsph_x_[i], xsph_y_[i], xsph_z_[i], 0.0f};

@@ -8,7 +8,11 @@
 //   forces      −Σ m (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + Monaghan's artificial viscosity + g
 //   walls       dynamic boundary particles [CGD07]: they keep still, their density follows the
 //               continuity equation (never below ρ0) and their Tait pressure pushes the liquid
-//   integrator  velocity Verlet, kick-drift-kick; the drift uses XSPH velocities [Mon89]
+//   integrator  velocity Verlet, kick-drift-kick; the drift uses XSPH velocities [Mon89] and
+//               moves the density with the positions: ρ^{n+1} = ρ^n + dt Dρ(x^n, v^{n+1/2}), the
+//               forces at n+1 then see ρ^{n+1}. (Kicking ρ with v instead, half steps at a time,
+//               makes the acoustic pair (ρ, v) a forward Euler step: |amplification|² = 1 +
+//               (ω dt)², a slow growth that only δ-SPH and viscosity held back at CFL 0.2.)
 //   time step   dt_safe = CFL · min(h/(c_s + |v|max), √(h/|a|max)); optimistic: try
 //               1.5 dt_safe from a checkpoint, roll back and retry at dt_safe when the maximum
 //               |ρ − ρ0|/ρ0 exceeds 3%, then 10 steps at dt_safe
@@ -29,6 +33,8 @@
 //           hydrodynamic context using the SPH. Comput. Phys. Commun. 180 (2009) 861-872.
 //   [CGD07] A. J. C. Crespo, M. Gómez-Gesteira, R. A. Dalrymple. Boundary conditions generated
 //           by dynamic particles in SPH methods. CMC 5(3) (2007) 173-184.
+#include <array>
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -67,6 +73,8 @@ class Wcsph final : public Solver {
   std::string parameters() const override;
   // The adaptive stepping since the last call, as one JSON object (see docs/wcsph.md).
   std::string TakeStepLog() override;
+  void EnablePhaseTiming() override { timing_ = true; }
+  std::vector<PhaseTime> phase_seconds() const override;
 
   // ---- For tests and measurements ----
   struct Stats {
@@ -90,20 +98,44 @@ class Wcsph final : public Solver {
 
  private:
   struct State {
-    std::vector<float> x, y, z, vx, vy, vz, ax, ay, az, rho, drho;
+    std::vector<float> x, y, z, vx, vy, vz, ax, ay, az, rho;
     std::vector<std::int32_t> row;  // internal index → configuration row
     std::vector<char> liquid;
     std::size_t since_reorder = 0;
     double time_s = 0;
   };
 
+  // Per thread: the lists it wrote and the candidates of the cell it is listing.
+  struct Candidates {
+    std::vector<float> x, y, z;
+    std::vector<std::int32_t> index;
+    void Clear();
+    void Add(const State& s, std::int32_t j);
+  };
+  struct ListScratch {
+    std::vector<std::int32_t> lists, kept;
+    std::vector<float> d2;
+    Candidates all, liquid;  // every candidate; the liquid ones (for walls)
+  };
+  // The phases of a sub-step, for the per-phase profile.
+  enum Phase { kKick, kDensity, kDrift, kReorder, kNeighbours, kForces, kControl, kPhaseCount };
+
   void Substep(double dt);
-  void Kick(double dt);
+  void Kick(double half_dt);
+  // Density rates and XSPH velocities at the current positions (one pass over the lists).
+  void DensityRates();
+  void DensityRate(std::size_t i);  // pairs.cpp, as Accelerate
+  void DensityRateAvx512(std::size_t i);
+  void AdvanceDensity(double dt);
   void Drift(double dt);
   void BuildNeighbours();
-  void Evaluate();
-  void EvaluateParticle(std::size_t i);
-  void ComputeXsph();
+  void ListCell(int cell, ListScratch* scratch, int thread);
+  void Evaluate();  // pressures and the liquid's accelerations
+  // Pair sums of one particle (pairs.cpp), in 16 lanes by neighbour position k mod 16, the
+  // lanes then added in order: the AVX-512 twins compute the same floats.
+  void Accelerate(std::size_t i);
+  void AccelerateAvx512(std::size_t i);
+  void Mark(Phase p);
   void Reorder();
   double SafeDt() const;
   double MaxDensityVariation() const;
@@ -121,10 +153,16 @@ class Wcsph final : public Solver {
   State s_, checkpoint_;
   CellList cells_;
   std::vector<std::int32_t> process_;      // particles whose rates are computed (liquid first)
+  std::size_t process_liquid_ = 0;         // how many of process_ are liquid
   std::vector<const std::int32_t*> list_;  // per particle: its neighbours
   std::vector<std::int32_t> list_count_;
-  std::vector<std::vector<std::int32_t>> buffers_;  // per thread
-  std::vector<float> xsph_x_, xsph_y_, xsph_z_, pressure_;
+  std::vector<ListScratch> scratch_;
+  std::vector<std::size_t> list_begin_;   // per particle: offset in its thread's lists
+  std::vector<std::int32_t> list_owner_;  // per particle: the thread that listed it
+  std::vector<char> cell_has_liquid_, cell_active_;
+  std::vector<std::int32_t> liquid32_;      // s_.liquid as 32-bit lanes (gathers)
+  std::vector<std::int32_t> active_cells_;  // cells with liquid within one cell
+  std::vector<float> drho_, xsph_x_, xsph_y_, xsph_z_, pressure_;
   std::vector<Float4> out_position_, out_velocity_, wall_velocity_;
   std::vector<float> out_pressure_, out_density_, muscles_;
   Stats stats_;
@@ -132,6 +170,9 @@ class Wcsph final : public Solver {
   // Since the last TakeStepLog.
   std::size_t log_substeps_ = 0, log_rollbacks_ = 0;
   double log_dt_min_ = 0, log_dt_max_ = 0, log_variation_max_ = 0;
+  bool timing_ = false;
+  std::chrono::steady_clock::time_point mark_;
+  std::array<double, kPhaseCount> phase_s_{};
 };
 
 }  // namespace owval::engine::internal

@@ -96,13 +96,12 @@ struct PhysicsConstants {
   // The WCSPH scheme's parameters (engine/src/wcsph, docs/wcsph.md); the other schemes ignore
   // them. Each technique of the scheme is a switch (1 on, 0 off).
   struct Wcsph {
-    double h_factor = 1.2;           // h / particle spacing; the Wendland C2 support is 2h
-    double spacing_m = 0;            // particle spacing; 0: the configuration's liquid's
-    double sound_speed_factor = 10;  // c_s = max(factor sqrt(2 g H), c_min), H liquid height
-    double min_sound_speed_m_s = 0;  // c_min
-    double tait_gamma = 7;           // p = c_s^2 rho0/gamma ((rho/rho0)^gamma - 1)
-    double cfl = 0.2;  // dt_safe = cfl min(h/(c_s + |v|max), sqrt(h/|a|max)); the record's 0.5
-                       // is unstable with this h (docs/wcsph.md)
+    double h_factor = 1.2;             // h / particle spacing; the Wendland C2 support is 2h
+    double spacing_m = 0;              // particle spacing; 0: the configuration's liquid's
+    double sound_speed_factor = 10;    // c_s = max(factor sqrt(2 g H), c_min), H liquid height
+    double min_sound_speed_m_s = 0;    // c_min
+    double tait_gamma = 7;             // p = c_s^2 rho0/gamma ((rho/rho0)^gamma - 1)
+    double cfl = 0.5;                  // dt_safe = cfl min(h/(c_s + |v|max), sqrt(h/|a|max))
     int density_diffusion = 1;         // delta-SPH (Molteni & Colagrossi 2009)
     double diffusion_delta = 0.1;      // its delta
     int xsph = 1;                      // XSPH velocity smoothing (Monaghan 1989)
