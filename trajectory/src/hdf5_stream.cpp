@@ -10,6 +10,7 @@
 #include "hdf5_preflight.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/writer.hpp"
 #include "writers.hpp"
 
@@ -354,6 +355,30 @@ std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& 
 
 }  // namespace owval::internal
 
+namespace owval::internal {
+
+// Bytes of one row of chunks along the frame axis of a chunked dataset (all of its particles):
+// what a frame-by-frame reader must keep cached to decompress each chunk once. 0 when the
+// dataset is not chunked. The chunk shape was checked against the memory budget at open
+// (InspectDataset); the row is capped at 1 GiB all the same.
+std::size_t ChunkRowBytes(hid_t set) {
+  Handle dcpl(H5Dget_create_plist(set), H5Pclose);
+  Handle space(H5Dget_space(set), H5Sclose);
+  if (!dcpl.valid() || !space.valid() || H5Pget_layout(dcpl) != H5D_CHUNKED) return 0;
+  const int rank = H5Sget_simple_extent_ndims(space);
+  if (rank < 1 || rank > 3) return 0;
+  hsize_t dims[3] = {1, 1, 1}, chunk[3] = {1, 1, 1};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  if (H5Pget_chunk(dcpl, rank, chunk) != rank) return 0;
+  Handle type(H5Dget_type(set), H5Tclose);
+  std::size_t bytes = SaturatingProduct(type.valid() ? H5Tget_size(type) : 8, chunk[0]);
+  for (int d = 1; d < rank; ++d)
+    bytes = SaturatingProduct(bytes, std::size_t((dims[d] + chunk[d] - 1) / chunk[d] * chunk[d]));
+  return std::min<std::size_t>(bytes, std::size_t{1} << 30);
+}
+
+}  // namespace owval::internal
+
 namespace owval {
 
 Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path.string()) {
@@ -372,6 +397,14 @@ Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path
   file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
   if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
+  const std::size_t row = internal::ChunkRowBytes(positions_);
+  if (row > (1u << 20)) {  // more than libhdf5's default cache: reopen with room for a row
+    internal::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+    H5Pset_chunk_cache(access, 12421, row + (row >> 3), 1.0);
+    H5Dclose(positions_);
+    positions_ = H5Dopen2(file_, "positions", access);
+    if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
+  }
 }
 
 Hdf5FrameReader::~Hdf5FrameReader() {

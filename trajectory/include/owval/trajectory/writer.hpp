@@ -108,9 +108,11 @@ class Hdf5FrameReader {
 
   const TrajectoryHeader& header() const { return header_; }
   std::size_t frame_count() const { return frames_; }
+  const std::vector<double>& time_s() const { return time_s_; }  // every frame's time
   bool partial() const;
   // Frame f's time and positions (3 * particles floats). Throws InputError on a corrupt chunk
-  // or a non-finite position.
+  // or a non-finite position. Each chunk is decompressed once while frames are read in order:
+  // the chunk cache holds one row of chunks (all particles, one chunk of frames).
   double ReadFrame(std::size_t frame, float* positions);
 
  private:
