@@ -23,7 +23,7 @@
 namespace owval::internal {
 namespace {
 
-constexpr unsigned kBlockBytes = 4u << 20;
+constexpr std::size_t kBlockBytes = 1u << 20;
 constexpr std::size_t kMaxLineBytes = 64u << 20;
 constexpr std::size_t kMaxDeflateRatio = 1032;
 
@@ -74,13 +74,15 @@ class LineBlocks {
   }
 
  private:
-  // Appends up to a block; false at the end of the file.
+  // Fills the buffer up to a block (more only for a line longer than that); false at the end of
+  // the file.
   bool Read() {
     if (buffer_.size() >= kMaxLineBytes)
       throw InputError(name_, 0, "a line longer than 64 MiB: not a Sibernetic text trajectory");
     const std::size_t old = buffer_.size();
-    buffer_.resize(old + kBlockBytes);
-    const int n = gzread(file_, buffer_.data() + old, kBlockBytes);
+    const std::size_t room = old + (1u << 16) < kBlockBytes ? kBlockBytes - old : old;
+    buffer_.resize(old + room);
+    const int n = gzread(file_, buffer_.data() + old, unsigned(room));
     int error = Z_OK;
     gzerror(file_, &error);
     if (n < 0 || (error != Z_OK && error != Z_BUF_ERROR))

@@ -15,9 +15,9 @@
 // the same floating-point operations in the same order: streamed and whole-trajectory results
 // are identical.
 //
-// Formats: owval HDF5 (Hdf5FrameReader: one hyperslab a frame, through a chunk cache that holds
-// one row of chunks) and Sibernetic text in either layout, plain or gzip-compressed (read in
-// 4 MiB blocks; the file is scanned once at open, with every check ReadSiberneticText makes, to
+// Formats: owval HDF5 (Hdf5FrameReader: a chunk of frames at a time, each chunk decompressed
+// once) and Sibernetic text in either layout, plain or gzip-compressed (read in
+// 1 MiB blocks; the file is scanned once at open, with every check ReadSiberneticText makes, to
 // detect the layout and find where each frame starts). Frames may be asked for in any order;
 // forward is the cheap direction (a gzip file is decompressed again from its start to go back).
 #include <cstddef>
