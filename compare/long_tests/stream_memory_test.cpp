@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/writer.hpp"
 
 extern char** environ;
@@ -69,8 +70,11 @@ Run Owval(const std::vector<std::string>& args, const fs::path& log) {
 }
 
 // demo1's frames forward, backward, forward...: `frames` frames at its own time step and log step.
+// Read frame by frame too: posix_spawn's child starts in this process's memory, and its peak
+// (ru_maxrss) would include this process's, were demo1 ever held here whole.
 void Synthesize(std::size_t frames, const fs::path& text, const fs::path& h5) {
-  static const Trajectory demo1 = ReadTrajectory(kDemo1);
+  const auto source = OpenFrameSource(kDemo1);
+  const Trajectory& demo1 = source->header();
   TrajectoryHeader header;
   header.box = demo1.box;
   header.time_step_s = demo1.time_step_s;
@@ -80,10 +84,11 @@ void Synthesize(std::size_t frames, const fs::path& text, const fs::path& h5) {
   const auto a = OpenTrajectoryWriter(text, header), b = OpenTrajectoryWriter(h5, header);
   const std::size_t period = 2 * (demo1.frame_count() - 1);
   for (std::size_t f = 0; f < frames; ++f) {
-    const std::size_t k = f % period, source = k < demo1.frame_count() ? k : period - k;
+    const std::size_t k = f % period;
     const double time_s = static_cast<double>(f) * header.log_step * header.time_step_s;
-    a->AppendFrame(time_s, demo1.position(source, 0));
-    b->AppendFrame(time_s, demo1.position(source, 0));
+    const FrameRef x = source->Frame(k < demo1.frame_count() ? k : period - k);
+    a->AppendFrame(time_s, x.trajectory.position(x.frame, 0));
+    b->AppendFrame(time_s, x.trajectory.position(x.frame, 0));
   }
   a->Close();
   b->Close();

@@ -201,6 +201,7 @@ class TextFrameSource : public FrameSource {
       throw std::out_of_range("text frame source: frame past the end");
     if (f == current_) return {frame_, 0};
     if (f != next_) rows_.Restart(frame_offset_[f], frame_line_[f]);
+    current_ = next_ = SIZE_MAX;  // until the frame is read whole
     const Header& h = header_text_;
     const bool all_rows = f == 0 || layout_ == TextLayout::kNative;
     const std::size_t count = all_rows ? h.particles() : h.moving();
