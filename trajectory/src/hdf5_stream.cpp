@@ -405,6 +405,8 @@ Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path
   positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
   if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
   block_frames_ = internal::BlockFrames(positions_, header_.type.size() * 3 * sizeof(float));
+  CheckAllocation(SaturatingProduct(block_frames_, header_.type.size() * 3 * sizeof(float)), path_,
+                  "/positions, " + std::to_string(block_frames_) + " frames (one chunk of frames)");
   if (block_frames_ > 1) {  // whole chunks are read into block_: libhdf5 need cache none
     internal::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
     H5Pset_chunk_cache(access, 0, 0, 1.0);

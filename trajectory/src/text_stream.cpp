@@ -181,6 +181,9 @@ class TextFrameSource : public FrameSource {
       : name_(path), blocks_(path), rows_(&blocks_, path) {
     const std::uint64_t file_bytes = std::filesystem::file_size(path);
     header_text_ = ReadHeader(rows_, blocks_, name_, file_bytes);
+    // Frame 0 and the frame handed out, 3 floats a particle each: sized by the header.
+    CheckAllocation(SaturatingProduct(header_text_.particles(), 6 * sizeof(float)), name_,
+                    "two frames' positions");
     Scan(options, file_bytes);
     const std::size_t frames = FrameCount(layout_, counts_.rows, header_text_);
     frame_offset_.resize(frames);
