@@ -109,15 +109,16 @@ void RunCompare(const CompareArgs& a) {
   if (!std::filesystem::is_regular_file(a.reference, ec) ||
       !std::filesystem::is_regular_file(a.candidate, ec))
     return RunBackendCompare(a);
-  const compare::ParityOptions options = Options(a);
+  compare::ParityOptions options = Options(a);
+  options.quiet = Flags().quiet;
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
-  const Trajectory reference = ReadTrajectoryArgument(a.reference);
-  const Trajectory candidate = ReadTrajectoryArgument(a.candidate);
-  const compare::ParityReport report = compare::CompareTrajectories(reference, candidate, options);
+  const auto reference = OpenTrajectoryArgument(a.reference);  // frame by frame
+  const auto candidate = OpenTrajectoryArgument(a.candidate);
+  const compare::ParityReport report =
+      compare::CompareFrameSources(*reference, *candidate, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
   // A partial trajectory (an interrupted run's) is compared over the frames it has, and said so.
-  const bool reference_partial = reference.provenance.count("partial") > 0,
-             candidate_partial = candidate.provenance.count("partial") > 0;
+  const bool reference_partial = reference->partial(), candidate_partial = candidate->partial();
   if (a.json) {
     nlohmann::json j = report.ToJson();
     j["reference_partial"] = reference_partial, j["candidate_partial"] = candidate_partial;

@@ -26,16 +26,19 @@ struct InspectArgs {
 
 void RunInspect(const InspectArgs& a) {
   TextReadReport read;
-  const Trajectory t = ReadTrajectoryArgument(a.path, a.layout, &read);
+  const auto frames = OpenTrajectoryArgument(a.path, a.layout, &read);  // frame by frame
   Track track;
   track.group = a.group;
   track.particle = std::size_t(a.particle);
   track.axis = ParseAxisName(a.axis);
-  const std::vector<double> series = track.Series(t);
+  const std::vector<double> series = track.Series(*frames);
   const std::string subject = track.Describe();
-  const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, series, {a.start_s, a.end_s});
-  std::optional<kinematics::Report> worm;  // a worm also gets its kinematics (issue 15)
-  if (kinematics::IsWorm(t)) worm = kinematics::Analyse(kinematics::SkeletonsFromTrajectory(t));
+  const compare::SignalMetrics m =
+      compare::MeasureSignal(frames->header().time_s, series, {a.start_s, a.end_s});
+  std::optional<kinematics::Report> worm;  // a worm also gets its kinematics (issue 15): whole
+  if (kinematics::IsWorm(frames->header()))
+    worm = kinematics::Analyse(
+        kinematics::SkeletonsFromTrajectory(ReadTrajectoryArgument(a.path, a.layout)));
   if (a.json) {
     nlohmann::json out = {{"file", a.path},
                           {"layout", read.description},

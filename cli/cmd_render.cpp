@@ -76,13 +76,14 @@ render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
 
 // Phase 7's frame gate at the rendered frames, as owval compare --frames computes it: exit 1
 // when a frame breaks it (unless --no-gate), and the gate printed either way.
-void GateFrames(const RenderArgs& a, const Trajectory& ref, const Trajectory& cand,
+void GateFrames(const RenderArgs& a, FrameSource& ref, FrameSource& cand,
                 const render::RenderOptions& o, const std::vector<std::size_t>& at) {
   compare::ParityOptions parity;
   parity.track = *o.tracking;
   parity.sample_frames = at;
+  parity.quiet = Flags().quiet;
   if (a.threshold) parity.gates.frame = {*a.threshold, compare::ThresholdSource::kFlag};
-  const compare::ParityReport r = compare::CompareTrajectories(ref, cand, parity);
+  const compare::ParityReport r = compare::CompareFrameSources(ref, cand, parity);
   std::cerr << "frame gates at " << a.at << (a.no_gate ? " (not gating: --no-gate)" : "") << "\n"
             << compare::GatesTextTable({*r.gate("frames"), *r.gate("frames.group_centroids")});
   const bool failed = r.gate("frames")->status == compare::GateStatus::kFail ||
@@ -147,17 +148,18 @@ void SetUp(CLI::App& app) {
   sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)");
   sxs->callback([a] {
     RequireOut(*a);
-    const Trajectory ref = ReadTrajectoryArgument(a->reference);
-    const Trajectory cand = ReadTrajectoryArgument(a->candidate);
-    Print(render::RenderSideBySide(ref, cand, Options(*a, ref), a->out), a->out, a->json);
+    const auto ref = OpenTrajectoryArgument(a->reference);  // frame by frame
+    const auto cand = OpenTrajectoryArgument(a->candidate);
+    Print(render::RenderSideBySide(*ref, *cand, Options(*a, ref->header()), a->out), a->out,
+          a->json);
   });
   cmd->callback([a, cmd] {
     if (cmd->got_subcommand("sxs")) return;
     if (a->trajectory.empty())
       throw InputError("owval render: expected a trajectory (or: owval render sxs REF CAND)");
     RequireOut(*a);
-    const Trajectory t = ReadTrajectoryArgument(a->trajectory);
-    Print(render::RenderVideo(t, Options(*a, t), a->out), a->out, a->json);
+    const auto t = OpenTrajectoryArgument(a->trajectory);  // frame by frame
+    Print(render::RenderVideo(*t, Options(*a, t->header()), a->out), a->out, a->json);
   });
   CLI::App* frames =
       app.add_subcommand("frames", "Phase 7: labelled side-by-side PNG frames and frames.json");
@@ -178,12 +180,12 @@ void SetUp(CLI::App& app) {
     RenderArgs args = *a;
     if (!args.track_particle && args.track_group.empty()) args.track_particle = 0;
     RequireOut(args);
-    const Trajectory ref = ReadTrajectoryArgument(a->reference);
-    const Trajectory cand = ReadTrajectoryArgument(a->candidate);
-    const render::RenderOptions options = Options(args, ref);
+    const auto ref = OpenTrajectoryArgument(a->reference);  // frame by frame
+    const auto cand = OpenTrajectoryArgument(a->candidate);
+    const render::RenderOptions options = Options(args, ref->header());
     const std::vector<std::size_t> at = ParseIndexList(a->at, "--at");
-    const auto result = render::RenderFrames(ref, cand, at, options, a->out);
-    GateFrames(*a, ref, cand, options, at);
+    const auto result = render::RenderFrames(*ref, *cand, at, options, a->out);
+    GateFrames(*a, *ref, *cand, options, at);
     std::cout << (a->json
                       ? result.dump(2)
                       : "wrote " + std::to_string(result["frames"].size()) + " frames to " + a->out)

@@ -21,6 +21,15 @@ Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& la
   return ReadTrajectory(path, options, report);
 }
 
+std::unique_ptr<FrameSource> OpenTrajectoryArgument(const std::string& path,
+                                                    const std::string& layout,
+                                                    TextReadReport* report) {
+  TextReadOptions options;
+  options.layout = ParseLayout(layout);
+  options.quiet = Flags().quiet;
+  return OpenFrameSource(path, options, report);
+}
+
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag) {
   std::vector<std::size_t> indices;
   std::stringstream in(text);

@@ -9,87 +9,89 @@
 namespace owval::compare::internal {
 namespace {
 
-using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
-
 double RelativeDifference(double reference, double candidate) {
   return std::abs(candidate / reference - 1);
 }
 
-void GateWorm(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-              const ParityGates& gates, ParityReport* r) {
-  Gate com = MakeGate("worm.centre_of_mass", "max over time of the worm's centre-of-mass distance",
-                      0, gates.centroid_distance, "of the box");
-  Gate span = MakeGate("worm.span", "max over time of the midline length's relative difference", 0,
-                       gates.body_shape, "of the reference's");
-  Gate diameter =
-      MakeGate("worm.cross_section_diameter",
-               "max over time of the mid-body cross-section diameter's relative difference", 0,
-               gates.body_shape, "of the reference's");
-  for (const auto& [fr, fc] : pairs) {
-    const kinematics::BodyShape a = kinematics::MeasureBodyShape(ref, fr);
-    const kinematics::BodyShape b = kinematics::MeasureBodyShape(cand, fc);
-    const auto& p = a.centre_of_mass_cu;
-    const auto& q = b.centre_of_mass_cu;
-    const double distance = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) / r->box_scale_cu;
-    com.value = std::max(com.value, std::isfinite(distance) ? distance : INFINITY);
-    span.value = std::max(span.value, RelativeDifference(a.span_cu, b.span_cu));
-    diameter.value = std::max(diameter.value, RelativeDifference(a.cross_section_diameter_cu,
-                                                                 b.cross_section_diameter_cu));
-  }
-  for (Gate* g : {&com, &span, &diameter}) {
-    Decide(g);
-    r->gates.push_back(*g);
-  }
-}
-
 // Every elastic particle within 1% of the box height of one plane, liquid present: a sheet.
-bool IsMembraneScene(const Trajectory& t) {
+bool IsMembraneScene(const Trajectory& t, FrameSource& frames) {
   if (t.count(ParticleKind::kElastic) == 0 || t.count(ParticleKind::kLiquid) == 0 ||
       t.frame_count() == 0)
     return false;
   const std::vector<std::size_t> elastic = GroupIndices(t, "elastic");
+  const FrameRef first = frames.Frame(0);
   double lo = INFINITY, hi = -INFINITY;
   for (std::size_t i : elastic) {
-    lo = std::min(lo, double(t.coordinate(0, i, 1)));
-    hi = std::max(hi, double(t.coordinate(0, i, 1)));
+    lo = std::min(lo, double(first.trajectory.coordinate(first.frame, i, 1)));
+    hi = std::max(hi, double(first.trajectory.coordinate(first.frame, i, 1)));
   }
   return hi - lo < 0.01 * (t.box.ymax - t.box.ymin);
 }
 
-double LiquidFractionAbove(const Trajectory& t, std::size_t frame,
-                           const std::vector<std::size_t>& liquid,
+double LiquidFractionAbove(const FrameRef& f, const std::vector<std::size_t>& liquid,
                            const std::vector<std::size_t>& elastic) {
-  const double sheet_y = Centroid(t, frame, elastic)[1];
+  const double sheet_y = Centroid(f.trajectory, f.frame, elastic)[1];
   std::size_t above = 0;
-  for (std::size_t i : liquid) above += t.coordinate(frame, i, 1) > sheet_y;
+  for (std::size_t i : liquid) above += f.trajectory.coordinate(f.frame, i, 1) > sheet_y;
   return double(above) / double(liquid.size());
-}
-
-void GateMembrane(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-                  const ParityGates& gates, ParityReport* r) {
-  const std::vector<std::size_t> liquid = GroupIndices(ref, "liquid");
-  const std::vector<std::size_t> elastic = GroupIndices(ref, "elastic");
-  Gate g = MakeGate("liquid.fraction_above_membrane",
-                    "max over time of the difference in the liquid fraction above the sheet", 0,
-                    gates.membrane_liquid_fraction, "of the liquid");
-  double a = 0, b = 0;  // the fractions at the latest paired frame
-  for (const auto& [fr, fc] : pairs) {
-    a = LiquidFractionAbove(ref, fr, liquid, elastic);
-    b = LiquidFractionAbove(cand, fc, liquid, elastic);
-    g.value = std::max(g.value, std::abs(a - b));
-  }
-  g.detail =
-      "at the last frame: reference " + std::to_string(a) + ", candidate " + std::to_string(b);
-  Decide(&g);
-  r->gates.push_back(g);
 }
 
 }  // namespace
 
-void GateBodies(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-                const ParityGates& gates, ParityReport* r) {
-  if (kinematics::IsWorm(ref) && kinematics::IsWorm(cand)) GateWorm(ref, cand, pairs, gates, r);
-  if (IsMembraneScene(ref)) GateMembrane(ref, cand, pairs, gates, r);
+BodyGates::BodyGates(const Trajectory& ref, const Trajectory& cand, FrameSource& ref_frames,
+                     const ParityGates& gates) {
+  worm_ = kinematics::IsWorm(ref) && kinematics::IsWorm(cand);
+  membrane_ = IsMembraneScene(ref, ref_frames);
+  com_ = MakeGate("worm.centre_of_mass", "max over time of the worm's centre-of-mass distance", 0,
+                  gates.centroid_distance, "of the box");
+  span_ = MakeGate("worm.span", "max over time of the midline length's relative difference", 0,
+                   gates.body_shape, "of the reference's");
+  diameter_ = MakeGate("worm.cross_section_diameter",
+                       "max over time of the mid-body cross-section diameter's relative difference",
+                       0, gates.body_shape, "of the reference's");
+  membrane_gate_ =
+      MakeGate("liquid.fraction_above_membrane",
+               "max over time of the difference in the liquid fraction above the sheet", 0,
+               gates.membrane_liquid_fraction, "of the liquid");
+  if (membrane_) {
+    liquid_ = GroupIndices(ref, "liquid");
+    elastic_ = GroupIndices(ref, "elastic");
+  }
+}
+
+void BodyGates::Observe(const FrameRef& ref, const FrameRef& cand, double box_scale_cu) {
+  if (worm_) {
+    const kinematics::BodyShape a = kinematics::MeasureBodyShape(ref.trajectory, ref.frame);
+    const kinematics::BodyShape b = kinematics::MeasureBodyShape(cand.trajectory, cand.frame);
+    const auto& p = a.centre_of_mass_cu;
+    const auto& q = b.centre_of_mass_cu;
+    const double distance = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]) / box_scale_cu;
+    com_.value = std::max(com_.value, std::isfinite(distance) ? distance : INFINITY);
+    span_.value = std::max(span_.value, RelativeDifference(a.span_cu, b.span_cu));
+    diameter_.value = std::max(diameter_.value, RelativeDifference(a.cross_section_diameter_cu,
+                                                                   b.cross_section_diameter_cu));
+  }
+  if (membrane_) {
+    last_reference_fraction_ = LiquidFractionAbove(ref, liquid_, elastic_);
+    last_candidate_fraction_ = LiquidFractionAbove(cand, liquid_, elastic_);
+    membrane_gate_.value = std::max(membrane_gate_.value,
+                                    std::abs(last_reference_fraction_ - last_candidate_fraction_));
+  }
+}
+
+void BodyGates::AddGates(ParityReport* r) {
+  if (worm_)
+    for (Gate* g : {&com_, &span_, &diameter_}) {
+      Decide(g);
+      r->gates.push_back(*g);
+    }
+  if (membrane_) {
+    membrane_gate_.detail = "at the last frame: reference " +
+                            std::to_string(last_reference_fraction_) + ", candidate " +
+                            std::to_string(last_candidate_fraction_);
+    Decide(&membrane_gate_);
+    r->gates.push_back(membrane_gate_);
+  }
 }
 
 }  // namespace owval::compare::internal

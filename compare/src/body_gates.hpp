@@ -9,17 +9,33 @@
 //    first frame, with liquid above it): liquid.fraction_above_membrane, the max difference of
 //    the fraction of liquid particles above the sheet's mean height (the
 //    membrane_liquid_fraction threshold). A leaking membrane fails here.
-// Scenes without such a body get none of these gates.
+// Scenes without such a body get none of these gates. Measured pair by pair of frames, in time
+// order, as parity.cpp reads them (frame_source.hpp).
 #include <cstddef>
-#include <utility>
+#include <string>
 #include <vector>
 
 #include "owval/compare/parity.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare::internal {
 
-void GateBodies(const Trajectory& reference, const Trajectory& candidate,
-                const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                const ParityGates& gates, ParityReport* report);
+class BodyGates {
+ public:
+  // reference and candidate: the two headers (types, box); the reference's frame 0 is read
+  // from reference_frames to recognise a sheet.
+  BodyGates(const Trajectory& reference, const Trajectory& candidate, FrameSource& reference_frames,
+            const ParityGates& gates);
+  // One pair of frames at the same time; box_scale_cu: the reference box's largest extent.
+  void Observe(const FrameRef& reference, const FrameRef& candidate, double box_scale_cu);
+  // The scene's gates, decided, appended to the report.
+  void AddGates(ParityReport* report);
+
+ private:
+  bool worm_ = false, membrane_ = false;
+  Gate com_, span_, diameter_, membrane_gate_;
+  std::vector<std::size_t> liquid_, elastic_;
+  double last_reference_fraction_ = 0, last_candidate_fraction_ = 0;
+};
 
 }  // namespace owval::compare::internal

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "body_gates.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
 #include "owval/compare/metrics_json.hpp"
 
 namespace owval::compare {
@@ -22,26 +24,25 @@ std::vector<std::size_t> MovingParticles(const Trajectory& t) {
   return moving;
 }
 
-double MeanParticleDistance(const Trajectory& a, std::size_t fa, const Trajectory& b,
-                            std::size_t fb, const std::vector<std::size_t>& particles) {
+double MeanParticleDistance(const FrameRef& a, const FrameRef& b,
+                            const std::vector<std::size_t>& particles) {
   if (particles.empty()) return 0;
   double sum = 0;
   for (std::size_t p : particles) {
-    const float* x = a.position(fa, p);
-    const float* y = b.position(fb, p);
+    const float* x = a.trajectory.position(a.frame, p);
+    const float* y = b.trajectory.position(b.frame, p);
     sum += std::hypot(double(x[0]) - y[0], double(x[1]) - y[1], double(x[2]) - y[2]);
   }
   return sum / double(particles.size());
 }
 
-std::array<double, 3> Extent(const Trajectory& t, std::size_t frame,
-                             const std::vector<std::size_t>& group) {
+std::array<double, 3> Extent(const FrameRef& f, const std::vector<std::size_t>& group) {
   std::array<double, 3> out{};
   for (int a = 0; a < 3; ++a) {
     double lo = std::numeric_limits<double>::max(), hi = -lo;
     for (std::size_t p : group) {
-      lo = std::min<double>(lo, t.coordinate(frame, p, a));
-      hi = std::max<double>(hi, t.coordinate(frame, p, a));
+      lo = std::min<double>(lo, f.trajectory.coordinate(f.frame, p, a));
+      hi = std::max<double>(hi, f.trajectory.coordinate(f.frame, p, a));
     }
     out[a] = hi - lo;
   }
@@ -53,26 +54,27 @@ double BoxScale(const Box& box) {
   return s > 0 ? s : 1.0;
 }
 
-GroupDrift MeasureDrift(const Trajectory& ref, const Trajectory& cand, const std::string& group,
-                        const std::vector<std::size_t>& members, const Pairs& pairs) {
+// One group's drift, accumulated pair by pair in time order.
+struct DriftAccumulator {
+  std::vector<std::size_t> members;
   GroupDrift d;
-  d.group = group;
-  for (const auto& [fr, fc] : pairs) {
-    const auto a = Centroid(ref, fr, members), b = Centroid(cand, fc, members);
+
+  void Observe(const FrameRef& ref, const FrameRef& cand, const Box& box) {
+    const auto a = Centroid(ref.trajectory, ref.frame, members),
+               b = Centroid(cand.trajectory, cand.frame, members);
     const double dist = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     d.max_centroid_distance_cu = std::max(d.max_centroid_distance_cu, dist);
     d.final_centroid_distance_cu = dist;
     for (int ax = 0; ax < 3; ++ax) d.final_offset_cu[ax] = b[ax] - a[ax];
-    const auto er = Extent(ref, fr, members), ec = Extent(cand, fc, members);
+    const auto er = Extent(ref, members), ec = Extent(cand, members);
     for (int ax = 0; ax < 3; ++ax) {
-      const double box = ref.box.extent(ax) > 0 ? ref.box.extent(ax) : 1.0;
+      const double extent = box.extent(ax) > 0 ? box.extent(ax) : 1.0;
       d.max_extent_difference_fraction =
-          std::max(d.max_extent_difference_fraction, std::abs(ec[ax] - er[ax]) / box);
+          std::max(d.max_extent_difference_fraction, std::abs(ec[ax] - er[ax]) / extent);
       d.final_extent_ratio[ax] = er[ax] > 0 ? ec[ax] / er[ax] : (ec[ax] > 0 ? INFINITY : 1);
     }
   }
-  return d;
-}
+};
 
 std::optional<double> RelativeGap(const std::optional<double>& ref,
                                   const std::optional<double>& cand) {
@@ -87,27 +89,115 @@ std::string FailingList(const std::vector<std::size_t>& frames) {
   return s.str();
 }
 
-Pairs GatedPairs(const Pairs& pairs, const Trajectory& ref, const ParityOptions& o) {
-  if (o.sample_frames.empty()) return pairs;
-  Pairs gated;
+// The gated pairs, as indices into `pairs`: every pair, or the pair of each sample frame.
+std::vector<std::size_t> GatedPairs(const Pairs& pairs, const Trajectory& ref,
+                                    const ParityOptions& o) {
+  std::vector<std::size_t> gated;
+  if (o.sample_frames.empty()) {
+    for (std::size_t k = 0; k < pairs.size(); ++k) gated.push_back(k);
+    return gated;
+  }
   for (std::size_t f : o.sample_frames) {
     auto it = std::find_if(pairs.begin(), pairs.end(), [f](const auto& p) { return p.first == f; });
     if (it == pairs.end())
       throw InputError("sample frame " + std::to_string(f) + " has no candidate frame at t = " +
                        (f < ref.frame_count() ? std::to_string(ref.time_s[f]) : std::string("?")) +
                        " s");
-    gated.push_back(*it);
+    gated.push_back(std::size_t(it - pairs.begin()));
   }
   return gated;
 }
 
-void GateFrames(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
+// Everything the gates need, reduced frame pair by frame pair in time order (one frame of each
+// trajectory at a time): the tracked series, the per-particle distances, each group's drift,
+// the group centroid distances at the sampled pairs, and the scene gates' measures.
+class PairReducer {
+ public:
+  PairReducer(const Trajectory& ref, const Trajectory& cand, FrameSource& ref_frames,
+              const Pairs& pairs, const std::vector<std::size_t>& gated, const ParityOptions& o,
+              ParityReport* r)
+      : ref_(ref),
+        o_(o),
+        r_(r),
+        pairs_(pairs),
+        moving_(MovingParticles(ref)),
+        sampled_(pairs.size(), false),
+        bodies_(ref, cand, ref_frames, o.gates) {
+    for (const char* group : {"elastic", "liquid"}) {
+      DriftAccumulator g;
+      g.d.group = group;
+      for (std::size_t p : moving_)
+        if (KindName(KindOf(ref.type[p])) == std::string(group)) g.members.push_back(p);
+      if (!g.members.empty()) drift_.push_back(std::move(g));
+    }
+    if (!o.sample_frames.empty())
+      for (std::size_t k : gated) sampled_[k] = true;
+    for (const char* group : {"elastic", "liquid"}) {
+      const ParticleKind kind = group[0] == 'e' ? ParticleKind::kElastic : ParticleKind::kLiquid;
+      sample_groups_.push_back(ref.count(kind) == 0 ? std::vector<std::size_t>{}
+                                                    : GroupIndices(ref, group));
+    }
+  }
+
+  void Observe(std::size_t k, const FrameRef& a, const FrameRef& b, double cand_time) {
+    r_->paired_time_s.push_back(ref_.time_s[pairs_[k].first]);
+    cand_time_.push_back(cand_time);
+    r_->reference_series.push_back(o_.track.ValueAt(a.trajectory, a.frame));
+    r_->candidate_series.push_back(o_.track.ValueAt(b.trajectory, b.frame));
+    const double l2 = MeanParticleDistance(a, b, moving_);
+    l2_sum_ += l2;
+    if (k == 0) r_->l2_initial_cu = l2;
+    r_->l2_final_cu = l2;
+    for (DriftAccumulator& g : drift_) g.Observe(a, b, ref_.box);
+    if (sampled_[k]) ObserveSample(k, a, b);
+    bodies_.Observe(a, b, r_->box_scale_cu);
+  }
+
+  // After the last pair.
+  void Finish() {
+    r_->l2_mean_cu = l2_sum_ / double(pairs_.size());
+    for (DriftAccumulator& g : drift_) r_->drift.push_back(g.d);
+  }
+  const std::vector<double>& candidate_time() const { return cand_time_; }
+  // The 3-D centroid distance of group g (0 elastic, 1 liquid) at sampled pair k, of the box.
+  double SampleDistance(std::size_t k, int g) const { return sample_distance_.at(k)[g]; }
+  bool HasSampleGroup(int g) const { return !sample_groups_[g].empty(); }
+  internal::BodyGates& bodies() { return bodies_; }
+
+ private:
+  void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
+    std::array<double, 2> d{0, 0};
+    for (int g = 0; g < 2; ++g) {
+      if (sample_groups_[g].empty()) continue;
+      const auto x = Centroid(a.trajectory, a.frame, sample_groups_[g]),
+                 y = Centroid(b.trajectory, b.frame, sample_groups_[g]);
+      d[g] = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]) / r_->box_scale_cu;
+    }
+    sample_distance_[k] = d;
+  }
+
+  const Trajectory& ref_;
+  const ParityOptions& o_;
+  ParityReport* r_;
+  const Pairs& pairs_;
+  std::vector<std::size_t> moving_;
+  std::vector<bool> sampled_;
+  std::vector<std::vector<std::size_t>> sample_groups_;
+  std::map<std::size_t, std::array<double, 2>> sample_distance_;
+  std::vector<DriftAccumulator> drift_;
+  std::vector<double> cand_time_;
+  double l2_sum_ = 0;
+  internal::BodyGates bodies_;
+};
+
+void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std::size_t>& gated,
                 const ParityOptions& o, ParityReport* r) {
   Gate g =
       MakeGate("frames", "worst |cand - ref| / scale of " + r->subject + " over the gated frames",
                0, o.gates.frame, "of the reference range");
-  for (const auto& [fr, fc] : GatedPairs(pairs, ref, o)) {
-    FrameParity fp{fr, fc, ref.time_s[fr], o.track.ValueAt(ref, fr), o.track.ValueAt(cand, fc)};
+  for (std::size_t k : gated) {
+    const auto [fr, fc] = pairs[k];
+    FrameParity fp{fr, fc, ref.time_s[fr], r->reference_series[k], r->candidate_series[k]};
     fp.relative_difference = std::abs(fp.candidate_value - fp.reference_value) / r->scale;
     fp.pass = std::isfinite(fp.candidate_value) && fp.relative_difference < o.gates.frame.value;
     if (!fp.pass) r->failing_frames.push_back(fr);
@@ -189,59 +279,32 @@ void GateGroups(const ParityOptions& o, ParityReport* r) {
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
 // centroid_distance gate itself, so it is added only for a sample.
-void GateSampledGroups(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-                       const ParityOptions& o, ParityReport* r) {
+void GateSampledGroups(const Pairs& pairs, const std::vector<std::size_t>& gated,
+                       const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
   if (o.sample_frames.empty()) return;
   Gate g =
       MakeGate("frames.group_centroids", "worst 3-D group centroid distance at the gated frames", 0,
                o.gates.centroid_distance, "of the box");
-  for (const char* group : {"elastic", "liquid"}) {
-    const ParticleKind kind = group[0] == 'e' ? ParticleKind::kElastic : ParticleKind::kLiquid;
-    if (ref.count(kind) == 0) continue;
-    const std::vector<std::size_t> members = GroupIndices(ref, group);
-    for (const auto& [fr, fc] : GatedPairs(pairs, ref, o)) {
-      const auto a = Centroid(ref, fr, members), b = Centroid(cand, fc, members);
-      const double d = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) / r->box_scale_cu;
+  for (int group = 0; group < 2; ++group) {
+    if (!reduced.HasSampleGroup(group)) continue;
+    for (std::size_t k : gated) {
+      const double d = reduced.SampleDistance(k, group);
       g.value = std::isfinite(d) ? std::max(g.value, d) : INFINITY;
       if (!(d < g.threshold.value))
-        g.detail +=
-            std::string(g.detail.empty() ? "" : "; ") + group + " at frame " + std::to_string(fr);
+        g.detail += std::string(g.detail.empty() ? "" : "; ") +
+                    (group == 0 ? "elastic" : "liquid") + " at frame " +
+                    std::to_string(pairs[k].first);
     }
   }
   Decide(&g);
   r->gates.push_back(g);
 }
 
-void MeasureDistances(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-                      ParityReport* r) {
-  const std::vector<std::size_t> moving = MovingParticles(ref);
-  double l2_sum = 0;
-  for (const auto& [fr, fc] : pairs) l2_sum += MeanParticleDistance(ref, fr, cand, fc, moving);
-  r->l2_initial_cu =
-      MeanParticleDistance(ref, pairs.front().first, cand, pairs.front().second, moving);
-  r->l2_final_cu = MeanParticleDistance(ref, pairs.back().first, cand, pairs.back().second, moving);
-  r->l2_mean_cu = l2_sum / double(pairs.size());
-  for (const char* group : {"elastic", "liquid"}) {
-    std::vector<std::size_t> members;
-    for (std::size_t p : moving)
-      if (KindName(KindOf(ref.type[p])) == std::string(group)) members.push_back(p);
-    if (!members.empty()) r->drift.push_back(MeasureDrift(ref, cand, group, members, pairs));
-  }
-}
-
-void MeasureSignals(const Trajectory& ref, const Trajectory& cand, const Pairs& pairs,
-                    const ParityOptions& o, ParityReport* r) {
-  std::vector<double> cand_time;
-  for (const auto& [fr, fc] : pairs) {
-    r->paired_time_s.push_back(ref.time_s[fr]);
-    cand_time.push_back(cand.time_s[fc]);
-    r->reference_series.push_back(o.track.ValueAt(ref, fr));
-    r->candidate_series.push_back(o.track.ValueAt(cand, fc));
-  }
+void MeasureSignals(const std::vector<double>& cand_time, const ParityOptions& o, ParityReport* r) {
   const auto [lo, hi] = std::minmax_element(r->reference_series.begin(), r->reference_series.end());
   r->scale = o.scale ? *o.scale : (*hi - *lo);
   if (!(r->scale > 0)) r->scale = 1.0;  // a constant reference: compare in absolute config units
-  if (pairs.size() < 2) return;
+  if (r->paired_time_s.size() < 2) return;
   r->reference_metrics = MeasureSignal(r->paired_time_s, r->reference_series);
   r->candidate_metrics = MeasureSignal(cand_time, r->candidate_series);
   r->period_gap = RelativeGap(r->reference_metrics.period_s, r->candidate_metrics.period_s);
@@ -250,16 +313,24 @@ void MeasureSignals(const Trajectory& ref, const Trajectory& cand, const Pairs& 
   r->equilibrium_gap_cu = r->candidate_metrics.equilibrium - r->reference_metrics.equilibrium;
 }
 
-}  // namespace
-
-const Gate* ParityReport::gate(const std::string& name) const {
-  for (const Gate& g : gates)
-    if (g.name == name) return &g;
-  return nullptr;
+// Reads the paired frames of both sources in time order and reduces them.
+void Reduce(FrameSource& refs, FrameSource& cands, const Pairs& pairs, PairReducer* reducer,
+            bool quiet) {
+  Progress progress("compare", pairs.size(), quiet || pairs.size() < 1000);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const FrameRef a = refs.Frame(pairs[k].first);
+    const FrameRef b = cands.Frame(pairs[k].second);
+    reducer->Observe(k, a, b, cands.header().time_s[pairs[k].second]);
+    if ((k & 63) == 63) progress.Update(k + 1);
+  }
+  reducer->Finish();
 }
 
-ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
-                                 const ParityOptions& o) {
+}  // namespace
+
+ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const ParityOptions& o) {
+  const Trajectory& ref = refs.header();
+  const Trajectory& cand = cands.header();
   if (ref.particle_count() != cand.particle_count())
     throw InputError("wrong particle count: the reference has " +
                      std::to_string(ref.particle_count()) + " particles, the candidate " +
@@ -267,20 +338,34 @@ ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
   o.track.Validate(ref);
   const Pairs pairs = PairFramesByTime(ref, cand);
   if (pairs.empty()) throw InputError("the reference and candidate share no frame time");
+  const std::vector<std::size_t> gated = GatedPairs(pairs, ref, o);
   ParityReport r;
   r.subject = o.track.Describe();
   r.paired_frames = pairs.size();
   r.common_window_start_s = ref.time_s[pairs.front().first];
   r.common_window_end_s = ref.time_s[pairs.back().first];
   r.box_scale_cu = BoxScale(ref.box);
-  MeasureSignals(ref, cand, pairs, o, &r);
-  GateFrames(ref, cand, pairs, o, &r);
-  GateSampledGroups(ref, cand, pairs, o, &r);
+  PairReducer reducer(ref, cand, refs, pairs, gated, o, &r);
+  Reduce(refs, cands, pairs, &reducer, o.quiet);
+  MeasureSignals(reducer.candidate_time(), o, &r);
+  GateFrames(ref, pairs, gated, o, &r);
+  GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
-  MeasureDistances(ref, cand, pairs, &r);
   GateGroups(o, &r);
-  internal::GateBodies(ref, cand, pairs, o.gates, &r);
+  reducer.bodies().AddGates(&r);
   return r;
+}
+
+ParityReport CompareTrajectories(const Trajectory& ref, const Trajectory& cand,
+                                 const ParityOptions& o) {
+  const auto refs = MemoryFrameSource(ref), cands = MemoryFrameSource(cand);
+  return CompareFrameSources(*refs, *cands, o);
+}
+
+const Gate* ParityReport::gate(const std::string& name) const {
+  for (const Gate& g : gates)
+    if (g.name == name) return &g;
+  return nullptr;
 }
 
 namespace {

@@ -39,6 +39,9 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, int fps)
   codec_->framerate = AVRational{fps, 1};
   codec_->pix_fmt = AV_PIX_FMT_YUV420P;
   codec_->gop_size = fps;
+  // No B-frames: libx264 keeps whole frames buffered for them (a 1280x720 render peaks at 179 MB
+  // instead of 214 MB, whatever the trajectory's length: issue 16); the file is about 4% larger.
+  codec_->max_b_frames = 0;
   av_opt_set(codec_->priv_data, "crf", "18", 0);
   av_opt_set(codec_->priv_data, "preset", "superfast", 0);
   if (format_->oformat->flags & AVFMT_GLOBALHEADER) codec_->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;

@@ -228,13 +228,15 @@ class Canvas {
   GLuint texture_ = 0;
 };
 
-float PointSize(const Trajectory& t, const RenderOptions& o, int panel_height) {
+// first: the trajectory's frame 0.
+float PointSize(const FrameRef& first, const RenderOptions& o, int panel_height) {
   if (o.point_size_px > 0) return o.point_size_px;
   // A particle is about r0 = 1.67 cu across; the box (the worm in the worm view) spans its
   // diagonal on screen.
+  const Trajectory& t = first.trajectory;
   const float diagonal =
       o.view == "worm"
-          ? 2 * internal::WormHalfExtent(t, 0, float(o.width) / float(o.height))
+          ? 2 * internal::WormHalfExtent(t, first.frame, float(o.width) / float(o.height))
           : std::sqrt(t.box.extent(0) * t.box.extent(0) + t.box.extent(1) * t.box.extent(1) +
                       t.box.extent(2) * t.box.extent(2));
   return std::clamp(1.67f / diagonal * float(panel_height) * 1.1f, 2.0f, 24.0f);
@@ -251,7 +253,9 @@ std::string Format(const char* format, double value) {
 int Row(const RenderOptions& o, int row) { return (o.title.empty() ? 28 : 56) + 24 * row; }
 
 void Label(internal::TextPainter& text, std::vector<unsigned char>& rgba, const RenderOptions& o,
-           int x0, const std::string& panel, const Trajectory& t, std::size_t frame) {
+           int x0, const std::string& panel, const FrameRef& f) {
+  const Trajectory& t = f.trajectory;
+  const std::size_t frame = f.frame;
   const int w = o.width, h = o.height;
   text.Draw(rgba, w, h, x0 + 12, Row(o, 0), panel, 20, kTextColour);
   text.Draw(rgba, w, h, x0 + 12, Row(o, 1), Format("t = %.3f ms", t.time_s[frame] * 1e3), 18,
@@ -298,24 +302,26 @@ void CheckSize(const RenderOptions& o) {
 // Reference left, candidate right, one camera from the reference's box, labelled.
 class SideBySideFrame {
  public:
-  SideBySideFrame(const Trajectory& ref, const RenderOptions& o)
+  // ref_first: the reference's frame 0 (for the point size).
+  SideBySideFrame(const FrameRef& ref_first, const RenderOptions& o)
       : options_(o),
         canvas_(o.width, o.height),
         panel_(o.width / 2),
-        camera_(Camera::FromBox(ref.box, o.view, float(panel_) / float(o.height))),
-        point_size_(PointSize(ref, o, o.height)) {}
+        camera_(Camera::FromBox(ref_first.trajectory.box, o.view, float(panel_) / float(o.height))),
+        point_size_(PointSize(ref_first, o, o.height)) {}
 
-  std::vector<unsigned char>& Compose(const Trajectory& ref, std::size_t fr, const Trajectory& cand,
-                                      std::size_t fc) {
+  std::vector<unsigned char>& Compose(const FrameRef& ref, const FrameRef& cand) {
     canvas_.Clear();
-    const Camera camera = options_.view == "worm"
-                              ? Camera::ForWorm(ref, fr, float(panel_) / float(options_.height))
-                              : camera_;
-    canvas_.DrawPanel(ref, fr, camera, 0, panel_, options_, point_size_);
-    canvas_.DrawPanel(cand, fc, camera, panel_, options_.width - panel_, options_, point_size_);
+    const Camera camera =
+        options_.view == "worm"
+            ? Camera::ForWorm(ref.trajectory, ref.frame, float(panel_) / float(options_.height))
+            : camera_;
+    canvas_.DrawPanel(ref.trajectory, ref.frame, camera, 0, panel_, options_, point_size_);
+    canvas_.DrawPanel(cand.trajectory, cand.frame, camera, panel_, options_.width - panel_,
+                      options_, point_size_);
     auto& rgba = canvas_.Pixels();
-    Label(text_, rgba, options_, 0, options_.reference_label, ref, fr);
-    Label(text_, rgba, options_, panel_, options_.candidate_label, cand, fc);
+    Label(text_, rgba, options_, 0, options_.reference_label, ref);
+    Label(text_, rgba, options_, panel_, options_.candidate_label, cand);
     return rgba;
   }
   internal::TextPainter& text() { return text_; }
@@ -403,32 +409,35 @@ std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t fram
   Canvas canvas(o.width, o.height);
   canvas.Clear();
   const Camera camera = Camera::ForFrame(t, frame, o.view, float(o.width) / float(o.height));
-  canvas.DrawPanel(t, frame, camera, 0, o.width, o, PointSize(t, o, o.height));
+  canvas.DrawPanel(t, frame, camera, 0, o.width, o, PointSize({t, 0}, o, o.height));
   return canvas.Pixels();
 }
 
-VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
+VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& o,
                          const std::filesystem::path& out_mp4) {
   CheckSize(o);
+  const Trajectory& t = frames.header();
   if (t.frame_count() == 0) throw InputError("the trajectory has no frame to render");
   AtomicOutput out(out_mp4);
   Canvas canvas(o.width, o.height);
   internal::TextPainter text;
   const Camera camera = Camera::FromBox(t.box, o.view, float(o.width) / float(o.height));
-  const float size = PointSize(t, o, o.height);
+  const float size = PointSize(frames.Frame(0), o, o.height);
+  const std::string producer =
+      t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory";
   internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
-  const auto frames = Sample(t.frame_count(), o.max_frames);
-  Progress progress("render", frames.size(), o.quiet);
-  for (std::size_t k = 0; k < frames.size(); ++k) {
+  const auto sampled = Sample(t.frame_count(), o.max_frames);
+  Progress progress("render", sampled.size(), o.quiet);
+  for (std::size_t k = 0; k < sampled.size(); ++k) {
+    const FrameRef f = frames.Frame(sampled[k]);  // one frame in memory at a time
     canvas.Clear();
-    canvas.DrawPanel(
-        t, frames[k],
-        o.view == "worm" ? Camera::ForWorm(t, frames[k], float(o.width) / o.height) : camera, 0,
-        o.width, o, size);
+    canvas.DrawPanel(f.trajectory, f.frame,
+                     o.view == "worm"
+                         ? Camera::ForWorm(f.trajectory, f.frame, float(o.width) / o.height)
+                         : camera,
+                     0, o.width, o, size);
     auto& rgba = canvas.Pixels();
-    Label(text, rgba, o, 0,
-          t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory", t,
-          frames[k]);
+    Label(text, rgba, o, 0, producer, f);
     Title(text, rgba, o);
     video.AddFrame(rgba);
     progress.Update(k + 1);
@@ -438,9 +447,17 @@ VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
   return {video.frames(), o.width, o.height, o.fps, double(video.frames()) / o.fps, {}};
 }
 
-VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, const RenderOptions& o,
+VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
+                         const std::filesystem::path& out_mp4) {
+  const auto frames = MemoryFrameSource(t);
+  return RenderVideo(*frames, o, out_mp4);
+}
+
+VideoSummary RenderSideBySide(FrameSource& refs, FrameSource& cands, const RenderOptions& o,
                               const std::filesystem::path& out_mp4) {
   CheckSize(o);
+  const Trajectory& ref = refs.header();
+  const Trajectory& cand = cands.header();
   if (ref.frame_count() == 0 || cand.frame_count() == 0)
     throw InputError("a trajectory has no frame to render");
   VideoSummary summary{0, o.width, o.height, o.fps, 0, {}};
@@ -456,11 +473,11 @@ VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, con
   std::vector<std::pair<std::size_t, std::size_t>> sampled;
   for (std::size_t k : Sample(pairs.size(), o.max_frames)) sampled.push_back(pairs[k]);
   AtomicOutput out(out_mp4);
-  SideBySideFrame compose(ref, o);
+  SideBySideFrame compose(refs.Frame(0), o);
   internal::Mp4Writer video(out.temporary_path().string(), o.width, o.height, o.fps);
   Progress progress("render sxs", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
-    auto& rgba = compose.Compose(ref, sampled[k].first, cand, sampled[k].second);
+    auto& rgba = compose.Compose(refs.Frame(sampled[k].first), cands.Frame(sampled[k].second));
     Title(compose.text(), rgba, o);
     video.AddFrame(rgba);
     progress.Update(k + 1);
@@ -472,20 +489,41 @@ VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, con
   return summary;
 }
 
-nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
+VideoSummary RenderSideBySide(const Trajectory& ref, const Trajectory& cand, const RenderOptions& o,
+                              const std::filesystem::path& out_mp4) {
+  const auto refs = MemoryFrameSource(ref), cands = MemoryFrameSource(cand);
+  return RenderSideBySide(*refs, *cands, o, out_mp4);
+}
+
+namespace {
+
+// The reference's range of the tracked value over the paired frames (a pass over them), as
+// owval compare's frame gate scales it.
+double PairedRange(FrameSource& refs, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                   const Track& track) {
+  std::vector<double> paired_ref;  // the reference over the common window, for the scale
+  for (const auto& [fr, fc] : pairs) {
+    const FrameRef f = refs.Frame(fr);
+    paired_ref.push_back(track.ValueAt(f.trajectory, f.frame));
+  }
+  if (paired_ref.empty()) throw InputError("the reference and candidate share no frame time");
+  const auto [lo, hi] = std::minmax_element(paired_ref.begin(), paired_ref.end());
+  return *hi - *lo > 0 ? *hi - *lo : 1.0;
+}
+
+}  // namespace
+
+nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
                             const std::vector<std::size_t>& frames, const RenderOptions& o,
                             const std::filesystem::path& out_dir) {
   CheckSize(o);
   RenderOptions options = o;
   if (!options.tracking) options.tracking = Track{};
   const Track& track = *options.tracking;
-  const auto pairs = PairFramesByTime(ref, cand);
-  std::vector<double> paired_ref;  // the reference over the common window, for the scale
-  for (const auto& [fr, fc] : pairs) paired_ref.push_back(track.ValueAt(ref, fr));
-  if (paired_ref.empty()) throw InputError("the reference and candidate share no frame time");
-  const auto [lo, hi] = std::minmax_element(paired_ref.begin(), paired_ref.end());
-  const double scale = *hi - *lo > 0 ? *hi - *lo : 1.0;
-  SideBySideFrame compose(ref, options);
+  const Trajectory& ref = refs.header();
+  const auto pairs = PairFramesByTime(ref, cands.header());
+  const double scale = PairedRange(refs, pairs, track);
+  SideBySideFrame compose(refs.Frame(0), options);
   nlohmann::json entries = nlohmann::json::array();
   std::filesystem::create_directories(out_dir);
   for (std::size_t fr : frames) {
@@ -495,8 +533,10 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
       throw InputError("frame " + std::to_string(fr) + " has no candidate frame at the same time" +
                        " (the reference has " + std::to_string(ref.frame_count()) + " frames)");
     const std::size_t fc = it->second;
-    const double vr = track.ValueAt(ref, fr), vc = track.ValueAt(cand, fc);
-    auto& rgba = compose.Compose(ref, fr, cand, fc);
+    const FrameRef a = refs.Frame(fr), b = cands.Frame(fc);
+    const double vr = track.ValueAt(a.trajectory, a.frame),
+                 vc = track.ValueAt(b.trajectory, b.frame);
+    auto& rgba = compose.Compose(a, b);
     Title(compose.text(), rgba, options);
     const std::string diff = Format("diff %+.4f cu", vc - vr) +
                              Format(" (%.2f%% of range)", 100 * std::abs(vc - vr) / scale);
@@ -520,6 +560,13 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
                                  {"frames", entries}};
   WriteFileAtomically(out_dir / "frames.json", result.dump(2) + "\n");
   return result;
+}
+
+nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
+                            const std::vector<std::size_t>& frames, const RenderOptions& o,
+                            const std::filesystem::path& out_dir) {
+  const auto refs = MemoryFrameSource(ref), cands = MemoryFrameSource(cand);
+  return RenderFrames(*refs, *cands, frames, o, out_dir);
 }
 
 }  // namespace owval::render

@@ -10,6 +10,7 @@
 #include "hdf5_preflight.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/writer.hpp"
 #include "writers.hpp"
 
@@ -354,6 +355,25 @@ std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& 
 
 }  // namespace owval::internal
 
+namespace owval::internal {
+
+// Frames per chunk of a chunked dataset, when a block of that many frames (all particles) takes
+// at most 64 MiB: reading whole blocks decompresses each chunk once, straight into the block,
+// whatever order frames are asked in. 1 otherwise (a frame a hyperslab).
+std::size_t BlockFrames(hid_t set, std::size_t frame_bytes) {
+  Handle dcpl(H5Dget_create_plist(set), H5Pclose);
+  Handle space(H5Dget_space(set), H5Sclose);
+  if (!dcpl.valid() || !space.valid() || H5Pget_layout(dcpl) != H5D_CHUNKED) return 1;
+  if (H5Sget_simple_extent_ndims(space) != 3) return 1;
+  hsize_t chunk[3] = {1, 1, 1};
+  if (H5Pget_chunk(dcpl, 3, chunk) != 3 || chunk[0] < 1) return 1;
+  return SaturatingProduct(std::size_t(chunk[0]), frame_bytes) <= (std::size_t{64} << 20)
+             ? std::size_t(chunk[0])
+             : 1;
+}
+
+}  // namespace owval::internal
+
 namespace owval {
 
 Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path.string()) {
@@ -369,9 +389,31 @@ Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path
   time_s_ = meta.time_s;
   frames_ = time_s_.size();
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
-  file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  // A metadata cache of at most 2 MiB: the chunk index of a long file is read once, in order,
+  // and libhdf5's default cache would grow towards 32 MiB with the number of frames.
+  internal::Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5AC_cache_config_t mdc{};
+  mdc.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  if (H5Pget_mdc_config(fapl, &mdc) >= 0) {
+    mdc.set_initial_size = true;
+    mdc.initial_size = std::size_t{1} << 20;
+    mdc.min_size = std::size_t{1} << 20;
+    mdc.max_size = std::size_t{2} << 20;
+    H5Pset_mdc_config(fapl, &mdc);
+  }
+  file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, fapl);
   positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
   if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
+  block_frames_ = internal::BlockFrames(positions_, header_.type.size() * 3 * sizeof(float));
+  CheckAllocation(SaturatingProduct(block_frames_, header_.type.size() * 3 * sizeof(float)), path_,
+                  "/positions, " + std::to_string(block_frames_) + " frames (one chunk of frames)");
+  if (block_frames_ > 1) {  // whole chunks are read into block_: libhdf5 need cache none
+    internal::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+    H5Pset_chunk_cache(access, 0, 0, 1.0);
+    H5Dclose(positions_);
+    positions_ = H5Dopen2(file_, "positions", access);
+    if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
+  }
 }
 
 Hdf5FrameReader::~Hdf5FrameReader() {
@@ -382,15 +424,33 @@ Hdf5FrameReader::~Hdf5FrameReader() {
 
 bool Hdf5FrameReader::partial() const { return header_.provenance.count("partial") > 0; }
 
+// Frames [first, first + count) of /positions into out.
+void Hdf5FrameReader::ReadFrames(std::size_t first, std::size_t count, float* out) {
+  const hsize_t n = header_.type.size(), start[3] = {first, 0, 0}, size[3] = {count, n, 3};
+  internal::Handle space(H5Dget_space(positions_), H5Sclose);
+  H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, size, nullptr);
+  internal::Handle memory(H5Screate_simple(3, size, nullptr), H5Sclose);
+  if (H5Dread(positions_, H5T_NATIVE_FLOAT, memory, space, H5P_DEFAULT, out) < 0)
+    throw InputError(path_, 0, "HDF5: cannot read frame " + std::to_string(first) + " (corrupt?)");
+}
+
 double Hdf5FrameReader::ReadFrame(std::size_t frame, float* positions) {
   if (frame >= frames_) throw std::out_of_range("Hdf5FrameReader: frame past the end");
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
-  const hsize_t n = header_.type.size(), start[3] = {frame, 0, 0}, count[3] = {1, n, 3};
-  internal::Handle space(H5Dget_space(positions_), H5Sclose);
-  H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  internal::Handle memory(H5Screate_simple(3, count, nullptr), H5Sclose);
-  if (H5Dread(positions_, H5T_NATIVE_FLOAT, memory, space, H5P_DEFAULT, positions) < 0)
-    throw InputError(path_, 0, "HDF5: cannot read frame " + std::to_string(frame) + " (corrupt?)");
+  const std::size_t n = header_.type.size();
+  if (block_frames_ > 1) {
+    const std::size_t first = frame / block_frames_ * block_frames_;
+    if (first != block_first_) {
+      block_.resize(block_frames_ * n * 3);
+      block_first_ = SIZE_MAX;  // until the read succeeds
+      ReadFrames(first, std::min(block_frames_, frames_ - first), block_.data());
+      block_first_ = first;
+    }
+    const float* x = block_.data() + (frame - first) * n * 3;
+    std::copy(x, x + n * 3, positions);
+  } else {
+    ReadFrames(frame, 1, positions);
+  }
   for (std::size_t i = 0; i < n * 3; ++i)
     if (!std::isfinite(positions[i]))
       throw InputError(path_, 0,

@@ -14,123 +14,12 @@
 #include "owval/base/memory_budget.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "text_cursor.hpp"
 #include "text_rows.hpp"
 
 namespace owval {
+namespace internal {
 namespace {
-
-// A cursor over the file text that knows its line number, for error messages.
-class TextCursor {
- public:
-  TextCursor(std::string_view text, const std::string& name)
-      : p_(text.data()), end_(text.data() + text.size()), name_(name) {}
-
-  bool at_end() const { return p_ >= end_; }
-  std::size_t line() const { return line_; }
-  const std::string& name() const { return name_; }
-  std::size_t offset(std::string_view text) const {
-    return static_cast<std::size_t>(p_ - text.data());
-  }
-
-  [[noreturn]] void Fail(const std::string& what) const { throw InputError(name_, line_, what); }
-
-  void SkipBlanks() {
-    while (p_ < end_ && (*p_ == '\t' || *p_ == ' ')) ++p_;
-  }
-
-  // Parses one number; `what` names the expected field for the message.
-  template <typename T>
-  T Number(const char* what) {
-    SkipBlanks();
-    T value{};
-    if constexpr (std::is_same_v<T, float>) {
-      if (FastDecimal(&value)) return value;
-    }
-    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r')
-      Fail(std::string("expected ") + what + ", found end of line");
-    const char* start = p_;
-    if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
-    auto [next, ec] = std::from_chars(p_, end_, value);
-    if (ec != std::errc() || (next < end_ && !IsSeparator(*next))) {
-      const char* stop = start;
-      while (stop < end_ && !IsSeparator(*stop)) ++stop;
-      Fail(std::string("expected ") + what + ", found '" + std::string(start, stop) + "'");
-    }
-    p_ = next;
-    if constexpr (std::is_floating_point_v<T>) {
-      if (!std::isfinite(value)) Fail(std::string(what) + " is not finite (NaN or Inf)");
-    }
-    return value;
-  }
-
-  // Clinger's fast path for the plain decimals Sibernetic writes ("-17.535"): with at most 7
-  // significant digits and 10 fraction digits, mantissa and power of ten are exact floats, so one
-  // IEEE division gives the correctly rounded result, the same value std::from_chars returns.
-  // Anything else (exponents, long mantissas, "nan") is left to from_chars.
-  bool FastDecimal(float* out) {
-    static constexpr float kPow10[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f,
-                                       1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
-    const char* p = p_;
-    const bool negative = p < end_ && *p == '-';
-    if (negative) ++p;
-    std::uint32_t mantissa = 0;
-    int digits = 0, fraction = 0;
-    const char* start = p;
-    while (p < end_ && static_cast<unsigned>(*p - '0') < 10)
-      mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0'), ++digits;
-    if (p < end_ && *p == '.') {
-      ++p;
-      while (p < end_ && static_cast<unsigned>(*p - '0') < 10) {
-        mantissa = mantissa * 10 + static_cast<std::uint32_t>(*p++ - '0');
-        ++digits;
-        ++fraction;
-      }
-    }
-    if (digits == 0 || digits > 7 || fraction > 10 || p == start) return false;
-    if (p < end_ && !IsSeparator(*p)) return false;
-    const float magnitude = static_cast<float>(mantissa) / kPow10[fraction];
-    *out = negative ? -magnitude : magnitude;
-    p_ = p;
-    return true;
-  }
-
-  void EndOfLine(const char* what) {
-    SkipBlanks();
-    if (p_ < end_ && *p_ == '\r') ++p_;
-    if (p_ < end_ && *p_ != '\n') {
-      const char* stop = p_;
-      while (stop < end_ && *stop != '\n') ++stop;
-      Fail(std::string("unexpected extra field after ") + what + ": '" + std::string(p_, stop) +
-           "'");
-    }
-    if (p_ < end_) ++p_;
-    ++line_;
-  }
-
-  void SkipEmptyTail() {
-    while (p_ < end_ && (*p_ == '\n' || *p_ == '\r' || *p_ == ' ' || *p_ == '\t')) {
-      if (*p_ == '\n') ++line_;
-      ++p_;
-    }
-  }
-
- private:
-  static bool IsSeparator(char c) { return c == '\t' || c == ' ' || c == '\n' || c == '\r'; }
-
-  const char* p_;
-  const char* end_;
-  std::string name_;
-  std::size_t line_ = 1;
-};
-
-struct Header {
-  Box box;
-  std::size_t elastic = 0, liquid = 0, boundary = 0;
-  double time_step_s = 0;
-  int log_step = 1;
-  std::size_t particles() const { return elastic + liquid + boundary; }
-  std::size_t moving() const { return elastic + liquid; }
-};
 
 // A whole number from 0 to `max`, refused (not converted) otherwise: 1e30 or 1e12 must not
 // become 0 or 1 through a float-to-integer conversion.
@@ -146,9 +35,7 @@ std::size_t Count(TextCursor& in, const char* what, double max) {
   return static_cast<std::size_t>(value);
 }
 
-// Each particle of frame 0 takes a row of at least 8 bytes ("0 0 0 1\n"): a header declaring more
-// particles than the file can hold is wrong, and must not size any allocation.
-constexpr std::size_t kMinRowBytes = 8;
+}  // namespace
 
 Header ParseHeader(TextCursor& in, std::size_t text_bytes) {
   const double max_particles = static_cast<double>(text_bytes / kMinRowBytes);
@@ -187,17 +74,20 @@ Header ParseHeader(TextCursor& in, std::size_t text_bytes) {
   return h;
 }
 
-struct Rows {
+}  // namespace internal
+
+namespace {
+
+using internal::Header;
+using internal::TextCursor;
+
+struct Rows : internal::RowCounts {
   std::string name;  // the file, for messages
   // Positions as they will be stored. In the OpenCL layout later frames list only the moving
   // particles; while `expanded`, each such frame is completed in place with frame 0's boundary
   // rows (boundary particles never move), so no second copy of the data is ever made.
   std::vector<float> xyz;
-  bool expanded = false;
   std::vector<float> first_frame_type;  // types of the first `particles` rows
-  std::size_t rows = 0;
-  std::size_t boundary_rows_after_first_frame = 0;
-  std::size_t first_row_line = 0;
 };
 
 // Reserves room for the positions a text of `bytes` can hold, backed by huge pages.
@@ -225,10 +115,10 @@ void AppendBoundaryBlock(Rows& r, const Header& h) {
 // Before storing row r of an expanded OpenCL buffer: completes the previous frame when r starts
 // a new one. A boundary row where frame 2 would start means the file is a native dump (frame 1
 // carries its boundary rows): the rows stored so far are then exactly a native prefix.
-void BeforeRow(Rows& r, const Header& h, bool boundary_row, bool may_switch) {
+void BeforeRow(Rows& r, const Header& h, bool boundary_row, TextLayout requested) {
   const std::size_t n = h.particles(), m = h.moving();
   if (r.rows <= n || (r.rows - n) % m != 0) return;
-  if (boundary_row && r.rows == n + m && may_switch) {
+  if (internal::SwitchesToNative(r, h, boundary_row, requested)) {
     r.expanded = false;
     return;
   }
@@ -240,8 +130,7 @@ Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayou
   Rows r;
   r.name = in.name();
   r.first_row_line = in.line();
-  r.expanded = requested != TextLayout::kNative && h.moving() > 0 && h.boundary > 0;
-  const bool may_switch = requested == TextLayout::kAuto;
+  r.expanded = internal::StartsExpanded(h, requested);
   ReserveForText(r, h, text.size() - in.offset(text));
   r.first_frame_type.reserve(h.particles());
   Progress progress("parse", text.size(), quiet || text.size() < (64u << 20));
@@ -257,7 +146,7 @@ Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayou
     } else if (boundary_row) {
       ++r.boundary_rows_after_first_frame;
     }
-    if (r.expanded) BeforeRow(r, h, boundary_row, may_switch);
+    if (r.expanded) BeforeRow(r, h, boundary_row, requested);
     r.xyz.push_back(x);
     r.xyz.push_back(y);
     r.xyz.push_back(z);
@@ -269,9 +158,15 @@ Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayou
   return r;
 }
 
-void CheckFirstFrameTypes(const Rows& r, const Header& h, const std::string& name) {
+}  // namespace
+
+namespace internal {
+namespace {
+
+void CheckFirstFrameTypes(const RowCounts& r, const std::vector<float>& first_frame_type,
+                          const Header& h, const std::string& name) {
   std::size_t elastic = 0, liquid = 0, boundary = 0;
-  for (float t : r.first_frame_type) {
+  for (float t : first_frame_type) {
     switch (KindOf(t)) {
       case ParticleKind::kElastic:
         ++elastic;
@@ -300,7 +195,7 @@ bool FitsOpenCL(std::size_t rows, const Header& h) {
 }
 bool FitsNative(std::size_t rows, const Header& h) { return rows > 0 && rows % h.particles() == 0; }
 
-TextLayout DetectLayout(const Rows& r, const Header& h, const std::string& name) {
+TextLayout DetectLayout(const RowCounts& r, const Header& h, const std::string& name) {
   const bool opencl = FitsOpenCL(r.rows, h);
   const bool native = FitsNative(r.rows, h);
   if (opencl && !native) return TextLayout::kOpenCL;
@@ -321,7 +216,8 @@ TextLayout DetectLayout(const Rows& r, const Header& h, const std::string& name)
   throw InputError(name, 0, msg.str());
 }
 
-void CheckForcedLayout(TextLayout layout, const Rows& r, const Header& h, const std::string& name) {
+void CheckForcedLayout(TextLayout layout, const RowCounts& r, const Header& h,
+                       const std::string& name) {
   const bool fits = layout == TextLayout::kOpenCL ? FitsOpenCL(r.rows, h) : FitsNative(r.rows, h);
   if (fits) return;
   std::ostringstream msg;
@@ -331,40 +227,80 @@ void CheckForcedLayout(TextLayout layout, const Rows& r, const Header& h, const 
   throw InputError(name, 0, msg.str());
 }
 
+}  // namespace
+
+bool StartsExpanded(const Header& h, TextLayout requested) {
+  return requested != TextLayout::kNative && h.moving() > 0 && h.boundary > 0;
+}
+
+bool SwitchesToNative(const RowCounts& r, const Header& h, bool boundary_row,
+                      TextLayout requested) {
+  return boundary_row && r.rows == h.particles() + h.moving() && requested == TextLayout::kAuto;
+}
+
+TextLayout ResolveLayout(const RowCounts& r, const std::vector<float>& first_frame_type,
+                         const Header& h, TextLayout requested, const std::string& name) {
+  CheckFirstFrameTypes(r, first_frame_type, h, name);
+  TextLayout layout = requested;
+  if (layout == TextLayout::kAuto) {
+    layout = DetectLayout(r, h, name);
+  } else {
+    CheckForcedLayout(layout, r, h, name);
+  }
+  // Rows were stored as the OpenCL layout needs them until a native frame showed up; the two
+  // agree when there are no boundary (or no moving) particles.
+  const bool stored_as_opencl = r.expanded || h.boundary == 0 || h.moving() == 0;
+  if ((layout == TextLayout::kOpenCL) != stored_as_opencl && r.rows > h.particles()) {
+    throw InputError(name, 0,
+                     std::string("rows look like the ") + (stored_as_opencl ? "opencl" : "native") +
+                         " layout but their counts fit the " + LayoutName(layout) +
+                         " layout; pass --layout opencl|native to say which it is");
+  }
+  return layout;
+}
+
+std::size_t FrameCount(TextLayout layout, std::size_t rows, const Header& h) {
+  const std::size_t n = h.particles();
+  return layout == TextLayout::kNative ? rows / n
+         : h.moving() == 0             ? 1
+                                       : 1 + (rows - n) / h.moving();
+}
+
+std::string DescribeText(TextLayout layout, std::size_t frames, const Header& h) {
+  std::ostringstream s;
+  s << LayoutName(layout) << " layout: " << frames << " frames, " << h.elastic << " elastic + "
+    << h.liquid << " liquid + " << h.boundary << " boundary particles, dt " << h.time_step_s
+    << " s, log step " << h.log_step;
+  return s.str();
+}
+
+void CheckMovingFirst(const std::vector<float>& type, const Header& h, const std::string& name) {
+  // The OpenCL layout lists only the first E+L particles in later frames; that is only
+  // meaningful when the boundary particles come last.
+  for (std::size_t i = 0; i < h.moving(); ++i) {
+    if (KindOf(type[i]) == ParticleKind::kBoundary)
+      throw InputError(name, 0,
+                       "boundary particle at row " + std::to_string(i) +
+                           " of frame 0: expected elastic and liquid particles first");
+  }
+}
+
+}  // namespace internal
+
+namespace {
+
 Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
   Trajectory t;
   t.box = h.box;
   t.time_step_s = h.time_step_s;
   t.log_step = h.log_step;
   t.type = std::move(r.first_frame_type);
-  const std::size_t n = h.particles();
-  const std::size_t frames = layout == TextLayout::kNative ? r.rows / n
-                             : h.moving() == 0             ? 1
-                                                           : 1 + (r.rows - n) / h.moving();
+  const std::size_t frames = internal::FrameCount(layout, r.rows, h);
   t.positions = std::move(r.xyz);
   t.time_s.resize(frames);
   for (std::size_t f = 0; f < frames; ++f)
     t.time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
   return t;
-}
-
-std::string Describe(TextLayout layout, const Trajectory& t, const Header& h) {
-  std::ostringstream s;
-  s << LayoutName(layout) << " layout: " << t.frame_count() << " frames, " << h.elastic
-    << " elastic + " << h.liquid << " liquid + " << h.boundary << " boundary particles, dt "
-    << h.time_step_s << " s, log step " << h.log_step;
-  return s.str();
-}
-
-void CheckMovingFirst(const Trajectory& t, const Header& h, const std::string& name) {
-  // The OpenCL layout lists only the first E+L particles in later frames; that is only
-  // meaningful when the boundary particles come last.
-  for (std::size_t i = 0; i < h.moving(); ++i) {
-    if (KindOf(t.type[i]) == ParticleKind::kBoundary)
-      throw InputError(name, 0,
-                       "boundary particle at row " + std::to_string(i) +
-                           " of frame 0: expected elastic and liquid particles first");
-  }
 }
 
 }  // namespace
@@ -399,39 +335,25 @@ Trajectory ParseSiberneticText(std::string_view text, const std::string& name,
     throw InputError(name, lines, "truncated file: the last line does not end with a newline");
   }
   TextCursor in(text, name);
-  const Header header = ParseHeader(in, text.size());
+  const Header header = internal::ParseHeader(in, text.size());
   Rows rows = ParseRows(in, header, text, options.layout, options.quiet);
   if (rows.rows < header.particles()) {
     throw InputError(name, in.line(),
                      "truncated first frame: expected " + std::to_string(header.particles()) +
                          " rows, found " + std::to_string(rows.rows));
   }
-  CheckFirstFrameTypes(rows, header, name);
-  TextLayout layout = options.layout;
-  if (layout == TextLayout::kAuto) {
-    layout = DetectLayout(rows, header, name);
-  } else {
-    CheckForcedLayout(layout, rows, header, name);
-  }
-  // Rows were stored as the OpenCL layout needs them until a native frame showed up; the two
-  // agree when there are no boundary (or no moving) particles.
-  const bool stored_as_opencl = rows.expanded || header.boundary == 0 || header.moving() == 0;
-  if ((layout == TextLayout::kOpenCL) != stored_as_opencl && rows.rows > header.particles()) {
-    throw InputError(name, 0,
-                     std::string("rows look like the ") + (stored_as_opencl ? "opencl" : "native") +
-                         " layout but their counts fit the " + LayoutName(layout) +
-                         " layout; pass --layout opencl|native to say which it is");
-  }
+  const TextLayout layout =
+      internal::ResolveLayout(rows, rows.first_frame_type, header, options.layout, name);
   const std::size_t row_count = rows.rows;
   Trajectory t = Assemble(std::move(rows), header, layout);
-  if (layout == TextLayout::kOpenCL) CheckMovingFirst(t, header, name);
+  if (layout == TextLayout::kOpenCL) internal::CheckMovingFirst(t.type, header, name);
   t.provenance["source_file"] = name;
   t.provenance["source_layout"] = LayoutName(layout);
   if (report) {
     report->detected = layout;
     report->rows = row_count;
     report->bytes = text.size();
-    report->description = Describe(layout, t, header);
+    report->description = internal::DescribeText(layout, t.frame_count(), header);
   }
   return t;
 }

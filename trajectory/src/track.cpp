@@ -58,6 +58,17 @@ std::vector<double> Track::Series(const Trajectory& t) const {
   return ParticleSeries(t, particle, a);
 }
 
+std::vector<double> Track::Series(FrameSource& frames) const {
+  Validate(frames.header());
+  std::vector<double> series;
+  series.reserve(frames.frame_count());
+  for (std::size_t f = 0; f < frames.frame_count(); ++f) {
+    const FrameRef x = frames.Frame(f);
+    series.push_back(ValueAt(x.trajectory, x.frame));
+  }
+  return series;
+}
+
 double Track::ValueAt(const Trajectory& t, std::size_t frame) const {
   Validate(t);
   if (frame >= t.frame_count())

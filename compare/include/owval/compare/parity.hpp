@@ -2,7 +2,10 @@
 // Parity of a candidate trajectory against a reference (design notes §4): the report a backend
 // port must pass. Frames are paired by simulation time (PairFramesByTime), so files with
 // different log steps, layouts or durations compare correctly, and every measure, on both sides,
-// is taken over the two runs' common time window only.
+// is taken over the two runs' common time window only. Both trajectories are read one pair of
+// frames at a time (CompareFrameSources, issue 16): every gate is a reduction over the pairs in
+// time order (the tracked scalar's series, per-particle distances, group centroids and extents,
+// the last pair), so memory is O(particles) plus a few numbers a frame, whatever the length.
 //
 // Gates (each listed in the report with its value, threshold and the threshold's source):
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
@@ -24,6 +27,7 @@
 
 #include "owval/compare/gates.hpp"
 #include "owval/compare/signal_metrics.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
@@ -52,6 +56,7 @@ struct ParityOptions {
   // Scale for |cand - ref| in cu; empty means the reference's range over the common window.
   std::optional<double> scale;
   ParityGates gates;
+  bool quiet = true;  // no progress line (the CLI shows one on a terminal unless --quiet)
 };
 
 struct FrameParity {
@@ -99,7 +104,10 @@ struct ParityReport {
 };
 
 // Throws InputError when the two trajectories have different particle counts, no frames in
-// common time, or the track names nothing in them.
+// common time, or the track names nothing in them; and, from a file source, on a corrupt frame.
+ParityReport CompareFrameSources(FrameSource& reference, FrameSource& candidate,
+                                 const ParityOptions& options);
+// The same on trajectories in memory (MemoryFrameSource: the same code, the same values).
 ParityReport CompareTrajectories(const Trajectory& reference, const Trajectory& candidate,
                                  const ParityOptions& options);
 

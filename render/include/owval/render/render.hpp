@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
@@ -61,9 +62,16 @@ struct VideoSummary {
   std::vector<std::string> notes;  // e.g. a time-step or log-step mismatch between the panels
 };
 
+// The FrameSource forms pull one frame at a time (memory O(particles), whatever the number of
+// frames: issue 16); the Trajectory forms render a trajectory in memory the same way. The two
+// sources of a comparison must be distinct objects.
+VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& options,
+                         const std::filesystem::path& out_mp4);
 VideoSummary RenderVideo(const Trajectory& trajectory, const RenderOptions& options,
                          const std::filesystem::path& out_mp4);
 // Reference left, candidate right, paired by simulation time.
+VideoSummary RenderSideBySide(FrameSource& reference, FrameSource& candidate,
+                              const RenderOptions& options, const std::filesystem::path& out_mp4);
 VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& candidate,
                               const RenderOptions& options, const std::filesystem::path& out_mp4);
 
@@ -71,7 +79,11 @@ VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& can
 // frame at the same simulation time (PairFramesByTime), with each panel's tracked value and their
 // difference printed; returns (and writes to out_dir/frames.json) the same numbers. The
 // difference is also given relative to the reference's range over the common time window, as
-// owval compare's frame gate measures it. InputError for a frame without a partner.
+// owval compare's frame gate measures it (a first pass over the paired reference frames finds that
+// range). InputError for a frame without a partner.
+nlohmann::json RenderFrames(FrameSource& reference, FrameSource& candidate,
+                            const std::vector<std::size_t>& reference_frames,
+                            const RenderOptions& options, const std::filesystem::path& out_dir);
 nlohmann::json RenderFrames(const Trajectory& reference, const Trajectory& candidate,
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval {
@@ -27,6 +28,8 @@ struct Track {
   // The tracked value at every frame. InputError when the particle does not exist or the group
   // is unknown or empty in this trajectory.
   std::vector<double> Series(const Trajectory& trajectory) const;
+  // The same, read frame by frame (memory O(particles) and one number a frame).
+  std::vector<double> Series(FrameSource& frames) const;
   // The tracked value at one frame (same checks as Series).
   double ValueAt(const Trajectory& trajectory, std::size_t frame) const;
   // InputError unless the track names something that exists in the trajectory.

@@ -1,0 +1,85 @@
+// Frame sources (frame_source.hpp): a trajectory in memory, an HDF5 file through
+// Hdf5FrameReader, Sibernetic text through text_stream.cpp.
+#include "owval/trajectory/frame_source.hpp"
+
+#include <stdexcept>
+
+#include "owval/trajectory/writer.hpp"
+#include "text_stream.hpp"
+
+namespace owval {
+namespace {
+
+class MemorySource : public FrameSource {
+ public:
+  explicit MemorySource(const Trajectory& t) : t_(t) {}
+  const Trajectory& header() const override { return t_; }
+  FrameRef Frame(std::size_t f) override {
+    if (f >= t_.frame_count()) throw std::out_of_range("memory frame source: frame past the end");
+    return {t_, f};
+  }
+
+ private:
+  const Trajectory& t_;
+};
+
+class Hdf5Source : public FrameSource {
+ public:
+  explicit Hdf5Source(const std::filesystem::path& path) : reader_(path) {
+    const TrajectoryHeader& h = reader_.header();
+    for (Trajectory* t : {&header_, &frame_}) {
+      t->box = h.box;
+      t->time_step_s = h.time_step_s;
+      t->log_step = h.log_step;
+      t->type = h.type;
+      t->provenance = h.provenance;
+    }
+    header_.time_s = reader_.time_s();
+    frame_.time_s.assign(1, 0.0);
+    frame_.positions.assign(3 * h.type.size(), 0.0f);
+  }
+  const Trajectory& header() const override { return header_; }
+  FrameRef Frame(std::size_t f) override {
+    if (f >= header_.frame_count())
+      throw std::out_of_range("HDF5 frame source: frame past the end");
+    if (f != current_) frame_.time_s[0] = reader_.ReadFrame(f, frame_.positions.data());
+    current_ = f;
+    return {frame_, 0};
+  }
+  // The text format's partial mark is its name; HDF5 carries it, and so may be renamed.
+  void MarkPartial() { header_.provenance["partial"].assign(1, '1'); }
+
+ private:
+  Hdf5FrameReader reader_;
+  Trajectory header_, frame_;
+  std::size_t current_ = SIZE_MAX;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> MemoryFrameSource(const Trajectory& trajectory) {
+  return std::make_unique<MemorySource>(trajectory);
+}
+
+std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
+                                             const TextReadOptions& options,
+                                             TextReadReport* report) {
+  // As ReadTrajectory: the partial mark from the name too (PartialPath), said in the report.
+  const bool named_partial = path.stem().extension() == ".partial";
+  std::unique_ptr<FrameSource> source;
+  if (DetectFormat(path) == FileFormat::kHdf5) {
+    auto h5 = std::make_unique<Hdf5Source>(path);
+    if (named_partial) h5->MarkPartial();
+    if (report)
+      report->description = "owval HDF5: " + std::to_string(h5->frame_count()) + " frames, " +
+                            std::to_string(h5->particle_count()) + " particles";
+    source = std::move(h5);
+  } else {
+    source = internal::OpenTextFrameSource(path.string(), options, report, named_partial);
+  }
+  if (report && source->partial())
+    report->description += " (partial: an interrupted run's, see its checkpoint)";
+  return source;
+}
+
+}  // namespace owval
