@@ -174,7 +174,7 @@ namespace {
 TEST(DifferentiableModel, ReproducesTheDoubleXpbdRunOnOneSprig) {
   const SiberneticConfig c = ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
                                                   "reference/one_sprig/configuration");
-  const DifferentiableXpbd model(c, FourSubsteps());
+  const DifferentiableXpbd model(c, PhysicsConstants{});  // both with the derived 28 substeps
   const auto frames = model.Trajectory(model.DefaultParameters(), 200);
   internal::Xpbd<double> run(c, PhysicsConstants{}, 1);
   run.Step();
