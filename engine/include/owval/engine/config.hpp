@@ -88,7 +88,7 @@ struct PhysicsConstants {
     double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2/cu^2; 0: derived
     double bond_compliance_scale = 1;  // alpha of a bond = scale / k_eff (k_eff in s^-2)
     double rest_density = 0;           // kg/m^3; 0: the configuration's interior liquid's
-    double floor_restitution = 0;      // normal velocity kept (reversed) at the box's floor
+    double floor_restitution = 0;      // normal velocity kept (reversed) at the floor and walls
     double muscle_strength = 1;        // bond k(t) = k (1 + activation * strength)
     int viscosity = 1;                 // 1: add Sibernetic's viscosity force, 0: none
     int surface_tension = 1;           // 1: add Sibernetic's cohesion force, 0: none
