@@ -54,6 +54,9 @@ void SetUp(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--steps", a->options.end_to_end_steps, "Steps of the end-to-end test")
       ->check(CLI::Range(20, 100000));
+  cmd->add_option("--alpha-density", a->options.end_to_end_alpha_density,
+                  "Density compliance of the end-to-end test (s^2/cu^2; default: the model's)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--output", a->output, "Write fd_tests.json here");
   cmd->add_flag("--json", a->json, "Machine-readable output on stdout");
   cmd->callback([a] { RunGradCheckCommand(*a); });

@@ -12,6 +12,7 @@ namespace {
 struct PipelineArgs {
   std::string scenario, out, candidate;
   std::string integrator = "euler";
+  std::string backend = "pcisph";
   std::size_t max_video_frames = 300;
 };
 
@@ -24,6 +25,7 @@ void RunPipeline(const PipelineArgs& a) {
   o.candidate = a.candidate;
   o.integrator = a.integrator == "leapfrog" ? engine::Integrator::kLeapfrog
                                             : engine::Integrator::kSemiImplicitEuler;
+  o.backend = a.backend;
   o.max_video_frames = a.max_video_frames;
   o.quiet = Flags().quiet;
   o.on_phase = [](const std::string& line) {
@@ -45,6 +47,8 @@ void SetUp(CLI::App& app) {
                   "Candidate trajectory file instead of an owval engine run");
   cmd->add_option("--integrator", a->integrator, "Candidate engine integrator: euler or leapfrog")
       ->check(CLI::IsMember({"euler", "leapfrog"}));
+  cmd->add_option("--backend", a->backend,
+                  "Candidate scheme (pcisph, xpbd, wcsph); xpbd: phase 5 runs owval gradcheck");
   cmd->add_option("--max-video-frames", a->max_video_frames, "Frames in sxs.mp4 (evenly spaced)");
   cmd->callback([a] { RunPipeline(*a); });
 }

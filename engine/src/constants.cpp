@@ -61,9 +61,16 @@ const ConstantInfo kTable[] = {
     {"non_worm_body_spring_factor", nullptr, "1",
      "stiffness factor of springs not between two worm-body particles (sphFluid.cl:723-731)",
      R::kNonNegative, nullptr, OWVAL_FIELD(non_worm_body_spring_factor)},
-    {"xpbd_iterations", nullptr, "1", "XPBD constraint projection passes per step (K)",
+    {"xpbd_iterations", nullptr, "1", "XPBD constraint projection passes per substep (K)",
      R::kIntegerAtLeastOne, "xpbd", OWVAL_FIELD(xpbd.iterations)},
-    {"xpbd_density_compliance", nullptr, "s^2", "XPBD compliance of C = rho/rho_rest - 1 (0: hard)",
+    {"xpbd_substeps", nullptr, "1",
+     "XPBD substeps of dt/n per step; 0: derived from the stiffest bond and the damping budget",
+     R::kCount, "xpbd", OWVAL_FIELD(xpbd.substeps)},
+    {"xpbd_damping_budget", nullptr, "1",
+     "XPBD: amplitude fraction the stiffest bond may lose per period (sets the derived substeps)",
+     R::kOpenFraction, "xpbd", OWVAL_FIELD(xpbd.damping_budget)},
+    {"xpbd_density_compliance", nullptr, "s^2/cu^2",
+     "XPBD compliance of C = rho/rho_rest - 1; 0: derived, (s/c)^2 with c = 10 sqrt(2 g H)",
      R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.density_compliance)},
     {"xpbd_bond_compliance_scale", nullptr, "1",
      "XPBD bond compliance = scale / k_eff, k_eff the bond's Sibernetic stiffness", R::kNonNegative,
@@ -71,8 +78,9 @@ const ConstantInfo kTable[] = {
     {"xpbd_rest_density", nullptr, "kg/m^3",
      "XPBD rest density; 0: the mean initial density of the configuration's interior liquid",
      R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.rest_density)},
-    {"xpbd_floor_restitution", nullptr, "1", "XPBD restitution at the box's floor", R::kFraction,
-     "xpbd", OWVAL_FIELD(xpbd.floor_restitution)},
+    {"xpbd_floor_restitution", nullptr, "1",
+     "XPBD restitution at the box's floor and wall contacts", R::kFraction, "xpbd",
+     OWVAL_FIELD(xpbd.floor_restitution)},
     {"xpbd_muscle_strength", nullptr, "1", "XPBD muscle bond k(t) = k (1 + activation strength)",
      R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.muscle_strength)},
     {"xpbd_viscosity", nullptr, "1", "XPBD: 1 adds Sibernetic's viscosity force", R::kSwitch,
@@ -160,6 +168,12 @@ std::string CheckConstant(const ConstantInfo& constant, double value) {
       return value == 0 || value == 1 ? "" : "0 or 1";
     case R::kFraction:
       return value >= 0 && value <= 1 ? "" : "a number in [0, 1]";
+    case R::kCount:
+      return value >= 0 && value <= 1000 && value == std::floor(value)
+                 ? ""
+                 : "a whole number in 0..1000";
+    case R::kOpenFraction:
+      return value > 0 && value < 1 ? "" : "a number in (0, 1)";
   }
   return "";
 }

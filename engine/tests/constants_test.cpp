@@ -30,9 +30,10 @@ TEST(Constants, EveryEntrySetsItsOwnFieldAndOnlyIt) {
     EXPECT_TRUE(names.insert(info.name).second) << "duplicate " << info.name;
     PhysicsConstants c;
     // A valid value other than the default, for each rule.
-    const double value = info.rule == ConstantRule::kSwitch     ? 1 - info.get(c)
-                         : info.rule == ConstantRule::kFraction ? 0.5
-                                                                : info.get(c) + 2;
+    const double value = info.rule == ConstantRule::kSwitch         ? 1 - info.get(c)
+                         : info.rule == ConstantRule::kFraction     ? 0.5
+                         : info.rule == ConstantRule::kOpenFraction ? 0.5
+                                                                    : info.get(c) + 2;
     SetConstant(&c, info.name, value);
     EXPECT_EQ(info.get(c), value) << info.name;
     // Exactly this constant differs from the defaults now; scheme parameters are not listed.
@@ -55,15 +56,26 @@ TEST(Constants, EveryEntrySetsItsOwnFieldAndOnlyIt) {
 TEST(Constants, NonPhysicalValuesAreInputErrorsNamingTheConstant) {
   const double inf = std::numeric_limits<double>::infinity();
   const PhysicsConstants d;
-  const std::pair<const char*, double> refused[] = {
-      {"time_step_s", 0},       {"time_step_s", -1},
-      {"time_step_s", NAN},     {"mass_kg", -1},
-      {"mass_kg", 0},           {"mass_kg", 1e-50},
-      {"rest_density", 0},      {"h_cu", 0},
-      {"r0_cu", -1.67},         {"simulation_scale", 1e39},
-      {"delta", inf},           {"delta", -0.1},
-      {"pcisph_iterations", 0}, {"pcisph_iterations", 2.5},
-      {"gravity_y", NAN},       {"elasticity_coefficient", -1}};
+  const std::pair<const char*, double> refused[] = {{"time_step_s", 0},
+                                                    {"time_step_s", -1},
+                                                    {"time_step_s", NAN},
+                                                    {"mass_kg", -1},
+                                                    {"mass_kg", 0},
+                                                    {"mass_kg", 1e-50},
+                                                    {"rest_density", 0},
+                                                    {"h_cu", 0},
+                                                    {"r0_cu", -1.67},
+                                                    {"simulation_scale", 1e39},
+                                                    {"delta", inf},
+                                                    {"delta", -0.1},
+                                                    {"pcisph_iterations", 0},
+                                                    {"pcisph_iterations", 2.5},
+                                                    {"gravity_y", NAN},
+                                                    {"elasticity_coefficient", -1},
+                                                    {"xpbd_substeps", -1},
+                                                    {"xpbd_substeps", 1.5},
+                                                    {"xpbd_damping_budget", 0},
+                                                    {"xpbd_damping_budget", 1}};
   for (const auto& [name, value] : refused) {
     const std::string what = ErrorOf(d, name, value);
     EXPECT_NE(what.find(name), std::string::npos) << name << " = " << value << ": " << what;

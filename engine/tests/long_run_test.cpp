@@ -90,17 +90,43 @@ TEST(LongRun, ResumeRefusesAnotherConfiguration) {
   EXPECT_THROW(RunToFiles(config, o, files), InputError);
 }
 
-TEST(LongRun, XpbdCannotCheckpointAndSaysSo) {
-  RunOptions o = Demo1Options(0.002, 10);
+TEST(LongRun, XpbdInterruptedThenResumedEqualsUninterruptedByteForByte) {
+  const SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  RunOptions o = Demo1Options(0.002, 10);  // 100 steps (55 substeps each), 10 frames
   o.backend = "xpbd";
+  const fs::path whole = ScratchDir("xpbd_whole"), cut = ScratchDir("xpbd_cut");
+  LongRunOptions files;
+  files.out = whole;
+  RunToFiles(config, o, files);
+  std::size_t steps = 0;
+  o.on_step = [&](std::size_t done, std::size_t) { steps = done; };
+  o.stop_requested = [&] { return steps == 37; };
+  o.checkpoint_every = 20;
+  files.out = cut;
+  EXPECT_TRUE(RunToFiles(config, o, files).interrupted);
+  o.stop_requested = nullptr;
+  files.resume = true;
+  const RunSummary resumed = RunToFiles(config, o, files);
+  EXPECT_EQ(resumed.first_step, 37u);
+  ExpectSameOutputs(whole, cut);
+}
+
+TEST(LongRun, WcsphCannotCheckpointAndSaysSo) {
+  RunOptions o = Demo1Options(0.002, 10);
+  o.backend = "wcsph";
   o.checkpoint_every = 10;
   LongRunOptions files;
-  files.out = ScratchDir("xpbd");
+  files.out = ScratchDir("wcsph");
+  SiberneticConfig liquid;  // WCSPH takes liquid and boundary particles only
+  liquid.source = "two liquid particles";
+  liquid.box = {0, 100, 0, 100, 0, 100};
+  liquid.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
+  liquid.velocity.assign(2, {0, 0, 0, 0});
   try {
-    RunToFiles(ReadSiberneticConfig(kDemo1), o, files);
-    FAIL() << "xpbd checkpointed";
+    RunToFiles(liquid, o, files);
+    FAIL() << "wcsph checkpointed";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("backend xpbd cannot checkpoint"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("backend wcsph cannot checkpoint"), std::string::npos)
         << e.what();
   }
 }

@@ -70,26 +70,49 @@ PhysicsConstants Quiet() {
 }
 
 TEST(XpbdSolver, AnchoredSpringFollowsTheImplicitEulerRecurrenceFor1000Steps) {
-  // One-sided bond, w = 1, α̃ = 1/(k dt²): u' = (u + dt·v/s)/(1 + k dt²), v' = (u' − u)·s/dt,
-  // exactly implicit Euler for u'' = −k u; its energy ½(v² + k(s u)²) never grows.
+  // One-sided bond, w = 1, α̃ = 1/(k h²), h = dt/n: each substep is u' = (u + h·v/s)/(1 + k h²),
+  // v' = (u' − u)·s/h, exactly implicit Euler for u'' = −k u; its energy ½(v² + k(s u)²) never
+  // grows and falls by (1 + k h²) per substep at most.
   const PhysicsConstants k = Quiet();
-  Xpbd<double> solver(AnchoredParticle(0.5f), k, 1);
-  const double dt = float(k.time_step_s), s = float(k.simulation_scale);
+  const SiberneticConfig config = AnchoredParticle(0.5f);
+  const int n = SubstepsOf(config, k);
+  ASSERT_EQ(n, 28);  // ⌈π·√(7.5e7 s⁻²)·2e-5 s / 0.02⌉: the damping budget's rule
+  Xpbd<double> solver(config, k, 1);
+  const double h = double(float(k.time_step_s)) / n, s = float(k.simulation_scale);
   const double stiffness = k.elasticity_coefficient * k.non_worm_body_spring_factor;
   double u = double(float(50.5)) - 50, v = 0, energy0 = 0.5 * stiffness * (s * u) * (s * u);
   solver.Step();  // step 0 moves nothing
   double last_energy = energy0;
-  for (int n = 0; n < 1000; ++n) {
+  for (int step = 0; step < 1000; ++step) {
     solver.Step();
-    const double next = (u + dt * v / s) / (1 + stiffness * dt * dt);
-    v = (next - u) * s / dt;
-    u = next;
-    ASSERT_NEAR(solver.exact_positions()[0][1] - 50, u, 1e-9) << n;
+    for (int sub = 0; sub < n; ++sub) {
+      const double next = (u + h * v / s) / (1 + stiffness * h * h);
+      v = (next - u) * s / h;
+      u = next;
+    }
+    ASSERT_NEAR(solver.exact_positions()[0][1] - 50, u, 1e-9) << step;
     const double energy = 0.5 * (v * v + stiffness * (s * u) * (s * u));
-    ASSERT_LE(energy, last_energy * (1 + 1e-12)) << n;
+    ASSERT_LE(energy, last_energy * (1 + 1e-12)) << step;
     last_energy = energy;
   }
-  EXPECT_LT(last_energy, energy0);  // XPBD's first-order damping, as documented
+  // Implicit Euler scales the energy by exactly 1/(1 + k h²) per substep (a scaled rotation of
+  // (v, √k·s·u)). Over 1,000 steps (27.6 periods) that keeps 34%: ~2% of the amplitude per
+  // period, the budget; without substeps it would keep (1 + k dt²)^(−1000), 1.3e-13.
+  EXPECT_NEAR(last_energy / energy0, std::pow(1 + stiffness * h * h, -1000.0 * n), 1e-6);
+  EXPECT_GT(last_energy / energy0, 0.33);
+  EXPECT_LT(std::pow(1 + stiffness * h * h * n * n, -1000.0), 1e-12);
+}
+
+TEST(XpbdSolver, SetSubstepsReplaceTheDerivedCount) {
+  PhysicsConstants k = Quiet();
+  k.xpbd.substeps = 3;
+  EXPECT_EQ(SubstepsOf(AnchoredParticle(0.5f), k), 3);
+  k.xpbd.substeps = 0;
+  k.xpbd.damping_budget = 0.04;
+  EXPECT_EQ(SubstepsOf(AnchoredParticle(0.5f), k), 14);
+  SiberneticConfig liquid = AnchoredParticle(0.5f);  // no bond: the floor of 4 substeps
+  liquid.connection.assign(32, {-1, 0, 0, 0});
+  EXPECT_EQ(SubstepsOf(liquid, k), 4);
 }
 
 TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount) {
@@ -101,6 +124,7 @@ TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount
   c.velocity.assign(2, {0, 0, 0, 0});
   PhysicsConstants k = Quiet();
   k.xpbd.rest_density = 1000;
+  k.xpbd.substeps = 1;  // one projection
   Xpbd<double> solver(c, k, 1);
   solver.Step();
   solver.Step();
@@ -128,6 +152,8 @@ TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   EXPECT_FALSE(summary.reference_equivalent);
   EXPECT_EQ(t.provenance.at("producer"), "owval engine xpbd");
   EXPECT_NE(t.provenance.at("scheme_parameters").find("iterations = 2"), std::string::npos);
+  EXPECT_NE(t.provenance.at("scheme_parameters").find("substeps = 28 (derived)"),
+            std::string::npos);
   EXPECT_THROW(SetConstant(&o.constants, "xpbd_viscosity", 2), InputError);
   o.integrator = Integrator::kLeapfrog;  // PCISPH's integrator: refused, not ignored
   EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);

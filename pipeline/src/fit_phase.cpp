@@ -6,19 +6,35 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/signal_metrics.hpp"
+#include "owval/engine/gradient.hpp"
+#include "owval/engine/solver.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/finite_difference.hpp"
+#include "owval/sgd/gradcheck.hpp"
 #include "owval/sgd/targets.hpp"
 
 namespace owval::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-engine::RunOptions RunOptionsFor(const scenarios::Scenario& s) {
+engine::RunOptions RunOptionsFor(const FitPhase& f) {
   engine::RunOptions o;
-  o.duration_s = s.duration_s;
-  o.log_step = s.log_step;
+  o.duration_s = f.scenario.duration_s;
+  o.log_step = f.scenario.log_step;
+  o.backend = f.backend;
   return o;
+}
+
+// `owval gradcheck all` with the end-to-end test on the scenario's configuration.
+bool RunGradCheck(const FitPhase& f, std::string* outcome) {
+  const fs::path config = f.dir / "configuration.txt";
+  engine::WriteSiberneticConfig(f.config, config);
+  engine::GradCheckOptions options;
+  options.end_to_end_config = config.string();
+  const engine::GradCheckSummary summary = engine::RunGradCheck(options);
+  WriteFileAtomically(f.dir / "fd_tests.json", sgd::GradCheckJson(summary, options).dump(2) + "\n");
+  *outcome = "owval gradcheck all (xpbd): " + summary.BriefReport();
+  return true;
 }
 
 // A number member of a manifest object, or InputError naming the manifest and the key.
@@ -94,9 +110,8 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
     WriteFileAtomically(history, with_targets.dump(2) + "\n");
   };
   sgd::Fit(options, evidence.parameters,
-           sgd::MakeObjective(
-               sgd::EngineSimulator(f.config, RunOptionsFor(f.scenario), evidence.parameters),
-               tracking, *targets),
+           sgd::MakeObjective(sgd::EngineSimulator(f.config, RunOptionsFor(f), evidence.parameters),
+                              tracking, *targets),
            &evidence.summary);
   const nlohmann::json j =
       sgd::ToJson(options, evidence.parameters, evidence.summary, targets_json);
@@ -115,6 +130,7 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
 }
 
 bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
+  if (engine::CanonicalBackend(f.backend) == "xpbd") return RunGradCheck(f, outcome);
   const std::string kind = f.scenario.manifest.value("fd_test", std::string());
   if (kind.empty()) {
     *outcome = "the scenario's manifest names no kernel to test";
@@ -124,7 +140,7 @@ bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
     throw InputError("scenarios/manifests/" + f.scenario.name + ".json", 0,
                      "\"fd_test\": expected spring_period_vs_log_k");
   const std::vector<sgd::Parameter> k = {{"elasticity_coefficient", 3e8, true}};
-  const sgd::Simulator simulate = sgd::EngineSimulator(f.config, RunOptionsFor(f.scenario), k);
+  const sgd::Simulator simulate = sgd::EngineSimulator(f.config, RunOptionsFor(f), k);
   auto period = [&](double log_k) {
     const Trajectory t = simulate({std::exp(log_k)});
     const auto m = compare::MeasureSignal(t.time_s, f.scenario.track.Series(t));

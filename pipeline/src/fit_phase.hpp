@@ -22,6 +22,7 @@ struct FitPhase {
   const Trajectory& reference;
   std::filesystem::path dir;  // the report directory (reference.h5 is already in it)
   bool quiet = false;
+  std::string backend = "pcisph";  // the candidate's scheme: the fit runs it
 };
 
 // Fits when the manifest has "fit" and its targets can be measured on the reference; writes
@@ -30,7 +31,9 @@ struct FitPhase {
 std::string RunFit(const FitPhase& phase, std::optional<reports::FitEvidence>* fit);
 
 // Runs the manifest's "fd_test" into fd_tests.json; false (and why, in `outcome`) when the
-// manifest names none.
+// manifest names none. For the xpbd backend the test is `owval gradcheck all` instead, on the
+// scenario's configuration (written to the report as configuration.txt), whatever the manifest
+// says: the candidate's own kernels are what item 7 asks to be checked.
 bool RunFiniteDifferenceTest(const FitPhase& phase, std::string* outcome);
 
 }  // namespace owval::pipeline

@@ -6,6 +6,7 @@
 #include "fit_phase.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/engine/solver.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/render/render.hpp"
 #include "owval/reports/pipeline_report.hpp"
@@ -41,11 +42,13 @@ void Done(Context& c, const std::string& name, bool applicable, const std::strin
     c.options.on_phase(name + ": " + (applicable ? "" : "not applicable: ") + outcome);
 }
 
-engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator) {
+engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator,
+                                 const std::string& backend = "pcisph") {
   engine::RunOptions o;
   o.duration_s = c.scenario.duration_s;
   o.log_step = c.scenario.log_step;
   o.integrator = integrator;
+  o.backend = backend;
   return o;
 }
 
@@ -88,9 +91,12 @@ void Candidate(Context& c) {
     c.evidence.candidate_source = "given trajectory " + c.options.candidate.string();
   } else {
     const bool leapfrog = c.options.integrator == engine::Integrator::kLeapfrog;
-    c.candidate = engine::Run(c.config, RunOptionsFor(c, c.options.integrator));
-    c.evidence.candidate_source = std::string("owval engine on the CPU, PCISPH, ") +
-                                  (leapfrog ? "leapfrog" : "semi-implicit Euler") + " integrator";
+    const std::string backend = engine::CanonicalBackend(c.options.backend);
+    c.candidate = engine::Run(c.config, RunOptionsFor(c, c.options.integrator, backend));
+    c.evidence.candidate_source =
+        backend == "pcisph" ? std::string("owval engine on the CPU, PCISPH, ") +
+                                  (leapfrog ? "leapfrog" : "semi-implicit Euler") + " integrator"
+                            : "owval engine on the CPU, backend " + backend;
   }
   WriteHdf5(c.candidate, c.dir / "candidate.h5");
   Done(c, "4 candidate", true, "candidate.h5 from " + c.evidence.candidate_source);
@@ -159,6 +165,10 @@ void Prepare(Context& c) {
   c.evidence.scenario = c.scenario.name;
   c.evidence.description = c.scenario.description;
   CheckOutputPath(c.options.out_dir / "index.html");
+  const std::string backend = engine::CanonicalBackend(c.options.backend);
+  if (backend != "pcisph" && c.options.integrator != engine::Integrator::kSemiImplicitEuler)
+    throw InputError("pipeline: backend " + backend +
+                     " takes no integrator (leapfrog is PCISPH's)");
   if (!c.options.candidate.empty()) {
     c.candidate = ReadTrajectory(c.options.candidate);
     if (c.candidate.particle_count() != c.config.particle_count())
@@ -191,7 +201,7 @@ void Run(const Options& options, Summary* summary) {
   Reference(c);
   Inspect(c);
   Candidate(c);
-  FitPhase fit{c.scenario, c.config, c.reference, c.dir, options.quiet};
+  FitPhase fit{c.scenario, c.config, c.reference, c.dir, options.quiet, options.backend};
   const std::string fit_outcome = RunFit(fit, &c.evidence.fit);
   Done(c, "5 fit", c.evidence.fit.has_value(), fit_outcome);
   std::string fd_outcome;

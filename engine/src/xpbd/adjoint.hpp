@@ -67,10 +67,14 @@ struct Setup {
   std::size_t n = 0;
   std::vector<char> moving;          // 1: moving, 0: fixed (boundary)
   std::vector<std::int32_t> movers;  // indices of the moving particles
+  std::vector<std::int32_t> slot;    // a particle's index in movers, −1 for a fixed one
   std::vector<float> type;           // Sibernetic type codes
   std::vector<Bond> bonds;           // in file order (Gauss-Seidel order)
   std::vector<float> activation;     // muscle activations (96), held for the window
+  // dt: one substep's length, the step's dt/substeps; every kernel but the forces (evaluated
+  // once per step) works on substeps.
   T dt = 2e-5, s = 7.4e-6, mass = 2e-12;
+  int substeps = 1;
   T h = 3.34, poly6_cu = 0, spiky_cu = 0;  // density constraint kernels, cu
   T hs = 0, hs2 = 0, poly6_m = 0;          // SPH density, metres
   T viscosity_beta = 0;  // 1.5·m·(−∇Wspiky coefficient)/1000 (sphFluid.cl:657)
@@ -217,21 +221,26 @@ void ForcesBackward(const Setup<T>& S, const Neighbours& nb, const Field<T>& x, 
 }
 
 // ---- Prediction: p = x + dt·(v + dt·a)/s (moving particles; fixed ones p = x) ----
+// fixed_too = false leaves p's fixed entries as they are: a step's substeps keep them equal to
+// x (fixed particles never move) instead of copying every particle per substep.
 template <typename T>
 void Predict(const Setup<T>& S, const Field<T>& x, const Field<T>& v, const Field<T>& a,
-             Field<T>* p) {
-  *p = x;
+             Field<T>* p, bool fixed_too = true) {
+  if (fixed_too || p->size() != S.n) *p = x;
   for (std::int32_t i : S.movers)
     for (int c = 0; c < 3; ++c) (*p)[i][c] = x[i][c] + S.dt * (v[i][c] + S.dt * a[i][c]) / S.s;
 }
-// Linear: x̄ += p̄, v̄ += p̄·dt/s, ā += p̄·dt²/s (a fixed particle: x̄ += p̄ only).
+// Linear: x̄ += p̄, v̄ += p̄·dt/s, ā += p̄·dt²/s (a fixed particle: x̄ += p̄ only, left to the
+// caller when fixed_too = false).
 template <typename T>
 void PredictBackward(const Setup<T>& S, const Field<T>& p_bar, Field<T>* x_bar, Field<T>* v_bar,
-                     Field<T>* a_bar) {
-  for (std::size_t i = 0; i < S.n; ++i)
+                     Field<T>* a_bar, bool fixed_too = true) {
+  if (fixed_too)
+    for (std::size_t i = 0; i < S.n; ++i)
+      if (!S.moving[i]) Axpy(T(1), p_bar[i], &(*x_bar)[i]);
+  for (std::int32_t i : S.movers)
     for (int c = 0; c < 3; ++c) {
       (*x_bar)[i][c] += p_bar[i][c];
-      if (!S.moving[i]) continue;
       (*v_bar)[i][c] += p_bar[i][c] * S.dt / S.s;
       (*a_bar)[i][c] += p_bar[i][c] * S.dt * S.dt / S.s;
     }
@@ -265,14 +274,15 @@ DensityTerms<T> TermsOf(const Setup<T>& S) {
   return {S.h, S.h * S.h, S.poly6_cu, S.spiky_cu};
 }
 
-// Δλ of every moving particle from p and λ (the first half of the pass).
+// Δλ of every moving particle from p and λ (the first half of the pass). Outputs indexed by
+// particle; a fixed particle's entries are zero when the vectors are sized here, and never read.
 template <typename T>
 void DensityMultipliers(const Setup<T>& S, const Neighbours& nb, T V0, T at, const Field<T>& p,
                         const std::vector<T>& lambda, std::vector<T>* dlambda,
                         std::vector<T>* denominator) {
   const DensityTerms<T> K = TermsOf(S);
-  dlambda->assign(S.n, T(0));
-  denominator->assign(S.n, T(0));
+  if (dlambda->size() != S.n) dlambda->assign(S.n, T(0));
+  if (denominator->size() != S.n) denominator->assign(S.n, T(0));
   for (std::int32_t i : S.movers) {
     T w = K.W(0), norm2 = 0;
     Vec3<T> gi{0, 0, 0};
@@ -300,16 +310,19 @@ void DensityPass(const Setup<T>& S, const Neighbours& nb, T V0, T at, Field<T>* 
   std::array<std::vector<T>, 2>& r = record ? *record : local;
   DensityMultipliers(S, nb, V0, at, *p, *lambda, &r[0], &r[1]);
   const std::vector<T>& dl = r[0];
-  Field<T> dp(S.n, Vec3<T>{0, 0, 0});
-  for (std::int32_t i : S.movers)
+  Field<T> dp(S.movers.size(), Vec3<T>{0, 0, 0});  // by index in movers
+  for (std::size_t k = 0; k < S.movers.size(); ++k) {
+    const std::int32_t i = S.movers[k];
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
       const std::int32_t j = nb.index[m];
       const Vec3<T> d = Sub((*p)[i], (*p)[j]);
-      Axpy((dl[i] + (S.moving[j] ? dl[j] : T(0))) * V0 * K.f(std::sqrt(Dot(d, d))), d, &dp[i]);
+      Axpy((dl[i] + (S.moving[j] ? dl[j] : T(0))) * V0 * K.f(std::sqrt(Dot(d, d))), d, &dp[k]);
     }
-  for (std::int32_t i : S.movers) {
+  }
+  for (std::size_t k = 0; k < S.movers.size(); ++k) {
+    const std::int32_t i = S.movers[k];
     (*lambda)[i] += dl[i];
-    for (int c = 0; c < 3; ++c) (*p)[i][c] += dp[i][c];
+    for (int c = 0; c < 3; ++c) (*p)[i][c] += dp[k][c];
   }
 }
 
@@ -330,27 +343,35 @@ void DensityPassBackward(const Setup<T>& S, const Neighbours& nb, T V0, T at, co
   if (!record) DensityMultipliers(S, nb, V0, at, p, lambda, &local[0], &local[1]);
   const std::vector<T>& dl = record ? (*record)[0] : local[0];
   const std::vector<T>& D = record ? (*record)[1] : local[1];
-  const Field<T> pb_out = *p_bar;  // cotangent of p' (p' = p + Δp: p̄ starts as p̄')
-  std::vector<T> dl_bar(S.n, T(0));
-  for (std::int32_t i : S.movers) dl_bar[i] = (*lambda_bar)[i];
+  // By index in movers (S.slot): the cotangent of p' (p' = p + Δp: p̄ starts as p̄'), and Δλ̄.
+  const std::size_t movers = S.movers.size();
+  Field<T> pb_out(movers);
+  std::vector<T> dl_bar(movers);
+  for (std::size_t k = 0; k < movers; ++k) {
+    pb_out[k] = (*p_bar)[S.movers[k]];
+    dl_bar[k] = (*lambda_bar)[S.movers[k]];
+  }
   // Δp terms: the Δλ cotangents first (they feed C̄, D̄ below).
-  for (std::int32_t i : S.movers)
+  for (std::size_t k = 0; k < movers; ++k) {
+    const std::int32_t i = S.movers[k];
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
       const std::int32_t j = nb.index[m];
       const Vec3<T> d = Sub(p[i], p[j]);
       const T r = std::sqrt(Dot(d, d));
-      const T pg = V0 * K.f(r) * Dot(pb_out[i], d);
-      dl_bar[i] += pg;
-      if (S.moving[j]) dl_bar[j] += pg;
+      const T pg = V0 * K.f(r) * Dot(pb_out[k], d);
+      dl_bar[k] += pg;
+      if (S.moving[j]) dl_bar[std::size_t(S.slot[j])] += pg;
     }
-  for (std::int32_t i : S.movers) {
+  }
+  for (std::size_t k = 0; k < movers; ++k) {
+    const std::int32_t i = S.movers[k];
     const T Di = D[i];
     T C_bar = 0, D_bar = 0;
     if (Di > 0) {
-      C_bar = -dl_bar[i] / Di;
-      (*lambda_bar)[i] += -at * dl_bar[i] / Di;
-      D_bar = -dl_bar[i] * dl[i] / Di;
-      *at_bar += -lambda[i] * dl_bar[i] / Di + D_bar;
+      C_bar = -dl_bar[k] / Di;
+      (*lambda_bar)[i] += -at * dl_bar[k] / Di;
+      D_bar = -dl_bar[k] * dl[i] / Di;
+      *at_bar += -lambda[i] * dl_bar[k] / Di + D_bar;
     }
     Vec3<T> gi{0, 0, 0};
     T w = K.W(0);
@@ -368,7 +389,7 @@ void DensityPassBackward(const Setup<T>& S, const Neighbours& nb, T V0, T at, co
       const T g = V0 * K.f(r);
       // ḡ_ij: from Δp_i and from D_i.
       Vec3<T> gb{0, 0, 0};
-      Axpy(dl[i] + (S.moving[j] ? dl[j] : T(0)), pb_out[i], &gb);
+      Axpy(dl[i] + (S.moving[j] ? dl[j] : T(0)), pb_out[k], &gb);
       Axpy(T(2) * D_bar, gi, &gb);
       if (S.moving[j]) Axpy(T(2) * D_bar * g, d, &gb);
       *V0_bar += K.f(r) * Dot(gb, d);
@@ -491,24 +512,28 @@ void BoxPassBackward(const Setup<T>& S, T floor, const Field<T>& p, Field<T>* p_
 
 // ---- Velocity update: v = (p − x)s/dt; within r0 of the floor a downward v_y becomes
 // −e·v_y; x' = p ----
+// fixed_too = false leaves the fixed entries of v (zero) and x' (= p) as they are.
 template <typename T>
 void UpdateVelocity(const Setup<T>& S, T floor, T e, const Field<T>& x, const Field<T>& p,
-                    Field<T>* v, Field<T>* x_next) {
-  v->assign(S.n, Vec3<T>{0, 0, 0});
-  *x_next = p;
-  for (std::int32_t i : S.movers) {
+                    Field<T>* v, Field<T>* x_next, bool fixed_too = true) {
+  if (fixed_too || v->size() != S.n) v->assign(S.n, Vec3<T>{0, 0, 0});
+  if (fixed_too || x_next->size() != S.n) *x_next = p;
+  for (std::int32_t i : S.movers) {  // x_next may be x itself: x[i] is read before it is set
     for (int c = 0; c < 3; ++c) (*v)[i][c] = (p[i][c] - x[i][c]) * S.s / S.dt;
     if (p[i][1] <= floor + S.r0 && (*v)[i][1] < 0) (*v)[i][1] = -e * (*v)[i][1];
+    (*x_next)[i] = p[i];
   }
 }
 // v̄_pre = v̄ except a restituted y: v̄_pre = −e·v̄, ē += −v_pre·v̄; p̄ += v̄_pre s/dt + x̄',
-// x̄ += −v̄_pre s/dt. (The floor test is a switch: its position is held constant.)
+// x̄ += −v̄_pre s/dt. (The floor test is a switch: its position is held constant.) A fixed
+// particle's p̄ += x̄' is left to the caller when fixed_too = false.
 template <typename T>
 void UpdateVelocityBackward(const Setup<T>& S, T floor, T e, const Field<T>& x, const Field<T>& p,
                             const Field<T>& v_bar, const Field<T>& x_next_bar, Field<T>* x_bar,
-                            Field<T>* p_bar, T* e_bar) {
-  for (std::size_t i = 0; i < S.n; ++i)  // a fixed particle: x' = p, v' = 0
-    if (!S.moving[i]) Axpy(T(1), x_next_bar[i], &(*p_bar)[i]);
+                            Field<T>* p_bar, T* e_bar, bool fixed_too = true) {
+  if (fixed_too)
+    for (std::size_t i = 0; i < S.n; ++i)  // a fixed particle: x' = p, v' = 0
+      if (!S.moving[i]) Axpy(T(1), x_next_bar[i], &(*p_bar)[i]);
   for (std::int32_t i : S.movers) {
     Vec3<T> vb = v_bar[i];
     const T vy = (p[i][1] - x[i][1]) * S.s / S.dt;

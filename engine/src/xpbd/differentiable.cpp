@@ -13,6 +13,21 @@
 namespace owval::engine::internal::adjoint {
 namespace {
 
+// The moving particles' entries of a per-particle vector, in Setup::movers' order, and back.
+template <typename V>
+void Gather(const Setup<double>& S, const std::vector<V>& all, std::vector<V>* movers) {
+  movers->resize(S.movers.size());
+  for (std::size_t k = 0; k < S.movers.size(); ++k) (*movers)[k] = all[S.movers[k]];
+}
+template <typename V>
+void Scatter(const Setup<double>& S, const std::vector<V>& movers, std::vector<V>* all) {
+  for (std::size_t k = 0; k < S.movers.size(); ++k) (*all)[S.movers[k]] = movers[k];
+}
+template <typename V>
+void ZeroMovers(const Setup<double>& S, std::vector<V>* all) {
+  for (std::int32_t i : S.movers) (*all)[i] = V{};
+}
+
 std::int64_t CellKey(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
   return (cx * 1000003 + cy) * 1000033 + cz;
 }
@@ -26,16 +41,14 @@ std::size_t FieldBytes(const std::vector<V>& f) {
 
 std::size_t StepTape::Bytes() const {
   std::size_t b = (nb.start.size() + nb.index.size()) * sizeof(std::int32_t);
-  b += FieldBytes(x) + FieldBytes(v) + FieldBytes(a) + FieldBytes(p_predicted) +
-       FieldBytes(p_final) + FieldBytes(rho);
-  for (const auto& f : p_before_density) b += FieldBytes(f);
-  for (const auto& f : p_before_bonds) b += FieldBytes(f);
-  for (const auto& f : p_before_box) b += FieldBytes(f);
-  for (const auto& l : lambda_density) b += FieldBytes(l);
-  for (const auto& l : lambda_bonds) b += FieldBytes(l);
-  for (const auto& m : density_multipliers) b += FieldBytes(m[0]) + FieldBytes(m[1]);
-  for (const auto& f : bond_partners) b += FieldBytes(f);
-  for (const auto& f : bond_particles) b += FieldBytes(f);
+  b += FieldBytes(x) + FieldBytes(v) + FieldBytes(a) + FieldBytes(rho);
+  for (const SubstepTape& s : substeps) {
+    b += FieldBytes(s.x) + FieldBytes(s.p_final);
+    for (const PassTape& p : s.passes)
+      b += FieldBytes(p.p_before_density) + FieldBytes(p.p_before_box) +
+           FieldBytes(p.lambda_density) + FieldBytes(p.dlambda) + FieldBytes(p.denominator) +
+           FieldBytes(p.lambda_bonds) + FieldBytes(p.bond_partners) + FieldBytes(p.bond_particles);
+  }
   return b;
 }
 
@@ -95,10 +108,12 @@ Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& co
   Setup<double> S;
   S.n = config.particle_count();
   S.moving.assign(S.n, 0);
+  S.slot.assign(S.n, -1);
   for (std::size_t i = 0; i < S.n; ++i) {
     S.type.push_back(config.position[i][3]);
     if (!IsBoundary(config.position[i][3])) {
       S.moving[i] = 1;
+      S.slot[i] = std::int32_t(S.movers.size());
       S.movers.push_back(std::int32_t(i));
     }
   }
@@ -111,7 +126,8 @@ Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& co
       S.bonds.push_back({std::int32_t(e), j, double(c[1]), body ? 0 : 1, int(c[2])});
     }
   S.activation.assign(96, 0.0f);
-  S.dt = k.time_step_s;
+  S.substeps = SubstepsOf(config, constants);
+  S.dt = double(k.time_step_s) / double(S.substeps);  // as the run's Xpbd<double> computes h
   S.s = k.scale;
   S.mass = k.mass_kg;
   S.h = k.h_cu;
@@ -148,12 +164,99 @@ Parameters<double> DefaultParametersOf(const SiberneticConfig& config,
   t[kBondStiffnessBody] = constants.elasticity_coefficient;
   t[kBondStiffnessOther] = constants.elasticity_coefficient * constants.non_worm_body_spring_factor;
   t[kViscosity] = 1;
-  t[kAlphaDensity] = constants.xpbd.density_compliance;
+  t[kAlphaDensity] = DensityComplianceOf(config, constants);
   t[kFloorHeight] = config.box.ymin;
   t[kRestitution] = constants.xpbd.floor_restitution;
   t[kMuscleStrength] = constants.xpbd.muscle_strength;
   return t;
 }
+
+namespace {
+
+// Per-particle working vectors of a step's substeps, sized once per step; a substep touches
+// only the moving particles' entries.
+struct Work {
+  explicit Work(const Setup<double>& S)
+      : lambda(S.n, 0.0),
+        lambda_bar(S.n, 0.0),
+        bond_lambda_bar(S.bonds.size(), 0.0),
+        multipliers{std::vector<double>(S.n, 0.0), std::vector<double>(S.n, 0.0)},
+        x_in_bar(S.n, Vec3<double>{0, 0, 0}),
+        v_in_bar(S.n, Vec3<double>{0, 0, 0}) {}
+  std::vector<double> lambda, lambda_bar, bond_lambda_bar;
+  std::array<std::vector<double>, 2> multipliers;  // Δλ, denominators
+  Field<double> x_in_bar, v_in_bar;
+};
+
+// One substep [M19]: predict, K passes, velocity update; x, v (every particle, fixed entries
+// constant) are the substep's input and output, p its working positions (fixed entries = x).
+void SubstepForward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
+                    Field<double>* x, Field<double>* v, Field<double>* p, Work* w,
+                    SubstepTape* st) {
+  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
+  std::vector<double> lb(S.bonds.size(), 0.0);
+  ZeroMovers(S, &w->lambda);
+  Gather(S, *x, &st->x);
+  Predict(S, *x, *v, t.a, p, false);
+  st->passes.resize(std::size_t(std::max(S.iterations, 0)));
+  for (PassTape& pt : st->passes) {
+    Gather(S, *p, &pt.p_before_density);
+    Gather(S, w->lambda, &pt.lambda_density);
+    DensityPass(S, t.nb, V0, at, p, &w->lambda, &w->multipliers);
+    Gather(S, w->multipliers[0], &pt.dlambda);
+    Gather(S, w->multipliers[1], &pt.denominator);
+    pt.lambda_bonds = lb;
+    pt.bond_partners.resize(S.bonds.size());
+    pt.bond_particles.resize(S.bonds.size());
+    BondPass(S, theta, p, &lb, &pt.bond_partners, &pt.bond_particles);
+    Gather(S, *p, &pt.p_before_box);
+    BoxPass(S, theta[kFloorHeight], p);
+  }
+  Gather(S, *p, &st->p_final);
+  UpdateVelocity(S, theta[kFloorHeight], theta[kRestitution], *x, *p, v, x, false);
+}
+
+// The backward of one substep on the moving particles' cotangents: x_bar, v_bar (of the
+// substep's output in, of its input out), p_bar (its fixed entries collect the projections'
+// cotangents of fixed neighbours over the step), a_bar; x, p are working fields whose fixed
+// entries are the step's x.
+void SubstepBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
+                     const SubstepTape& st, Field<double>* x, Field<double>* p, Work* w,
+                     Field<double>* x_bar, Field<double>* v_bar, Field<double>* p_bar,
+                     Field<double>* a_bar, Parameters<double>* theta_bar, double* V0_bar,
+                     double* at_bar) {
+  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
+  Parameters<double>& tb = *theta_bar;
+  Scatter(S, st.x, x);
+  Scatter(S, st.p_final, p);
+  ZeroMovers(S, p_bar);
+  ZeroMovers(S, &w->x_in_bar);
+  ZeroMovers(S, &w->v_in_bar);
+  UpdateVelocityBackward(S, theta[kFloorHeight], theta[kRestitution], *x, *p, *v_bar, *x_bar,
+                         &w->x_in_bar, p_bar, &tb[kRestitution], false);
+  ZeroMovers(S, &w->lambda_bar);  // λ starts at 0 each substep: no cotangent crosses substeps
+  std::fill(w->bond_lambda_bar.begin(), w->bond_lambda_bar.end(), 0.0);
+  for (std::size_t k = st.passes.size(); k-- > 0;) {
+    const PassTape& pt = st.passes[k];
+    Scatter(S, pt.p_before_box, p);
+    BoxPassBackward(S, theta[kFloorHeight], *p, p_bar, &tb[kFloorHeight]);
+    BondPassBackward(S, theta, *p, pt.lambda_bonds, p_bar, &w->bond_lambda_bar, &tb,
+                     &pt.bond_partners, &pt.bond_particles);
+    Scatter(S, pt.p_before_density, p);
+    Scatter(S, pt.lambda_density, &w->lambda);
+    Scatter(S, pt.dlambda, &w->multipliers[0]);
+    Scatter(S, pt.denominator, &w->multipliers[1]);
+    DensityPassBackward(S, t.nb, V0, at, *p, w->lambda, p_bar, &w->lambda_bar, V0_bar, at_bar,
+                        &w->multipliers);
+  }
+  PredictBackward(S, *p_bar, &w->x_in_bar, &w->v_in_bar, a_bar, false);
+  for (std::int32_t i : S.movers) {
+    (*x_bar)[i] = w->x_in_bar[i];
+    (*v_bar)[i] = w->v_in_bar[i];
+  }
+}
+
+}  // namespace
 
 void StepForward(const Setup<double>& S, const Parameters<double>& theta, const Field<double>& x,
                  const Field<double>& v, Field<double>* x_next, Field<double>* v_next,
@@ -164,59 +267,38 @@ void StepForward(const Setup<double>& S, const Parameters<double>& theta, const 
   t.x = x;
   t.v = v;
   SphDensity(S, t.nb, x, &t.rho);
-  Forces(S, t.nb, x, v, t.rho, theta[kViscosity], &t.a);
-  Predict(S, x, v, t.a, &t.p_predicted);
-  Field<double> p = t.p_predicted;
-  std::vector<double> ld(S.n, 0.0), lb(S.bonds.size(), 0.0);
-  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
-  const std::size_t K = std::size_t(std::max(S.iterations, 0));
-  t.p_before_density.resize(K), t.p_before_bonds.resize(K), t.p_before_box.resize(K);
-  t.lambda_density.resize(K), t.lambda_bonds.resize(K);
-  t.density_multipliers.resize(K), t.bond_partners.resize(K), t.bond_particles.resize(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    t.p_before_density[k] = p;
-    t.lambda_density[k] = ld;
-    DensityPass(S, t.nb, V0, at, &p, &ld, &t.density_multipliers[k]);
-    t.p_before_bonds[k] = p;
-    t.lambda_bonds[k] = lb;
-    t.bond_partners[k].resize(S.bonds.size());
-    t.bond_particles[k].resize(S.bonds.size());
-    BondPass(S, theta, &p, &lb, &t.bond_partners[k], &t.bond_particles[k]);
-    t.p_before_box[k] = p;
-    BoxPass(S, theta[kFloorHeight], &p);
-  }
-  t.p_final = p;
-  UpdateVelocity(S, theta[kFloorHeight], theta[kRestitution], x, p, v_next, x_next);
+  Forces(S, t.nb, x, v, t.rho, theta[kViscosity], &t.a);  // held over the substeps
+  *x_next = x;
+  v_next->assign(S.n, Vec3<double>{0, 0, 0});  // a fixed particle's velocity is zero
+  for (std::int32_t i : S.movers) (*v_next)[i] = v[i];
+  Field<double> p = x;
+  Work w(S);
+  t.substeps.resize(std::size_t(std::max(S.substeps, 1)));
+  for (SubstepTape& st : t.substeps) SubstepForward(S, theta, t, x_next, v_next, &p, &w, &st);
 }
 
 void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
                   Field<double>* x_bar, Field<double>* v_bar, Parameters<double>* theta_bar) {
-  const Field<double> x_next_bar = *x_bar, v_next_bar = *v_bar;
-  x_bar->assign(S.n, Vec3<double>{0, 0, 0});
-  v_bar->assign(S.n, Vec3<double>{0, 0, 0});
-  Field<double> p_bar(S.n, Vec3<double>{0, 0, 0});
+  const Field<double> x_next_bar = *x_bar;
   Parameters<double>& tb = *theta_bar;
-  UpdateVelocityBackward(S, theta[kFloorHeight], theta[kRestitution], t.x, t.p_final, v_next_bar,
-                         x_next_bar, x_bar, &p_bar, &tb[kRestitution]);
-  std::vector<double> ld_bar(S.n, 0.0), lb_bar(S.bonds.size(), 0.0);
-  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
+  Field<double> x = t.x, p = t.x, p_bar(S.n, Vec3<double>{0, 0, 0}), a_bar = p_bar;
+  Work w(S);
   double V0_bar = 0, at_bar = 0;
-  for (std::size_t k = t.p_before_density.size(); k-- > 0;) {
-    BoxPassBackward(S, theta[kFloorHeight], t.p_before_box[k], &p_bar, &tb[kFloorHeight]);
-    BondPassBackward(S, theta, t.p_before_bonds[k], t.lambda_bonds[k], &p_bar, &lb_bar, &tb,
-                     &t.bond_partners[k], &t.bond_particles[k]);
-    DensityPassBackward(S, t.nb, V0, at, t.p_before_density[k], t.lambda_density[k], &p_bar,
-                        &ld_bar, &V0_bar, &at_bar, &t.density_multipliers[k]);
-  }
-  // λ starts at 0 each step: its cotangent ends here. A fixed particle's x̄ is its position's
-  // gradient (it enters every neighbour's kernels).
-  Field<double> a_bar(S.n, Vec3<double>{0, 0, 0});
-  PredictBackward(S, p_bar, x_bar, v_bar, &a_bar);
+  for (std::size_t s = t.substeps.size(); s-- > 0;)
+    SubstepBackward(S, theta, t, t.substeps[s], &x, &p, &w, x_bar, v_bar, &p_bar, &a_bar, &tb,
+                    &V0_bar, &at_bar);
+  // A fixed particle: x' = x, so x̄ = x̄' + every projection's cotangent of it as a neighbour;
+  // its velocity never enters (v' = 0).
+  for (std::size_t i = 0; i < S.n; ++i)
+    if (!S.moving[i]) {
+      for (int c = 0; c < 3; ++c) (*x_bar)[i][c] = x_next_bar[i][c] + p_bar[i][c];
+      (*v_bar)[i] = Vec3<double>{0, 0, 0};
+    }
   std::vector<double> rho_bar(S.n, 0.0);
   ForcesBackward(S, t.nb, t.x, t.v, t.rho, theta[kViscosity], a_bar, x_bar, v_bar, &rho_bar,
                  &tb[kViscosity]);
   SphDensityBackward(S, t.nb, t.x, rho_bar, x_bar);
-  tb[kRestDensity] += V0_bar * -V0 / theta[kRestDensity];
+  tb[kRestDensity] += V0_bar * -RestVolume(S, theta) / theta[kRestDensity];
   tb[kAlphaDensity] += at_bar / (S.dt * S.dt);
 }
 

@@ -10,16 +10,26 @@
 
 namespace owval::engine::internal::adjoint {
 
-// Everything one step's backward needs: its input state, neighbour lists, and the positions and
-// multipliers before each projection kernel of each pass.
+// What one projection pass's backward needs: the moving particles' positions and multipliers
+// before its kernels (indexed as Setup::movers; fixed particles never move), its Δλ and
+// denominators, and each bond's ends before its projection.
+struct PassTape {
+  std::vector<Vec3<double>> p_before_density, p_before_box;
+  std::vector<double> lambda_density, dlambda, denominator;
+  std::vector<double> lambda_bonds;                         // per bond
+  std::vector<Vec3<double>> bond_partners, bond_particles;  // per bond
+};
+struct SubstepTape {
+  std::vector<Vec3<double>> x, p_final;  // moving particles: the substep's input, final p
+  std::vector<PassTape> passes;
+};
+// Everything one step's backward needs: its input state (every particle), neighbour lists, the
+// SPH density and forces (once per step), and each substep's tape.
 struct StepTape {
   Neighbours nb;
-  Field<double> x, v, a, p_predicted, p_final;
+  Field<double> x, v, a;
   std::vector<double> rho;
-  std::vector<Field<double>> p_before_density, p_before_bonds, p_before_box;
-  std::vector<std::vector<double>> lambda_density, lambda_bonds;
-  std::vector<std::array<std::vector<double>, 2>> density_multipliers;   // Δλ, denominators
-  std::vector<std::vector<Vec3<double>>> bond_partners, bond_particles;  // ends before each bond
+  std::vector<SubstepTape> substeps;
   std::size_t Bytes() const;
 };
 

@@ -574,7 +574,7 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
   DifferentiableXpbd model(config, PhysicsConstants{});
   std::vector<double> theta = model.DefaultParameters();
-  theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  if (o.end_to_end_alpha_density > 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
   std::vector<double> shifted = theta;
   shifted[ad::kRestDensity] *= 1.01;
   shifted[ad::kBondStiffnessBody] *= 0.9;
@@ -651,8 +651,7 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
       t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
       std::ostringstream s;
       s << "reverse " << N << " steps (" << o.end_to_end_config
-        << ", alpha_density=" << o.end_to_end_alpha_density << ") eps=" << eps << " direction "
-        << d;
+        << ", alpha_density=" << theta[ad::kAlphaDensity] << ") eps=" << eps << " direction " << d;
       t.name = s.str();
       out->tests.push_back(t);
     }

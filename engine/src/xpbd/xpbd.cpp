@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "kernels/kernels.hpp"
@@ -11,6 +12,7 @@
 #include "phases/pressure_force.hpp"
 #include "phases/walls.hpp"
 #include "state/initial_state.hpp"
+#include "state/state_io.hpp"
 
 namespace owval::engine::internal {
 namespace {
@@ -26,6 +28,39 @@ SphConstants ForceConstants(const SphConstants& k, const PhysicsConstants::Xpbd&
 
 }  // namespace
 
+int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants) {
+  const PhysicsConstants::Xpbd& p = constants.xpbd;
+  if (p.substeps > 0) return p.substeps;
+  double k_max = 0;
+  for (std::size_t e = 0; e < config.elastic_count(); ++e)
+    for (int slot = 0; slot < kSpringSlots; ++slot) {
+      const Row4& c = config.connection[e * kSpringSlots + slot];
+      if (c[0] < 0) break;
+      const bool body = IsWormBody(config.position[e][3]) &&
+                        IsWormBody(config.position[static_cast<std::size_t>(c[0])][3]);
+      k_max = std::max(k_max, constants.elasticity_coefficient *
+                                  (body ? 1.0 : constants.non_worm_body_spring_factor));
+    }
+  const double omega_dt = std::sqrt(k_max) * double(float(constants.time_step_s));
+  const double n = std::ceil(std::numbers::pi * omega_dt / p.damping_budget);
+  return static_cast<int>(std::clamp(n, 4.0, 1000.0));
+}
+
+double DensityComplianceOf(const SiberneticConfig& config, const PhysicsConstants& constants) {
+  if (constants.xpbd.density_compliance > 0) return constants.xpbd.density_compliance;
+  const auto& g = constants.gravity;
+  const double g_abs = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  bool liquid = false;
+  for (const Row4& p : config.position) liquid = liquid || IsLiquid(p[3]);
+  double top = config.box.ymin;
+  for (const Row4& p : config.position)
+    if (liquid ? IsLiquid(p[3]) : !IsBoundary(p[3])) top = std::max(top, double(p[1]));
+  const double s = double(float(constants.simulation_scale));
+  const double height_m = std::max(top - config.box.ymin, constants.h_cu) * s;
+  const double c = 10 * std::sqrt(2 * g_abs * height_m);
+  return c > 0 ? (s / c) * (s / c) : 0.0;
+}
+
 template <typename T>
 Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants, int threads)
     : k_(SphConstants::From(constants)),
@@ -33,6 +68,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       parameters_(constants.xpbd),
       delta_(float(constants.delta)),
       threads_(threads),
+      substeps_(SubstepsOf(config, constants)),
       box_(config.box),
       grid_(config.box, k_),
       matter_(ElasticMatterOf(config, k_)) {
@@ -50,6 +86,8 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   }
   p_ = x_;
   dp_.assign(n, {0, 0, 0});
+  wall_normal_.assign(n, {0, 0, 0});
+  wall_friction_ = std::pow(0.99, 1.0 / substeps_);
   density_lambda_.assign(n, 0);
   density_dlambda_.assign(n, 0);
   pressure_acceleration_.assign(n, Float4{});
@@ -68,6 +106,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   grid_.Refresh(&state_, threads_);
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
+  density_compliance_ = DensityComplianceOf(config, constants);
   kernel_ = {T(h), T(h * h), T(constants.mass_kg / (rest_density_ * s * s * s)),
              T(Wpoly6Coefficient(h)), T(SpikyGradientCoefficient(h))};
 }
@@ -104,19 +143,28 @@ void Xpbd<T>::Step() {
   grid_.Refresh(&state_, threads_);
   ComputeDensity(k_, &state_, threads_);
   if (!first) {
-    ComputeForces();
-    Predict();
-    std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
-    std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
-    for (int pass = 0; pass < parameters_.iterations; ++pass) {
-      ProjectDensity();
-      ProjectBonds();
-      ProjectBoundaries();
-    }
-    UpdateVelocities();
+    ComputeForces();  // at x(t), held over the substeps
+    const T h = T(k_.time_step_s) / T(substeps_);
+    for (int substep = 0; substep < substeps_; ++substep) Substep(h);
   }
   InteractWithMembranes();
   ++step_;
+}
+
+// One substep of h [M19 Alg. 1]: the multipliers restart at zero, K passes, velocities from
+// the positions' change.
+template <typename T>
+void Xpbd<T>::Substep(T h) {
+  for (std::int32_t i : state_.moving) wall_normal_[i] = {0, 0, 0};
+  Predict(h);
+  std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
+  std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass) {
+    ProjectDensity(h);
+    ProjectBonds(h);
+    ProjectBoundaries();
+  }
+  UpdateVelocities(h);
 }
 
 template <typename T>
@@ -131,8 +179,8 @@ void Xpbd<T>::ComputeForces() {
 }
 
 template <typename T>
-void Xpbd<T>::Predict() {
-  const T dt = T(k_.time_step_s), to_cu = T(1) / T(k_.scale);
+void Xpbd<T>::Predict(T dt) {
+  const T to_cu = T(1) / T(k_.scale);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
@@ -149,9 +197,8 @@ void Xpbd<T>::Predict() {
 // positions, then Δp_i = Σ_j (Δλ_i + Δλ_j)·V0∇W(p_i − p_j), a fixed neighbour counting only its
 // own constraint's share.
 template <typename T>
-void Xpbd<T>::ProjectDensity() {
-  const T dt = T(k_.time_step_s);
-  const T alpha_tilde = T(parameters_.density_compliance) / (dt * dt);
+void Xpbd<T>::ProjectDensity(T dt) {
+  const T alpha_tilde = T(density_compliance_) / (dt * dt);
   const std::vector<std::int32_t>& moving = state_.moving;
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
@@ -198,8 +245,7 @@ void Xpbd<T>::ProjectDensity() {
 // Gauss-Seidel over the bonds in file order; a bond moves only its own row's particle, as
 // Sibernetic's spring force acts only on it (pairs listed both ways move both).
 template <typename T>
-void Xpbd<T>::ProjectBonds() {
-  const T dt = T(k_.time_step_s);
+void Xpbd<T>::ProjectBonds(T dt) {
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
     const Bond& bond = bonds_[b];
     T k = bond.stiffness;
@@ -223,6 +269,7 @@ void Xpbd<T>::ProjectBoundaries() {
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
+    const Vec3<T> start = p_[i];
     const Float4 before{float(p_[i][0]), float(p_[i][1]), float(p_[i][2]), state_.position[i].w};
     Float4 after = before;
     CorrectAtWalls(k_, state_, i, &after, nullptr);
@@ -233,15 +280,38 @@ void Xpbd<T>::ProjectBoundaries() {
       p_[i][2] += T(after.z) - T(before.z);
     }
     for (int a = 0; a < 3; ++a) p_[i][a] = std::clamp(p_[i][a], low[a], high[a]);
+    const Vec3<T> push{p_[i][0] - start[0], p_[i][1] - start[1], p_[i][2] - start[2]};
+    const T length = Norm(push);
+    if (length > 0) wall_normal_[i] = {push[0] / length, push[1] / length, push[2] / length};
   }
 }
 
+// The contact velocity pass [M19 §4; Müller et al. 2007, PBD's velocity update]: a projection
+// that pushed a particle out of a wall would leave it the push's speed, Δp/h, which grows as
+// the substep shrinks. Along the push's normal the velocity becomes −e·v*_n for a particle that
+// was approaching (v*_n < 0, v* the predicted velocity, e the restitution) and is never more
+// than v*_n otherwise; the tangential part keeps Sibernetic's wall friction, 0.99 per step
+// (sphFluid.cl, owval's CorrectAtWalls), as 0.99^(1/n) per substep.
 template <typename T>
-void Xpbd<T>::UpdateVelocities() {
-  const T dt = T(k_.time_step_s), scale = T(k_.scale);
+void Xpbd<T>::WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restitution) {
+  const Vec3<T>& n = wall_normal_[i];
+  if (n[0] == 0 && n[1] == 0 && n[2] == 0) return;
+  Vec3<T>& v = v_[i];
+  const T vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+  const T approach = predicted[0] * n[0] + predicted[1] * n[1] + predicted[2] * n[2];
+  const T target = approach < 0 ? -restitution * approach : std::min(vn, approach);
+  const T friction = approach < 0 ? T(wall_friction_) : T(1);
+  for (int a = 0; a < 3; ++a) v[a] = (v[a] - vn * n[a]) * friction + target * n[a];
+}
+
+template <typename T>
+void Xpbd<T>::UpdateVelocities(T dt) {
+  const T scale = T(k_.scale);
   const T floor = T(box_.ymin) + T(k_.r0_cu), restitution = T(parameters_.floor_restitution);
   for (std::int32_t i : state_.moving) {
+    const Vec3<T> predicted = v_[i];
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / dt;
+    WallVelocity(i, predicted, restitution);
     if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
     x_[i] = p_[i];
     Float4& x = state_.position[i];
@@ -267,6 +337,38 @@ void Xpbd<T>::InteractWithMembranes() {
 }
 
 template <typename T>
+void Xpbd<T>::SaveState(std::string* out) const {
+  StateWriter w(out);
+  PutStateHeader(w, name(), state_.size(), step_);
+  const ParticleState& s = state_;
+  w.Put(s.position), w.Put(s.velocity), w.Put(s.acceleration), w.Put(s.last_acceleration);
+  w.Put(s.density), w.Put(s.pressure), w.Put(s.neighbours), w.Put(s.moving), w.Put(s.active);
+  w.Put(pressure_acceleration_), w.Put(x_), w.Put(v_), w.Put(p_);
+  w.Put(matter_.muscle_activation);
+}
+
+template <typename T>
+void Xpbd<T>::RestoreState(const std::string& state, const std::string& source) {
+  StateReader r(state, source);
+  const std::size_t n = state_.size();
+  const std::uint64_t steps = GetStateHeader(r, name(), n);
+  ParticleState& s = state_;
+  r.GetSized(&s.position, n), r.GetSized(&s.velocity, n), r.GetSized(&s.acceleration, n);
+  r.GetSized(&s.last_acceleration, n), r.GetSized(&s.density, n), r.GetSized(&s.pressure, n);
+  r.GetSized(&s.neighbours, n * kSlots), r.Get(&s.moving), r.Get(&s.active);
+  for (const std::vector<std::int32_t>* list : {&s.moving, &s.active})
+    for (std::int32_t i : *list)
+      if (i < 0 || std::size_t(i) >= n) r.Fail("a particle index out of range");
+  for (const Neighbour& slot : s.neighbours)
+    if (slot.index < -1 || slot.index >= std::int64_t(n)) r.Fail("a neighbour out of range");
+  r.GetSized(&pressure_acceleration_, n);
+  r.GetSized(&x_, n), r.GetSized(&v_, n), r.GetSized(&p_, n);
+  r.GetSized(&matter_.muscle_activation, std::size_t(kMuscles));
+  if (!r.done()) r.Fail("bytes left after the state");
+  step_ = std::size_t(steps);
+}
+
+template <typename T>
 std::vector<float> Xpbd<T>::Density() const {
   return internal::DensityOfAll(k_, grid_, state_);
 }
@@ -274,8 +376,11 @@ std::vector<float> Xpbd<T>::Density() const {
 template <typename T>
 std::string Xpbd<T>::parameters() const {
   std::ostringstream s;
-  s << "iterations = " << parameters_.iterations
-    << ", density_compliance = " << parameters_.density_compliance
+  s << "substeps = " << substeps_ << (parameters_.substeps > 0 ? "" : " (derived)")
+    << ", iterations = " << parameters_.iterations
+    << ", damping_budget = " << parameters_.damping_budget
+    << ", density_compliance = " << density_compliance_
+    << (parameters_.density_compliance > 0 ? "" : " (derived)")
     << ", bond_compliance_scale = " << parameters_.bond_compliance_scale
     << ", rest_density = " << rest_density_ << (parameters_.rest_density > 0 ? "" : " (derived)")
     << ", floor_restitution = " << parameters_.floor_restitution

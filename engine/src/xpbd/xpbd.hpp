@@ -2,11 +2,14 @@
 // Extended position-based dynamics over Sibernetic's configurations [MMC16], with position-based
 // fluids' density constraint [MM13], as the native ports build it (see docs/xpbd.md). Per step:
 //   neighbours (shared grid, x(t)) → SPH density and the interleaved forces (gravity always;
-//   Sibernetic's viscosity, cohesion and SPH pressure-gradient force, each switchable)
-//   → predict p = x + dt·v*/s with v* = v + dt·a
-//   → K × {density constraints (both directions), bonds (one-sided distance constraints, as
-//          Sibernetic's springs act only on their own row's particle), walls [IAGT10] and the box}
-//   → v = (p − x)·s/dt, floor restitution → the shared membrane pass.
+//   Sibernetic's viscosity, cohesion and SPH pressure-gradient force, each switchable), held
+//   over the step
+//   → n substeps of h = dt/n [M19], each:
+//       predict p = x + h·v*/s with v* = v + h·a
+//       → K × {density constraints (both directions), bonds (one-sided distance constraints, as
+//              Sibernetic's springs act only on their own row's particle), walls [IAGT10], box}
+//       → v = (p − x)·s/h, wall contacts' velocity (restitution, friction), floor restitution
+//   → the shared membrane pass.
 // Like Sibernetic's first step, step 0 moves nothing but the membrane pass.
 // The scalar of the projections is a template parameter: float for runs, double for gradient
 // checks; neighbour search, walls and membranes work on a float copy of the positions.
@@ -15,6 +18,8 @@
 //           constrained dynamics. Motion in Games 2016.
 //   [MM13]  M. Macklin, M. Müller. Position based fluids. ACM TOG 32(4), 2013.
 //   [IAGT10] M. Ihmsen et al. Boundary handling and adaptive time-stepping for PCISPH. 2010.
+//   [M19]   M. Macklin, K. Storey, M. Lu, P. Terdiman, N. Chentanez, S. Jeschke, M. Müller.
+//           Small steps in physics simulation. SCA 2019.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,6 +32,22 @@
 #include "xpbd/projections.hpp"
 
 namespace owval::engine::internal {
+
+// The substeps per step: the set xpbd_substeps, or (0) derived from the stiffest bond. A
+// one-iteration XPBD substep of h is implicit Euler on a bond (ω² = k_eff): its oscillation
+// keeps (1 + ω²h²)^(−1/2) of its amplitude per substep, ≈ exp(−πωh) per period. n is the least
+// count whose loss per period, πω·dt/n, is within xpbd_damping_budget, and at least 4 (the
+// projection passes per step the K study found stable for the liquid, docs/xpbd.md).
+int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants);
+
+// The density constraint's compliance α (s²/cu²; α̃ = α/h²): the set xpbd_density_compliance,
+// or (0) derived as a weakly compressible liquid's [Monaghan 1994, Mach 0.1]: α = (s/c)² with
+// c = 10·√(2 g H), H the height of the highest liquid particle (any moving one when there is no
+// liquid) above the box floor, so the constraint's energy C²/(2α) is the liquid's elastic
+// energy at bulk modulus ρ0 c². A hard constraint (α = 0) turns each substep's Jacobi
+// correction into a velocity Δp/h and is unstable with substeps; with no gravity there is no
+// velocity scale and the derived α is 0.
+double DensityComplianceOf(const SiberneticConfig& config, const PhysicsConstants& constants);
 
 template <typename T>
 class Xpbd final : public Solver {
@@ -43,9 +64,15 @@ class Xpbd final : public Solver {
   std::span<const float> pressure() const override { return state_.pressure; }
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::string parameters() const override;
+  // Checkpoints: the float state the phases share, the solver's positions and velocities in T
+  // and the muscle activations; everything else is rebuilt within a step.
+  void SaveState(std::string* out) const override;
+  void RestoreState(const std::string& state, const std::string& source) override;
 
   // The rest density the density constraints use (kg/m³), derived or set.
   double rest_density() const { return rest_density_; }
+  // The density constraint's compliance (s²/cu²), derived or set.
+  double density_compliance() const { return density_compliance_; }
   // Positions in the solver's scalar (cu), for tests.
   const std::vector<Vec3<T>>& exact_positions() const { return x_; }
 
@@ -57,27 +84,31 @@ class Xpbd final : public Solver {
   };
 
   void ComputeForces();
-  void Predict();
-  void ProjectDensity();
-  void ProjectBonds();
+  void Substep(T h);
+  void Predict(T h);
+  void ProjectDensity(T h);
+  void ProjectBonds(T h);
   void ProjectBoundaries();
-  void UpdateVelocities();
+  void UpdateVelocities(T h);
+  void WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restitution);
   void InteractWithMembranes();
   double DerivedRestDensity() const;
 
   SphConstants k_, k_forces_;
   PhysicsConstants::Xpbd parameters_;
   float delta_;
-  int threads_;
+  int threads_, substeps_;
   Box box_;
   ParticleState state_;
   NeighbourGrid grid_;
   ElasticMatter matter_;
   std::vector<Bond> bonds_;
-  double rest_density_ = 0;
+  double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
   std::vector<Vec3<T>> x_, v_, p_, dp_;
+  std::vector<Vec3<T>> wall_normal_;  // a substep's last wall push direction, or zero
+  double wall_friction_ = 1;          // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::size_t step_ = 0;

@@ -82,11 +82,13 @@ struct PhysicsConstants {
 
   // The XPBD scheme's parameters (engine/src/xpbd, docs/xpbd.md); PCISPH ignores them.
   struct Xpbd {
-    int iterations = 4;                // constraint projection passes per step (K)
-    double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2 per unit mass
+    int iterations = 1;  // constraint projection passes per substep (K)
+    int substeps = 0;    // n substeps of dt/n per step [Macklin 2019]; 0: derived (docs/xpbd.md)
+    double damping_budget = 0.02;      // derived n: amplitude lost per period by the stiffest bond
+    double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2/cu^2; 0: derived
     double bond_compliance_scale = 1;  // alpha of a bond = scale / k_eff (k_eff in s^-2)
     double rest_density = 0;           // kg/m^3; 0: the configuration's interior liquid's
-    double floor_restitution = 0;      // normal velocity kept (reversed) at the box's floor
+    double floor_restitution = 0;      // normal velocity kept (reversed) at the floor and walls
     double muscle_strength = 1;        // bond k(t) = k (1 + activation * strength)
     int viscosity = 1;                 // 1: add Sibernetic's viscosity force, 0: none
     int surface_tension = 1;           // 1: add Sibernetic's cohesion force, 0: none

@@ -22,6 +22,8 @@ enum class ConstantRule {
   kIntegerAtLeastOne,  // a whole number in [1, 1000] (iteration counts)
   kSwitch,             // 0 or 1
   kFraction,           // a number in [0, 1]
+  kCount,              // a whole number in [0, 1000] (0: derived, e.g. XPBD's substeps)
+  kOpenFraction,       // a number in (0, 1) (budgets that divide)
 };
 
 struct ConstantInfo {

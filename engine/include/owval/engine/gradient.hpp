@@ -111,11 +111,11 @@ struct GradCheckOptions {
   // is skipped with a reason when empty).
   std::string end_to_end_config;
   std::size_t end_to_end_steps = 100;
-  // The density constraint's compliance in the end-to-end test (s²). With the run's default
-  // α = 0 (hard), demo1's linearised step is unstable: the gradient grows ~10x per step (1e12
-  // after 20 steps) and no finite difference agrees with it or with itself; at α = 4e-10 and
-  // 4e-9 it stays bounded for 20-40 steps but not 100. α = 4e-8 (α̃ = 100) is the softest
-  // value tried whose 100-step gradient agrees (docs/xpbd.md §Gradients).
+  // The density constraint's compliance in the end-to-end test (s²/cu²); 0: the model's
+  // default (derived, 7.9e-11 on demo1). At that default demo1's 100-step loss is chaotic: the
+  // reverse pass gives 1e10 where central differences at ε = 1e-3 and 1e-5 give 1e1-1e4 and
+  // disagree with each other (the liquid splashes out of the cube, as in the reference run).
+  // At 4e-8 the 100-step gradient agrees to 1.5e-5 and 3.6e-4 (docs/xpbd.md §Gradients).
   double end_to_end_alpha_density = 4e-8;
   // Test-only: negates the backward kernel's result of this kernel (a broken backward that
   // the check must catch).

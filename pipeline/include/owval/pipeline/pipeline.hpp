@@ -30,6 +30,12 @@ struct Options {
   std::filesystem::path out_dir;    // the report directory (created)
   std::filesystem::path candidate;  // a trajectory file; empty: an owval engine run
   engine::Integrator integrator = engine::Integrator::kSemiImplicitEuler;  // of the engine run
+  // The candidate's scheme (engine::KnownBackends()): the engine run's, or the one that made the
+  // given candidate file. For "xpbd", the differentiable substrate,
+  // phase 5 fits the XPBD run and its finite-difference test is `owval gradcheck all` (every
+  // backward kernel, one step, and a multi-step reverse pass on the scenario's configuration)
+  // into fd_tests.json, the checklist's item 7.
+  std::string backend = "pcisph";
   std::size_t max_video_frames = 300;  // sxs.mp4 frames, evenly spaced
   bool quiet = false;                  // no progress bars
   // One line per finished phase ("5 fit: ..."); may be empty.
