@@ -19,9 +19,7 @@ namespace {
 
 struct CompareArgs {
   std::string reference, candidate;
-  std::optional<std::size_t> particle;
-  std::string group;
-  std::optional<std::string> axis;
+  TrackFlags track;
   std::string frames;
   std::optional<double> scale;
   std::string manifest;
@@ -56,9 +54,7 @@ void AddGateFlag(CLI::App* cmd, CompareArgs* a, const std::string& flag,
 compare::ParityOptions Options(const CompareArgs& a) {
   compare::ParityOptions o;
   if (!a.manifest.empty()) scenarios::ApplyManifestFile(a.manifest, &o);
-  if (a.particle) o.track = Track{*a.particle, "", o.track.axis};
-  if (!a.group.empty()) o.track.group = a.group;
-  if (a.axis) o.track.axis = ParseAxisName(*a.axis);
+  o.track = a.track.Over(o.track);
   if (!a.frames.empty()) o.sample_frames = ParseIndexList(a.frames, "--frames");
   o.scale = a.scale;
   for (const auto& [member, value] : a.gates)
@@ -157,13 +153,7 @@ void SetUp(CLI::App& app) {
                   "With backend names: Sibernetic's demos from this checkout of "
                   "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/");
   cmd->add_option("--set", args->sets, "With backend names: NAME=VALUE for {set:NAME}");
-  auto* particle = cmd->add_option("--particle", args->particle, "Tracked particle (default 0)")
-                       ->check(ParticleIndex());
-  cmd->add_option("--group", args->group, "Track a group centroid: elastic, liquid, all")
-      ->excludes(particle)
-      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
-  cmd->add_option("--axis", args->axis, "x, y or z (default y)")
-      ->check(CLI::IsMember({"x", "y", "z"}));
+  AddTrackFlags(cmd, &args->track, "", "Tracked");
   cmd->add_option("--frames", args->frames,
                   "Reference frames to gate, e.g. 0,15,100,200 (default: all paired)");
   cmd->add_option("--scale", args->scale,

@@ -26,9 +26,7 @@ extern "C" void OnInterrupt(int) { g_interrupted = true; }
 struct FitArgs {
   std::string config;
   std::vector<std::string> params, targets;
-  std::size_t particle = 0;
-  std::string group;
-  std::string axis = "y";
+  TrackFlags track;
   double time_s = 0.05;
   int log_step = 1;
   std::string solver = "lm";
@@ -77,8 +75,7 @@ void RunGradientFit(const FitArgs& a) {
   options.reverse.clip_norm = a.clip_norm;
   std::vector<engine::LossTerm> loss;
   if (a.loss_groups.empty()) {
-    loss = sgd::TrackLoss(reference, Track{a.particle, a.group, ParseAxisName(a.axis)},
-                          options.reverse.steps, a.loss_scale);
+    loss = sgd::TrackLoss(reference, a.track.Over(Track{}), options.reverse.steps, a.loss_scale);
   } else {
     for (const std::string& g : a.loss_groups)
       for (engine::LossTerm& t :
@@ -116,10 +113,7 @@ void RunFit(const FitArgs& a) {
   for (const std::string& p : a.params) parameters.push_back(sgd::ParseParameter(p));
   std::vector<sgd::Target> targets;
   for (const std::string& t : a.targets) targets.push_back(sgd::ParseTarget(t));
-  Track tracking;
-  tracking.particle = a.particle;
-  tracking.group = a.group;
-  tracking.axis = ParseAxisName(a.axis);
+  const Track tracking = a.track.Over(Track{});
   const fs::path out = a.out;
   fs::create_directories(out);
   sgd::Simulator simulator;
@@ -179,11 +173,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--target", a->targets,
                   "METRIC=VALUE[:scale=S][:weight=W][:ref=FILE]; METRIC: period, "
                   "half_amplitude, equilibrium, rms (finite-difference fits)");
-  cmd->add_option("--track-particle", a->particle, "Tracked particle (default 0)")
-      ->check(ParticleIndex());
-  cmd->add_option("--track-group", a->group,
-                  "Track a group centroid instead: elastic, liquid, all");
-  cmd->add_option("--track-axis", a->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));
+  AddTrackFlags(cmd, &a->track, "track-", "Tracked");
   cmd->add_option("--time", a->time_s, "Simulated time per evaluation (s)");
   cmd->add_option("--log-step", a->log_step, "Steps between frames");
   cmd->add_option("--solver", a->solver,

@@ -16,9 +16,7 @@ namespace {
 
 struct InspectArgs {
   std::string path;
-  std::size_t particle = 0;
-  std::string group;
-  std::string axis = "y";
+  TrackFlags track;
   double start_s = -1, end_s = -1;
   std::string layout = "auto";
   bool json = false;
@@ -27,10 +25,7 @@ struct InspectArgs {
 void RunInspect(const InspectArgs& a) {
   TextReadReport read;
   const auto frames = OpenTrajectoryArgument(a.path, a.layout, &read);  // frame by frame
-  Track track;
-  track.group = a.group;
-  track.particle = std::size_t(a.particle);
-  track.axis = ParseAxisName(a.axis);
+  const Track track = a.track.Over(Track{});
   const std::vector<double> series = track.Series(*frames);
   const std::string subject = track.Describe();
   const compare::SignalMetrics m =
@@ -58,13 +53,7 @@ void SetUp(CLI::App& app) {
       "inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
   cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
       ->required();
-  auto* particle =
-      cmd->add_option("--particle", args->particle, "Particle index (file order; default 0)")
-          ->check(ParticleIndex());
-  cmd->add_option("--group", args->group, "Group centroid instead: elastic, liquid or all")
-      ->excludes(particle)
-      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
-  cmd->add_option("--axis", args->axis, "x, y or z")->check(CLI::IsMember({"x", "y", "z"}));
+  AddTrackFlags(cmd, &args->track, "", "Measured");
   cmd->add_option("--from", args->start_s, "Window start (s)");
   cmd->add_option("--to", args->end_s, "Window end (s)");
   cmd->add_option("--layout", args->layout, "Text layout: auto, opencl or native")

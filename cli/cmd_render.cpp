@@ -19,9 +19,7 @@ struct RenderArgs {
   int fps = 30;
   std::size_t max_frames = 0;
   float liquid_opacity = 1.0f;
-  std::optional<std::size_t> track_particle;
-  std::string track_group;
-  std::string track_axis = "y";
+  TrackFlags track;
   std::string label_ref, label_cand;
   bool no_box = false, no_gate = false;
   std::optional<double> threshold;
@@ -66,8 +64,7 @@ render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
         o.connections.emplace_back(std::uint32_t(row / engine::kConnectionSlots),
                                    std::uint32_t(config.connection[row][0]));
   }
-  if (a.track_particle || !a.track_group.empty())
-    o.tracking = Track{a.track_particle.value_or(0), a.track_group, ParseAxisName(a.track_axis)};
+  if (a.track.given()) o.tracking = a.track.Over(Track{});
   o.draw_box = !a.no_box;
   o.reference_label = a.label_ref.empty() ? LabelFor(a.reference, "reference") : a.label_ref;
   o.candidate_label = a.label_cand.empty() ? LabelFor(a.candidate, "candidate") : a.label_cand;
@@ -114,13 +111,7 @@ void AddCommon(CLI::App* cmd, RenderArgs* a) {
   cmd->add_option("--boundary", a->boundary, "hidden, translucent or shown")
       ->check(CLI::IsMember({"hidden", "translucent", "shown"}));
   cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1");
-  cmd->add_option("--track-particle", a->track_particle,
-                  "Print this particle's coordinate on each panel")
-      ->check(ParticleIndex());
-  cmd->add_option("--track-group", a->track_group, "Print this group's centroid instead")
-      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
-  cmd->add_option("--track-axis", a->track_axis, "x, y or z")
-      ->check(CLI::IsMember({"x", "y", "z"}));
+  AddTrackFlags(cmd, &a->track, "track-", "Print this");
   cmd->add_option("--label-ref", a->label_ref, "Left panel's name (default: from the file name)");
   cmd->add_option("--label-cand", a->label_cand,
                   "Right panel's name (default: from the file name)");
@@ -178,7 +169,7 @@ void SetUp(CLI::App& app) {
   frames->add_flag("--no-gate", a->no_gate, "Exit 0 even when a frame breaks the gate");
   frames->callback([a] {
     RenderArgs args = *a;
-    if (!args.track_particle && args.track_group.empty()) args.track_particle = 0;
+    if (!args.track.given()) args.track.particle = 0;
     RequireOut(args);
     const auto ref = OpenTrajectoryArgument(a->reference);  // frame by frame
     const auto cand = OpenTrajectoryArgument(a->candidate);

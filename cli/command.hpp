@@ -6,7 +6,10 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
+
+#include "owval/trajectory/track.hpp"
 
 namespace owval::cli {
 
@@ -19,6 +22,20 @@ CLI::App& Bench(CLI::App& app);
 
 // A particle index: digits only, at most 18 of them ("--particle -1" is refused, not wrapped).
 const CLI::Validator& ParticleIndex();
+
+// The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
+// --PREFIXaxis): only what was given, laid over a command's default track (a manifest's, or
+// particle 0 y) by Over.
+struct TrackFlags {
+  std::optional<std::size_t> particle;
+  std::string group;  // elastic | liquid | all (excludes the particle)
+  std::optional<std::string> axis;  // x | y | z
+  bool given() const { return particle || !group.empty(); }
+  Track Over(Track base) const;
+};
+// Adds the three flags; `subject` says what the track is for ("Tracked", "Print this").
+void AddTrackFlags(CLI::App* cmd, TrackFlags* flags, const std::string& prefix,
+                   const std::string& subject);
 
 // The exit code the process ends with once the callback returns (default 0).
 void SetExitCode(int code);

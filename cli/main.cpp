@@ -48,6 +48,26 @@ const CLI::Validator& ParticleIndex() {
 }
 const GlobalFlags& Flags() { return g_flags; }
 
+Track TrackFlags::Over(Track base) const {
+  if (particle) base = Track{*particle, "", base.axis};
+  if (!group.empty()) base.group = group;
+  if (axis) base.axis = ParseAxisName(*axis);
+  return base;
+}
+
+void AddTrackFlags(CLI::App* cmd, TrackFlags* flags, const std::string& prefix,
+                   const std::string& subject) {
+  auto* particle = cmd->add_option("--" + prefix + "particle", flags->particle,
+                                   subject + " particle (file order; default 0)")
+                       ->check(ParticleIndex());
+  cmd->add_option("--" + prefix + "group", flags->group,
+                  subject + " group's centroid instead: elastic, liquid or all")
+      ->excludes(particle)
+      ->check(CLI::IsMember({"elastic", "liquid", "all"}));
+  cmd->add_option("--" + prefix + "axis", flags->axis, "x, y or z (default y)")
+      ->check(CLI::IsMember({"x", "y", "z"}));
+}
+
 std::filesystem::path DataDir() {
   if (const char* dir = std::getenv("OWVAL_DATA_DIR")) return dir;
   return OWVAL_SOURCE_DIR;
