@@ -28,7 +28,7 @@ const CLI::Validator& ParticleIndex();
 // particle 0 y) by Over.
 struct TrackFlags {
   std::optional<std::size_t> particle;
-  std::string group;  // elastic | liquid | all (excludes the particle)
+  std::string group;                // elastic | liquid | all (excludes the particle)
   std::optional<std::string> axis;  // x | y | z
   bool given() const { return particle || !group.empty(); }
   Track Over(Track base) const;
