@@ -147,9 +147,7 @@ void Pcisph::CorrectPressure() {
 void Pcisph::SaveState(std::string* out) const {
   StateWriter w(out);
   PutStateHeader(w, name(), state_.size(), step_);
-  const ParticleState& s = state_;
-  w.Put(s.position), w.Put(s.velocity), w.Put(s.acceleration), w.Put(s.last_acceleration);
-  w.Put(s.density), w.Put(s.pressure), w.Put(s.neighbours), w.Put(s.moving), w.Put(s.active);
+  PutParticleState(w, state_);
   w.Put(predicted_), w.Put(predicted_density_), w.Put(pressure_acceleration_);
   w.Put(matter_.muscle_activation);
 }
@@ -158,15 +156,7 @@ void Pcisph::RestoreState(const std::string& state, const std::string& source) {
   StateReader r(state, source);
   const std::size_t n = state_.size();
   const std::uint64_t steps = GetStateHeader(r, name(), n);
-  ParticleState& s = state_;
-  r.GetSized(&s.position, n), r.GetSized(&s.velocity, n), r.GetSized(&s.acceleration, n);
-  r.GetSized(&s.last_acceleration, n), r.GetSized(&s.density, n), r.GetSized(&s.pressure, n);
-  r.GetSized(&s.neighbours, n * kSlots), r.Get(&s.moving), r.Get(&s.active);
-  for (const std::vector<std::int32_t>* list : {&s.moving, &s.active})
-    for (std::int32_t i : *list)
-      if (i < 0 || std::size_t(i) >= n) r.Fail("a particle index out of range");
-  for (const Neighbour& slot : s.neighbours)
-    if (slot.index < -1 || slot.index >= std::int64_t(n)) r.Fail("a neighbour out of range");
+  GetParticleState(r, &state_);
   r.GetSized(&predicted_, n), r.GetSized(&predicted_density_, n);
   r.GetSized(&pressure_acceleration_, n);
   r.GetSized(&matter_.muscle_activation, std::size_t(kMuscles));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "owval/base/errors.hpp"
+#include "state/particle_state.hpp"
 
 namespace owval::engine::internal {
 
@@ -115,6 +116,25 @@ inline std::uint64_t GetStateHeader(StateReader& r, const std::string& backend,
     r.Fail(std::to_string(n) + " particles, the configuration has " + std::to_string(particles));
   r.Get(&steps);
   return steps;
+}
+
+// The particle state every solver carries, in its checkpoint: one order for writing and reading.
+inline void PutParticleState(StateWriter& w, const ParticleState& s) {
+  w.Put(s.position), w.Put(s.velocity), w.Put(s.acceleration), w.Put(s.last_acceleration);
+  w.Put(s.density), w.Put(s.pressure), w.Put(s.neighbours), w.Put(s.moving), w.Put(s.active);
+}
+
+// Reads what PutParticleState wrote for `s->size()` particles; every index must name one of them.
+inline void GetParticleState(StateReader& r, ParticleState* s) {
+  const std::size_t n = s->size();
+  r.GetSized(&s->position, n), r.GetSized(&s->velocity, n), r.GetSized(&s->acceleration, n);
+  r.GetSized(&s->last_acceleration, n), r.GetSized(&s->density, n), r.GetSized(&s->pressure, n);
+  r.GetSized(&s->neighbours, n * kSlots), r.Get(&s->moving), r.Get(&s->active);
+  for (const std::vector<std::int32_t>* list : {&s->moving, &s->active})
+    for (std::int32_t i : *list)
+      if (i < 0 || std::size_t(i) >= n) r.Fail("a particle index out of range");
+  for (const Neighbour& slot : s->neighbours)
+    if (slot.index < -1 || slot.index >= std::int64_t(n)) r.Fail("a neighbour out of range");
 }
 
 }  // namespace owval::engine::internal
