@@ -8,29 +8,22 @@
 // The trajectories are demo1's reference frames played back and forth (17,841 particles), written
 // by the streaming writer as Sibernetic text (OpenCL layout) and owval HDF5: a 25,000-frame file
 // in about a minute instead of a 500,000-step run.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "long_run_support.hpp"  // engine/tests: owval as a child process, its peak memory
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/writer.hpp"
-
-extern char** environ;
 
 namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kOwval = fs::path(OWVAL_BINARY_DIR) / "owval";
-const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
+const fs::path kDemo1Frames = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
 constexpr double kBoundMb = 150;
 
 fs::path Scratch() {
@@ -39,41 +32,11 @@ fs::path Scratch() {
   return dir;
 }
 
-struct Run {
-  int exit_code = -1;
-  double peak_rss_mb = 0;
-};
-
-// `owval --quiet ARGS...`, output to LOG; its exit code and peak resident memory.
-Run Owval(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> all = {kOwval.string(), "--quiet"};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = -1;
-  Run run;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
-    int status = 0;
-    rusage usage{};
-    if (::wait4(pid, &status, 0, &usage) == pid && WIFEXITED(status)) {
-      run.exit_code = WEXITSTATUS(status);
-      run.peak_rss_mb = double(usage.ru_maxrss) / 1024.0;
-    }
-  }
-  posix_spawn_file_actions_destroy(&actions);
-  return run;
-}
-
 // demo1's frames forward, backward, forward...: `frames` frames at its own time step and log step.
 // Read frame by frame too: posix_spawn's child starts in this process's memory, and its peak
 // (ru_maxrss) would include this process's, were demo1 ever held here whole.
 void Synthesize(std::size_t frames, const fs::path& text, const fs::path& h5) {
-  const auto source = OpenFrameSource(kDemo1);
+  const auto source = OpenFrameSource(kDemo1Frames);
   const Trajectory& demo1 = source->header();
   TrajectoryHeader header;
   header.box = demo1.box;
@@ -104,18 +67,18 @@ Peaks Measure(std::size_t frames) {
   const fs::path text = dir / "position_buffer.txt", h5 = dir / "trajectory.h5";
   Synthesize(frames, text, h5);
   Peaks p;
-  const Run compare = Owval({"compare", text.string(), h5.string()}, dir / "compare.log");
+  const Finished compare = RunOwval({"compare", text.string(), h5.string()}, dir / "compare.log");
   EXPECT_EQ(compare.exit_code, 0) << (dir / "compare.log");
   p.compare_mb = compare.peak_rss_mb;
   // Every frame pulled, at a small size so that 25,000 frames encode in a few minutes.
-  const Run render =
-      Owval({"render", h5.string(), "--size", "256x144", "-o", (dir / "v.mp4").string()},
-            dir / "render.log");
+  const Finished render =
+      RunOwval({"render", h5.string(), "--size", "256x144", "-o", (dir / "v.mp4").string()},
+               dir / "render.log");
   EXPECT_EQ(render.exit_code, 0) << (dir / "render.log");
   p.render_mb = render.peak_rss_mb;
-  const Run sxs = Owval({"render", "sxs", text.string(), h5.string(), "--size", "512x144",
-                         "--max-frames", "250", "-o", (dir / "sxs.mp4").string()},
-                        dir / "sxs.log");
+  const Finished sxs = RunOwval({"render", "sxs", text.string(), h5.string(), "--size", "512x144",
+                                 "--max-frames", "250", "-o", (dir / "sxs.mp4").string()},
+                                dir / "sxs.log");
   EXPECT_EQ(sxs.exit_code, 0) << (dir / "sxs.log");
   p.render_sxs_mb = sxs.peak_rss_mb;
   std::printf("%zu frames: compare %.1f MB, render %.1f MB, render sxs %.1f MB\n", frames,
