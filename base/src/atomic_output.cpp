@@ -71,6 +71,66 @@ void AtomicOutput::Adopt(const fs::path& existing) {
 
 void AtomicOutput::Commit() { CommitAs(destination_); }
 
+void AtomicOutput::Release() {
+  if (stream_.is_open()) {
+    stream_.flush();
+    if (!stream_) throw InputError(destination_.string(), 0, "write failed (disk full?)");
+    stream_.close();
+    if (stream_.fail()) throw InputError(destination_.string(), 0, "write failed (disk full?)");
+  }
+  committed_ = true;  // the temporary is the new owner's
+}
+
+fs::path CommitMarkerPath(const fs::path& directory) { return directory / ".owval-commit"; }
+
+OutputGroup::~OutputGroup() {
+  if (committed_) return;
+  std::error_code ignored;
+  for (const Member& m : members_) fs::remove_all(m.temporary, ignored);
+}
+
+void OutputGroup::Adopt(AtomicOutput* finished) {
+  finished->Release();
+  members_.push_back({finished->temporary_path(), finished->destination()});
+}
+
+fs::path OutputGroup::Stage(const fs::path& destination) {
+  SweepStaleTemporaries(destination);
+  members_.push_back({TemporarySibling(destination), destination});
+  return members_.back().temporary;
+}
+
+fs::path OutputGroup::TemporaryOf(const fs::path& destination) const {
+  for (const Member& m : members_)
+    if (m.destination == destination) return m.temporary;
+  return {};
+}
+
+void OutputGroup::Commit() {
+  if (members_.empty()) {
+    committed_ = true;
+    return;
+  }
+  const fs::path directory = members_.front().destination.parent_path();
+  std::string names;
+  for (const Member& m : members_) {
+    if (m.destination.parent_path() != directory)
+      throw std::logic_error("OutputGroup: members in more than one directory");
+    names += m.destination.filename().string() + "\n";
+  }
+  const fs::path marker = CommitMarkerPath(directory);
+  WriteFileAtomically(marker, names);
+  std::error_code error;
+  for (const Member& m : members_) fs::remove_all(m.destination, error);  // older outputs
+  for (const Member& m : members_) {
+    fs::rename(m.temporary, m.destination, error);
+    if (error)  // the marker stays: the set in place is incomplete and readers say so
+      throw InputError(m.destination.string(), 0, "cannot rename into place: " + error.message());
+  }
+  committed_ = true;
+  fs::remove(marker, error);
+}
+
 void AtomicOutput::CommitAs(const fs::path& destination) {
   if (stream_.is_open()) {
     stream_.flush();
@@ -117,7 +177,7 @@ void WriteFileAtomically(const fs::path& destination, const std::string& content
 }
 
 std::string ReadWholeFile(const fs::path& path) {
-  RequireRegularFile(path);  // before open(): a FIFO would block it
+  RequireInputFile(path);  // before open(): a FIFO would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   std::error_code error;

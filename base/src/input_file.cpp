@@ -1,11 +1,25 @@
 #include "owval/base/input_file.hpp"
 
+#include <fstream>
+#include <string>
+
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 
 namespace owval {
+namespace fs = std::filesystem;
+namespace {
 
-void RequireRegularFile(const std::filesystem::path& path) {
-  namespace fs = std::filesystem;
+// Whether an interrupted OutputGroup::Commit in the file's directory names it.
+bool NamedByCommitMarker(const fs::path& path) {
+  std::ifstream marker(CommitMarkerPath(path.parent_path().empty() ? "." : path.parent_path()));
+  const std::string name = path.filename().string();
+  for (std::string line; marker && std::getline(marker, line);)
+    if (line == name) return true;
+  return false;
+}
+
+void RequireRegularFile(const fs::path& path) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   const std::string name = path.string();
@@ -26,6 +40,16 @@ void RequireRegularFile(const std::filesystem::path& path) {
     default:
       throw InputError(name, 0, "cannot open file (unreadable or not a regular file)");
   }
+}
+
+}  // namespace
+
+void RequireInputFile(const fs::path& path) {
+  RequireRegularFile(path);
+  if (NamedByCommitMarker(path))
+    throw InputError(path.string(), 0,
+                     "incomplete: the command that wrote it stopped while moving its outputs into "
+                     "place (.owval-commit names it); run it again");
 }
 
 }  // namespace owval

@@ -13,7 +13,7 @@
 namespace owval {
 
 MappedFile::MappedFile(const std::filesystem::path& path) {
-  RequireRegularFile(path);  // a FIFO would block open() until a writer appears
+  RequireInputFile(path);  // a FIFO would block open() until a writer appears
   // O_NONBLOCK: should the path turn into a FIFO after the check, open() still returns.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");

@@ -5,6 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
+
+#include "owval/base/errors.hpp"
 
 namespace owval {
 namespace {
@@ -54,6 +58,62 @@ TEST(AtomicOutput, RemovesTemporariesOfProcessesThatNoLongerRun) {
   EXPECT_FALSE(fs::exists(parent / ".out.txt.tmp.999999999.0"));
   EXPECT_FALSE(fs::exists(parent / ".out.txt.tmp.999999999.1"));
   EXPECT_TRUE(fs::exists(parent / (".out.txt.tmp." + std::to_string(::getppid()) + ".0")));
+}
+
+std::string Contents(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(OutputGroup, CommitReplacesEveryMemberAndLeavesNoMarker) {
+  const fs::path dir = Fresh("group_commit");
+  std::ofstream(dir / "a.txt") << "old a";
+  std::ofstream(dir / "b.txt") << "old b";
+  OutputGroup group;
+  AtomicOutput a(dir / "a.txt");
+  a.stream() << "new a";
+  group.Adopt(&a);
+  std::ofstream(group.Stage(dir / "b.txt")) << "new b";
+  EXPECT_EQ(Contents(dir / "a.txt"), "old a");  // nothing visible before the commit
+  group.Commit();
+  EXPECT_EQ(Contents(dir / "a.txt"), "new a");
+  EXPECT_EQ(Contents(dir / "b.txt"), "new b");
+  EXPECT_EQ(Entries(dir), 2u);  // no marker, no temporary
+}
+
+TEST(OutputGroup, AnUncommittedGroupRemovesItsTemporaries) {
+  const fs::path dir = Fresh("group_uncommitted");
+  {
+    OutputGroup group;
+    AtomicOutput a(dir / "a.txt");
+    a.stream() << "a";
+    group.Adopt(&a);
+    std::ofstream(group.Stage(dir / "b.txt")) << "b";
+  }
+  EXPECT_EQ(Entries(dir), 0u);
+}
+
+// A commit that stops between its renames (here: a member whose temporary is missing) leaves
+// the marker, and readers refuse the files it names instead of pairing new with old.
+TEST(OutputGroup, AnInterruptedCommitMakesReadersRefuseItsFiles) {
+  const fs::path dir = Fresh("group_interrupted");
+  std::ofstream(dir / "b.txt") << "old b";
+  std::ofstream(dir / "other.txt") << "not in the group";
+  OutputGroup group;
+  AtomicOutput a(dir / "a.txt");
+  a.stream() << "new a";
+  group.Adopt(&a);
+  group.Stage(dir / "b.txt");  // never written
+  EXPECT_THROW(group.Commit(), InputError);
+  EXPECT_EQ(Contents(dir / "a.txt"), "new a");
+  EXPECT_TRUE(fs::exists(CommitMarkerPath(dir)));
+  try {
+    ReadWholeFile(dir / "a.txt");
+    ADD_FAILURE() << "read a file of an interrupted commit";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a.txt: incomplete"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ReadWholeFile(dir / "other.txt"), "not in the group");
 }
 
 }  // namespace

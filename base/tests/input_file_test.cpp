@@ -35,7 +35,7 @@ void Map(const fs::path& p) { MappedFile file(p); }
 void ReadAll(const fs::path& p) { ReadWholeFile(p); }
 
 // A FIFO with no writer blocks open() forever: the readers must refuse it without opening it.
-TEST(RequireRegularFile, RefusesAFifoWithoutHanging) {
+TEST(RequireInputFile, RefusesAFifoWithoutHanging) {
   const fs::path fifo = Scratch("pipe");
   fs::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
@@ -44,7 +44,7 @@ TEST(RequireRegularFile, RefusesAFifoWithoutHanging) {
   fs::remove(fifo);
 }
 
-TEST(RequireRegularFile, RefusesADirectoryNamingIt) {
+TEST(RequireInputFile, RefusesADirectoryNamingIt) {
   const fs::path dir = Scratch("adir");
   fs::create_directories(dir);
   const std::string message = MessageOf(&Map, dir);
@@ -52,10 +52,10 @@ TEST(RequireRegularFile, RefusesADirectoryNamingIt) {
   EXPECT_NE(MessageOf(&ReadAll, dir).find("directory"), std::string::npos);
 }
 
-TEST(RequireRegularFile, AcceptsARegularFile) {
+TEST(RequireInputFile, AcceptsARegularFile) {
   const fs::path file = Scratch("plain.txt");
   std::ofstream(file) << "1\n";
-  EXPECT_NO_THROW(RequireRegularFile(file));
+  EXPECT_NO_THROW(RequireInputFile(file));
   EXPECT_EQ(ReadWholeFile(file), "1\n");
 }
 

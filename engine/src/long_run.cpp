@@ -132,13 +132,10 @@ class FileSink : public FrameSink {
   }
 
   void set_fields(bool fields) { fields_ = fields; }
-  // The outputs are one set: a rerun into the same directory first removes the previous run's
-  // files, so a kill between the renames below leaves the new text without a trajectory.h5,
-  // never beside the old run's.
-  void Close() {
-    std::error_code ignored;
-    for (const fs::path& output : LongRunOutputs(o_.out)) fs::remove(output, ignored);
-    for (auto& w : writers_) w->Close();
+  // The outputs are one set: finished under their temporary names, then moved into place
+  // together (OutputGroup).
+  void FinishInto(OutputGroup* group) {
+    for (auto& w : writers_) w->FinishInto(group);
   }
   void Abort() {
     for (auto& w : writers_) w->Abort();
@@ -188,7 +185,9 @@ RunSummary RunToFiles(const SiberneticConfig& config, const RunOptions& run_opti
   if (summary.interrupted) {
     sink.Abort();
   } else {
-    sink.Close();
+    OutputGroup own;
+    sink.FinishInto(long_run.outputs ? long_run.outputs : &own);
+    if (!long_run.outputs) own.Commit();
     // Complete: a checkpoint would name temporaries that no longer exist.
     std::error_code ignored;
     fs::remove_all(CheckpointPath(long_run.out).parent_path(), ignored);

@@ -31,34 +31,36 @@ std::string ConfigurationHash(const std::string& source) {
 }
 
 // A worm run also writes Sibernetic's worm_motion_log.txt and worm.wcon (and the OME-Zarr when
-// asked): the formats other OpenWorm tools read.
+// asked): the formats other OpenWorm tools read. Written under the group's temporary names.
 std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunRequest& r,
-                                          const std::string& source) {
+                                          const std::string& source, OutputGroup* group) {
   std::vector<std::string> written;
   const fs::path out = r.out;
   if (r.zarr) {
-    WriteOmeZarr(t, out / "trajectory.zarr");
+    WriteOmeZarr(t, group->Stage(out / "trajectory.zarr"));
     written.push_back((out / "trajectory.zarr").string());
   }
   if (!kinematics::IsWorm(t)) return written;
-  kinematics::WriteWormMotionLog(t, out / "worm_motion_log.txt");
+  kinematics::WriteWormMotionLog(t, group->Stage(out / "worm_motion_log.txt"));
   const nlohmann::json settings = {
       {"configuration", source}, {"configuration_fnv1a64", ConfigurationHash(source)},
       {"backend", r.backend},    {"integrator", r.integrator},
       {"muscles", r.muscles},    {"log_step", r.log_step},
       {"time_s", r.time_s}};
-  WriteWormWcon(t, settings, out / "worm.wcon");
+  WriteWormWcon(t, settings, group->Stage(out / "worm.wcon"));
   written.push_back((out / "worm_motion_log.txt").string());
   written.push_back((out / "worm.wcon").string());
   return written;
 }
 
-// Worm outputs and OME-Zarr need every frame: read back from the finished trajectory.h5, so
-// only such runs hold the trajectory in memory.
+// Worm outputs and OME-Zarr need every frame: read back from the finished trajectory.h5 (still
+// under its temporary name), so only such runs hold the trajectory in memory.
 std::vector<std::string> WriteWholeTrajectoryOutputs(const Trajectory& header, const RunRequest& r,
-                                                     const std::string& source) {
+                                                     const std::string& source,
+                                                     OutputGroup* group) {
   if (!r.zarr && !kinematics::IsWorm(header)) return {};
-  return WriteWormOutputs(ReadHdf5(fs::path(r.out) / "trajectory.h5"), r, source);
+  const fs::path finished = group->TemporaryOf(fs::path(r.out) / "trajectory.h5");
+  return WriteWormOutputs(ReadHdf5(finished), r, source, group);
 }
 
 // An adaptive scheme's time steps, rollbacks and density variation, one entry per frame, written
@@ -76,11 +78,11 @@ class StepLogStream {
     }
     file_->stream() << entry;
   }
-  // The file's path when the run wrote one, else "".
-  std::string Commit() {
+  // Hands the finished file to the run's outputs; its path when the run wrote one, else "".
+  std::string FinishInto(OutputGroup* group) {
     if (!file_) return "";
     file_->stream() << "\n]}\n";
-    file_->Commit();
+    group->Adopt(file_.get());
     return path_.string();
   }
 
@@ -203,18 +205,23 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   options.on_step = o.on_step;
   options.stop_requested = o.stop_requested;
   Observers seen;
+  OutputGroup outputs;  // every file of the run appears together
   seen.step_log =
       std::make_unique<StepLogStream>(fs::path(request.out) / "step_log.json", options.backend);
-  summary->run = engine::RunToFiles(config, options, Files(request, o, &seen));
+  engine::LongRunOptions files = Files(request, o, &seen);
+  files.outputs = &outputs;
+  summary->run = engine::RunToFiles(config, options, files);
   summary->backend = options.backend;
   const bool interrupted = summary->run.interrupted;
   for (const fs::path& output : engine::LongRunOutputs(request.out))
     summary->outputs.push_back((interrupted ? PartialPath(output) : output).string());
   if (!interrupted) {
-    for (const std::string& path : WriteWholeTrajectoryOutputs(seen.header, request, config.source))
+    for (const std::string& path :
+         WriteWholeTrajectoryOutputs(seen.header, request, config.source, &outputs))
       summary->outputs.push_back(path);
-    if (const std::string path = seen.step_log->Commit(); !path.empty())
+    if (const std::string path = seen.step_log->FinishInto(&outputs); !path.empty())
       summary->outputs.push_back(path);
+    outputs.Commit();
   }
   if (seen.monitor)
     summary->stability = std::make_unique<compare::StabilityReport>(seen.monitor->report());

@@ -303,7 +303,7 @@ namespace internal {
 void DryRunHdf5Contained(const std::string& path) {
   const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   SilenceHdf5Errors();
-  RequireRegularFile(path);
+  RequireInputFile(path);
   const std::uintmax_t file_bytes = std::filesystem::file_size(path);
   RunContained(path, "HDF5: libhdf5", [&] { ReadHdf5InProcess(path, file_bytes, true); });
 }
@@ -334,7 +334,7 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
 }
 
 FileFormat DetectFormat(const std::filesystem::path& path) {
-  RequireRegularFile(path);  // before open(): a FIFO would block it
+  RequireInputFile(path);  // before open(): a FIFO would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open file (missing or unreadable)");
   char signature[8] = {};

@@ -103,6 +103,13 @@ class Hdf5Writer : public TrajectoryWriter {
     out_.Commit();
   }
 
+  void FinishInto(OutputGroup* group) override {
+    const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+    Flush();
+    Finish();
+    group->Adopt(&out_);
+  }
+
   void Abort() override {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     Flush();

@@ -317,7 +317,7 @@ void CheckEndsWithNewline(const std::string& path) {
 std::unique_ptr<FrameSource> OpenTextFrameSource(const std::string& path,
                                                  const TextReadOptions& options,
                                                  TextReadReport* report, bool partial) {
-  RequireRegularFile(path);  // before gzopen: a FIFO would block it
+  RequireInputFile(path);  // before gzopen: a FIFO would block it
   CheckEndsWithNewline(path);
   return std::make_unique<TextFrameSource>(path, options, report, partial);
 }

@@ -37,6 +37,11 @@ class TextWriter : public TrajectoryWriter {
     out_.Commit();
   }
 
+  void FinishInto(OutputGroup* group) override {
+    Flush();
+    group->Adopt(&out_);
+  }
+
   void Abort() override {
     Flush();
     out_.CommitAs(PartialPath(out_.destination()));

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace owval {
 
@@ -30,6 +31,9 @@ class AtomicOutput {
   void Adopt(const std::filesystem::path& existing);
   // Keep the temporary when destroyed uncommitted (a checkpointed run's output, for --resume).
   void KeepOnFailure() { keep_ = true; }
+  // Flushes and closes the temporary and hands it over (to an OutputGroup): this object then
+  // neither renames nor removes it. Throws on I/O failure.
+  void Release();
 
  private:
   std::filesystem::path destination_;
@@ -61,6 +65,40 @@ class AtomicDirectory {
   std::filesystem::path temporary_;
   bool committed_ = false;
 };
+
+// Files (or directories) of one command that appear together or not at all, in one directory.
+// Members are finished under temporary names first; Commit() then writes a marker, DIR/
+// .owval-commit, naming them, removes older files of the same names, renames every member into
+// place and removes the marker. A process stopped between those renames leaves the marker, and
+// every owval reader refuses a file it names (RequireInputFile), so nothing ever reads a new file
+// beside an old or missing sibling. A destroyed group that was never committed removes its
+// members' temporaries.
+class OutputGroup {
+ public:
+  OutputGroup() = default;
+  ~OutputGroup();
+  OutputGroup(const OutputGroup&) = delete;
+  OutputGroup& operator=(const OutputGroup&) = delete;
+
+  // Takes over a finished output (AtomicOutput::Release is called here).
+  void Adopt(AtomicOutput* finished);
+  // A temporary name beside `destination` for the caller to write (a file or a directory, by any
+  // writer, itself atomic or not) that Commit() renames onto it.
+  std::filesystem::path Stage(const std::filesystem::path& destination);
+  // The temporary that will become `destination`; empty when it is not a member.
+  std::filesystem::path TemporaryOf(const std::filesystem::path& destination) const;
+  void Commit();
+
+ private:
+  struct Member {
+    std::filesystem::path temporary, destination;
+  };
+  std::vector<Member> members_;
+  bool committed_ = false;
+};
+
+// The marker an interrupted OutputGroup::Commit leaves in its directory.
+std::filesystem::path CommitMarkerPath(const std::filesystem::path& directory);
 
 // Writes the whole string atomically. Also removes what a killed process left for the same
 // destination (".NAME.tmp.PID.N" whose PID no longer runs). A streaming AtomicOutput does not:

@@ -1,13 +1,14 @@
 #pragma once
 // Inputs are regular files. A FIFO blocks open() until a writer appears and a directory or a
-// device has no size to check allocations against, so readers call RequireRegularFile() before
+// device has no size to check allocations against, so readers call RequireInputFile() before
 // they open anything (issue 18 item 14).
 #include <filesystem>
 
 namespace owval {
 
 // Throws InputError naming the file when it is missing, or not a regular file (saying what it
-// is: a directory, a FIFO, a device, a socket). Follows symbolic links.
-void RequireRegularFile(const std::filesystem::path& path);
+// is: a directory, a FIFO, a device, a socket), or one of a set of outputs whose move into place
+// was interrupted (OutputGroup's marker in its directory names it). Follows symbolic links.
+void RequireInputFile(const std::filesystem::path& path);
 
 }  // namespace owval

@@ -26,6 +26,7 @@
 #include <functional>
 #include <string>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/engine/run.hpp"
 
 namespace owval::engine {
@@ -41,6 +42,9 @@ struct LongRunOptions {
   std::function<void(const FrameView&)> on_frame;
   // Sees the trajectory's metadata once, before the first frame; may be empty.
   std::function<void(const Trajectory&)> on_begin;
+  // When set, a completed run's text and HDF5 join this group and the caller commits it with
+  // its other outputs; otherwise RunToFiles commits the two together.
+  OutputGroup* outputs = nullptr;
 };
 
 // out/checkpoint/checkpoint.bin

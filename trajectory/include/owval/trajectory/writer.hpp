@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
@@ -69,6 +70,9 @@ class TrajectoryWriter {
                            const float* density = nullptr, const float* pressure = nullptr) = 0;
   // Writes what is buffered and renames the file onto its destination.
   virtual void Close() = 0;
+  // Writes what is buffered and closes the file under its temporary name, which `group` then
+  // renames onto the destination together with the command's other outputs.
+  virtual void FinishInto(OutputGroup* group) = 0;
   // Writes what is buffered, marks the file partial and renames it onto PartialPath(destination).
   virtual void Abort() = 0;
   virtual std::size_t frames_written() const = 0;
