@@ -92,9 +92,9 @@ void RunGradientFit(const FitArgs& a) {
   sgd::GradientFitSummary summary;
   sgd::FitWithGradient(options, model, parameters, loss, &summary);
   const nlohmann::json history = sgd::ToJson(options, parameters, summary);
-  WriteFileAtomically(out / "history.json", history.dump(2) + "\n");
-  WriteFileAtomically(out / "parameters.json", history["final"].dump(2) + "\n");
-  WriteFileAtomically(out / "convergence.svg", reports::ConvergencePlot(summary.fit));
+  WriteFilesTogether({{out / "history.json", history.dump(2) + "\n"},
+                      {out / "parameters.json", history["final"].dump(2) + "\n"},
+                      {out / "convergence.svg", reports::ConvergencePlot(summary.fit)}});
   if (a.json) {
     std::cout << history.dump(2) << "\n";
   } else {
@@ -147,9 +147,9 @@ void RunFit(const FitArgs& a) {
   sgd::Fit(options, parameters, sgd::MakeObjective(simulator, tracking, targets), &summary);
   std::signal(SIGINT, previous);
   const nlohmann::json history = sgd::ToJson(options, parameters, summary, targets_json);
-  WriteFileAtomically(out / "history.json", history.dump(2) + "\n");
-  WriteFileAtomically(out / "parameters.json", history["final"].dump(2) + "\n");
-  WriteFileAtomically(out / "convergence.svg", reports::ConvergencePlot(summary));
+  WriteFilesTogether({{out / "history.json", history.dump(2) + "\n"},
+                      {out / "parameters.json", history["final"].dump(2) + "\n"},
+                      {out / "convergence.svg", reports::ConvergencePlot(summary)}});
   if (a.json) {
     std::cout << history.dump(2) << "\n";
   } else {

@@ -169,6 +169,16 @@ void AtomicDirectory::Commit() {
   if (replacing) fs::remove_all(old, error);  // the older report, now out of the way
 }
 
+void WriteFilesTogether(const std::vector<std::pair<fs::path, std::string>>& files) {
+  OutputGroup group;
+  for (const auto& [destination, contents] : files) {
+    AtomicOutput out(destination);
+    out.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    group.Adopt(&out);
+  }
+  group.Commit();
+}
+
 void WriteFileAtomically(const fs::path& destination, const std::string& contents) {
   SweepStaleTemporaries(destination);
   AtomicOutput out(destination);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace owval {
@@ -96,6 +97,9 @@ class OutputGroup {
   std::vector<Member> members_;
   bool committed_ = false;
 };
+
+// Writes whole files of one directory as one OutputGroup: all appear, or none.
+void WriteFilesTogether(const std::vector<std::pair<std::filesystem::path, std::string>>& files);
 
 // The marker an interrupted OutputGroup::Commit leaves in its directory.
 std::filesystem::path CommitMarkerPath(const std::filesystem::path& directory);
