@@ -1,7 +1,9 @@
 #include "neighbours/neighbour_grid.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include "neighbours/near_candidates.hpp"
 
@@ -25,15 +27,19 @@ void Bin(const std::vector<std::int32_t>& particles, const std::vector<int>& cel
 // candidates are within h (NearCandidates), so while slots are empty each one takes the next
 // slot: they are copied in bulk, and only later ones are compared.
 struct Selection {
-  float distance2[kSlots];
-  std::int32_t index[kSlots];
+  // Twice the slots: the bulk fill copies a whole block of kSlots entries at `filled` (a copy of
+  // constant size is a few vector moves; a variable one was a call to memmove per cell). Only
+  // entries below `filled` are ever read, so what lands beyond is never seen.
+  float distance2[2 * kSlots];
+  std::int32_t index[2 * kSlots];
   int filled = 0, target = 0;  // target: the first farthest slot, once all are filled
 
+  // j and d2 hold n candidates and are readable for kSlots entries at least.
   void OfferNear(const std::int32_t* j, const float* d2, int n) {
     const int copy = std::min(n, kSlots - filled);
-    for (int m = 0; m < copy; ++m) {
-      index[filled + m] = j[m];
-      distance2[filled + m] = d2[m];
+    if (copy > 0) {
+      std::memcpy(index + filled, j, kSlots * sizeof *j);
+      std::memcpy(distance2 + filled, d2, kSlots * sizeof *d2);
     }
     filled += copy;
     if (copy > 0 && filled == kSlots) target = FirstLargestOf32(distance2);
@@ -45,15 +51,6 @@ struct Selection {
     }
   }
 };
-
-// Bit n set when slot n of particle i holds a boundary particle.
-std::uint32_t BoundarySlots(const ParticleState& s, std::int32_t i) {
-  const Neighbour* slots = s.slots(i);
-  std::uint32_t mask = 0;
-  for (int n = 0; n < kSlots && slots[n].index >= 0; ++n)
-    mask |= std::uint32_t(IsBoundary(s.position[slots[n].index].w)) << n;
-  return mask;
-}
 
 }  // namespace
 
@@ -87,6 +84,9 @@ void NeighbourGrid::SetStatic(const ParticleState& s) {
     static_y_.push_back(s.position[b].y);
     static_z_.push_back(s.position[b].z);
   }
+  boundary_.assign(s.size(), 0);
+  for (std::int32_t b : boundary) boundary_[std::size_t(b)] = 1;
+  listed_.assign(s.size(), 0);
   merged_start_.assign(std::size_t(nx_) * ny_ * nz_, -1);
   merged_count_.assign(std::size_t(nx_) * ny_ * nz_, 0);
 }
@@ -199,36 +199,54 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
   for (int k = selection.filled; k < kSlots; ++k) slots[k] = Neighbour{};
 }
 
+std::uint32_t NeighbourGrid::BoundarySlots(const Neighbour* slots) const {
+  std::uint32_t mask = 0;
+  for (int n = 0; n < kSlots && slots[n].index >= 0; ++n)
+    mask |= std::uint32_t(boundary_[std::size_t(slots[n].index)]) << n;
+  return mask;
+}
+
+void NeighbourGrid::ListSlots(ParticleState* state, std::int32_t i) {
+  ParticleState& s = *state;
+  Neighbour* slots = s.slots(std::size_t(i));
+  FindNeighbours(s, i, slots);
+  const std::uint32_t mask = BoundarySlots(slots);
+  s.boundary_slots[std::size_t(i)] = mask;
+  // Marks the boundary particles a moving particle lists, for ListActive (every write stores 1).
+  if (!boundary_[std::size_t(i)])
+    for (std::uint32_t bits = mask; bits != 0; bits &= bits - 1)
+      std::atomic_ref<std::uint8_t>(listed_[std::size_t(slots[__builtin_ctz(bits)].index)])
+          .store(1, std::memory_order_relaxed);
+}
+
+void NeighbourGrid::ListActive(ParticleState* state) {
+  ParticleState& s = *state;
+  for (std::int32_t b : s.active) is_active_[b] = 0;
+  s.active = s.moving;
+  for (std::int32_t i : s.moving) is_active_[i] = 1;
+  // The boundary particles some moving particle lists (marked by ListSlots), in the order of the
+  // boundary cell lists. Their order in `active` changes no result: each active particle's
+  // quantities come from its own list alone.
+  for (std::int32_t b : static_items_) {
+    if (!listed_[std::size_t(b)]) continue;
+    listed_[std::size_t(b)] = 0;
+    is_active_[b] = 1;
+    s.active.push_back(b);
+  }
+}
+
 void NeighbourGrid::Refresh(ParticleState* state, int threads) {
   ParticleState& s = *state;
   UpdateMoving(s);
   const auto& moving = s.moving;
   s.boundary_slots.resize(s.size(), 0);
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = 0; n < moving.size(); ++n) {
-    FindNeighbours(s, moving[n], s.slots(moving[n]));
-    s.boundary_slots[moving[n]] = BoundarySlots(s, moving[n]);
-  }
+  for (std::size_t n = 0; n < moving.size(); ++n) ListSlots(&s, moving[n]);
   is_active_.resize(s.size(), 0);
-  for (std::int32_t b : s.active) is_active_[b] = 0;
-  s.active = moving;
-  for (std::int32_t i : moving) is_active_[i] = 1;
-  for (std::int32_t i : moving) {
-    const Neighbour* slots = s.slots(i);
-    for (int k = 0; k < kSlots && slots[k].index >= 0; ++k) {
-      const std::int32_t j = slots[k].index;
-      if (!is_active_[j]) {
-        is_active_[j] = 1;
-        s.active.push_back(j);
-      }
-    }
-  }
+  ListActive(&s);
   const std::size_t first_boundary = moving.size();
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = first_boundary; n < s.active.size(); ++n) {
-    FindNeighbours(s, s.active[n], s.slots(s.active[n]));
-    s.boundary_slots[s.active[n]] = BoundarySlots(s, s.active[n]);
-  }
+  for (std::size_t n = first_boundary; n < s.active.size(); ++n) ListSlots(&s, s.active[n]);
 }
 
 }  // namespace owval::engine::internal

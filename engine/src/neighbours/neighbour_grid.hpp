@@ -53,6 +53,13 @@ class NeighbourGrid {
     int count;
   };
   Segment CellSegment(int cell) const;
+  // Bit n set when slot n holds a boundary particle.
+  std::uint32_t BoundarySlots(const Neighbour* slots) const;
+  // Fills particle i's list and its boundary-slot mask; a moving particle also marks the
+  // boundary particles it lists.
+  void ListSlots(ParticleState* state, std::int32_t i);
+  // Sets state.active: the moving particles, then the boundary particles they list.
+  void ListActive(ParticleState* state);
   // Rebuilds the merged segments of the cells that hold moving particles.
   void MergeCells(const ParticleState& state, const std::vector<int>& moving_cells);
 
@@ -67,6 +74,9 @@ class NeighbourGrid {
   std::vector<float> merged_x_, merged_y_, merged_z_;
   std::vector<int> merged_cells_;  // the cells merged in the last step
   std::vector<char> is_active_;    // per particle, for Refresh
+  // Per particle: 1 for boundary particles (their type never changes), read instead of the
+  // type code in the position's w; and ListActive's marks.
+  std::vector<std::uint8_t> boundary_, listed_;
 };
 
 }  // namespace owval::engine::internal
