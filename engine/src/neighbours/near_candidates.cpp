@@ -24,13 +24,24 @@ int NearScalar(const CandidateCell& cell, const float p[3], float h2, std::int32
 }
 
 // Sixteen candidates per iteration; the packed lanes are compressed in a register and stored
-// whole (a compressing store to memory is slow on some CPUs), hence kNearSlack.
-__attribute__((target("avx512f"))) int NearAvx512(const CandidateCell& cell, const float p[3],
-                                                  float h2, std::int32_t self,
-                                                  std::int32_t* near_index, float* near_d2) {
-  const __m512 px = _mm512_set1_ps(p[0]), py = _mm512_set1_ps(p[1]), pz = _mm512_set1_ps(p[2]);
-  const __m512 limit = _mm512_set1_ps(h2);
-  const __m512i me = _mm512_set1_epi32(self);
+// whole (a compressing store to memory is slow on some CPUs), hence kNearSlack. The particle's
+// registers are set once for all its cells.
+struct Avx512Particle {
+  __m512 px, py, pz, limit;
+  __m512i me;
+};
+
+__attribute__((target("avx512f"))) Avx512Particle Avx512ParticleOf(const float p[3], float h2,
+                                                                   std::int32_t self) {
+  return {_mm512_set1_ps(p[0]), _mm512_set1_ps(p[1]), _mm512_set1_ps(p[2]), _mm512_set1_ps(h2),
+          _mm512_set1_epi32(self)};
+}
+
+__attribute__((target("avx512f"))) inline int NearCell(const CandidateCell& cell,
+                                                       const Avx512Particle& q,
+                                                       std::int32_t* near_index, float* near_d2) {
+  const __m512 px = q.px, py = q.py, pz = q.pz, limit = q.limit;
+  const __m512i me = q.me;
   int near = 0;
   for (int m = 0; m < cell.count; m += 16) {
     const int left = cell.count - m;
@@ -46,6 +57,23 @@ __attribute__((target("avx512f"))) int NearAvx512(const CandidateCell& cell, con
     _mm512_storeu_si512(near_index + near, _mm512_maskz_compress_epi32(take, index));
     near += __builtin_popcount(take);
   }
+  return near;
+}
+
+__attribute__((target("avx512f"))) int NearAvx512(const CandidateCell& cell, const float p[3],
+                                                  float h2, std::int32_t self,
+                                                  std::int32_t* near_index, float* near_d2) {
+  return NearCell(cell, Avx512ParticleOf(p, h2, self), near_index, near_d2);
+}
+
+__attribute__((target("avx512f"))) int NearCellsAvx512(const CandidateCell* cells, int cell_count,
+                                                       const float p[3], float h2,
+                                                       std::int32_t self, std::int32_t* near_index,
+                                                       float* near_d2) {
+  const Avx512Particle q = Avx512ParticleOf(p, h2, self);
+  int near = 0;
+  for (int c = 0; c < cell_count; ++c)
+    near += NearCell(cells[c], q, near_index + near, near_d2 + near);
   return near;
 }
 
@@ -73,6 +101,15 @@ int NearCandidates(const CandidateCell& cell, const float p[3], float h2, std::i
                    std::int32_t* near_index, float* near_d2) {
   return UseAvx512() ? NearAvx512(cell, p, h2, self, near_index, near_d2)
                      : NearScalar(cell, p, h2, self, near_index, near_d2);
+}
+
+int NearCandidatesOfCells(const CandidateCell* cells, int cell_count, const float p[3], float h2,
+                          std::int32_t self, std::int32_t* near_index, float* near_d2) {
+  if (UseAvx512()) return NearCellsAvx512(cells, cell_count, p, h2, self, near_index, near_d2);
+  int near = 0;
+  for (int c = 0; c < cell_count; ++c)
+    near += NearScalar(cells[c], p, h2, self, near_index + near, near_d2 + near);
+  return near;
 }
 
 int FirstLargestOf32(const float* d2) {

@@ -25,6 +25,11 @@ struct CandidateCell {
 int NearCandidates(const CandidateCell& cell, const float p[3], float h2, std::int32_t self,
                    std::int32_t* near_index, float* near_d2);
 
+// The same for several cells, one after another: their candidates within h appended in the
+// cells' order. The outputs hold the cells' total count + kNearSlack entries.
+int NearCandidatesOfCells(const CandidateCell* cells, int cell_count, const float p[3], float h2,
+                          std::int32_t self, std::int32_t* near_index, float* near_d2);
+
 // The first index of the largest of 32 squared distances (std::max_element's answer; the values
 // are never NaN). AVX-512 when the running CPU has it.
 int FirstLargestOf32(const float* d2);

@@ -177,23 +177,28 @@ void NeighbourGrid::FindNeighbours(const ParticleState& s, std::int32_t i, Neigh
   const Float4 p = s.position[i];
   int cells[8];
   SearchCells(p, cells);
-  Selection selection;
-  // Only candidates within h can ever be taken (the selection's limit starts at h² and only
-  // falls): NearCandidates packs those, in the cell's order, and only they are offered.
-  constexpr int kChunk = 128;
-  float near_d2[kChunk + kNearSlack];
-  std::int32_t near_index[kChunk + kNearSlack];
-  const float position[3] = {p.x, p.y, p.z};
+  CandidateCell searched[8];
+  int searched_count = 0, candidates = 0;
   for (const int c : cells) {
     if (c < 0) continue;
     const Segment cell = CellSegment(c);
-    for (int first = 0; first < cell.count; first += kChunk) {
-      const CandidateCell chunk{cell.index + first, cell.x + first, cell.y + first, cell.z + first,
-                                std::min(kChunk, cell.count - first)};
-      const int near = NearCandidates(chunk, position, k_.h2_cu, i, near_index, near_d2);
-      selection.OfferNear(near_index, near_d2, near);
-    }
+    searched[searched_count++] = {cell.index, cell.x, cell.y, cell.z, cell.count};
+    candidates += cell.count;
   }
+  // Only candidates within h can ever be taken (the selection's limit starts at h² and only
+  // falls): NearCandidatesOfCells packs those of all eight cells, in the cells' order, and only
+  // they are offered, at once. The buffers grow to the largest neighbourhood seen.
+  thread_local std::vector<std::int32_t> near_index;
+  thread_local std::vector<float> near_d2;
+  if (near_index.size() < std::size_t(candidates + kNearSlack)) {
+    near_index.resize(std::size_t(candidates + kNearSlack) * 2);
+    near_d2.resize(near_index.size());
+  }
+  const float position[3] = {p.x, p.y, p.z};
+  const int near = NearCandidatesOfCells(searched, searched_count, position, k_.h2_cu, i,
+                                         near_index.data(), near_d2.data());
+  Selection selection;
+  selection.OfferNear(near_index.data(), near_d2.data(), near);
   for (int k = 0; k < selection.filled; ++k)
     slots[k] = {selection.index[k], std::sqrt(selection.distance2[k]) * k_.scale};
   for (int k = selection.filled; k < kSlots; ++k) slots[k] = Neighbour{};
