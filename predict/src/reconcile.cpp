@@ -145,6 +145,8 @@ std::optional<double> Measure(const std::string& q, const Signal& s, const Traje
   if (q == "mid_depth_pressure_rms_error") return MidDepthPressureError(t, p);
   const std::string front = "surge_front_Z_at_T_";
   if (q.rfind(front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(front.size())));
+  const std::string ko_front = "koshizuka_oka_front_Z_at_T_";
+  if (q.rfind(ko_front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(ko_front.size())));
   const compare::SignalMetrics& m = s.metrics;
   if (q == "zero_crossing_period" || q == "period_continuous" || q == "fundamental_period")
     return m.period_s;

@@ -48,6 +48,14 @@ double LatticeSpacing(const engine::SiberneticConfig& c, double fallback) {
 constexpr double kMartinMoyce[][2] = {
     {0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292}, {2.547, 2.995}, {3.345, 4.134}};
 
+// Koshizuka & Oka (1996), Nucl. Sci. Eng. 123, 421-434: their own experiment with the same
+// aspect (column L = 0.146 m wide, 2L high), Z = z/L at T = t sqrt(2g/L), digitised in the same
+// PySPH file (ko_data), T > 0. An independent second experiment, informative: it shows whether
+// a gap to Martin & Moyce is one experiment's or the simulation's.
+constexpr double kKoshizukaOka[][2] = {{0.381, 1.111}, {0.769, 1.252}, {1.153, 1.505},
+                                       {1.537, 1.892}, {1.935, 2.241}, {2.323, 2.615},
+                                       {2.719, 3.003}, {3.096, 3.624}};
+
 }  // namespace
 
 Prediction HydrostaticTank(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k) {
@@ -118,6 +126,14 @@ Prediction DamBreak(const engine::SiberneticConfig& c, const engine::PhysicsCons
                  "Martin & Moyce 1952 Fig. 3 (n^2 = 2, a = 2.25 in; digitised in PySPH "
                  "db_exp_data.py): Z = z/a at T = t sqrt(2g/a); value_in_si is that t",
                  big_t <= 3.0 ? 0.10 : 0.0, big_t <= 3.0 ? kRelative : kInformative));
+  }
+  for (const auto& [big_t, z] : kKoshizukaOka) {
+    char name[64];
+    std::snprintf(name, sizeof name, "koshizuka_oka_front_Z_at_T_%.3f", big_t);
+    p.predictions.push_back(Quantity(name, z, "1", big_t * time_unit, "s",
+                                     "Koshizuka & Oka 1996 experiment (column 2L high, L wide; "
+                                     "digitised in PySPH db_exp_data.py ko_data), informative",
+                                     0.0, kInformative));
   }
   p.notes = {
       "height/width " + std::to_string(height / width) + " (Martin & Moyce's n^2 = 2 case)",
