@@ -1,0 +1,67 @@
+#pragma once
+// `owval fit` (phase 5) as a library call: parameters fitted by an optimiser, the history written
+// to `out/history.json` after every iteration (a long fit can be watched and loses nothing), and
+// at the end the history, parameters.json and convergence.svg, which appear together.
+//
+// Two kinds of fit:
+//   - finite differences ("fd"): runs of the engine (any backend) or of an external command,
+//     scored against targets (period, half-amplitude, ...) by Ceres or gradient descent;
+//   - "analytic" (XPBD's reverse pass) or "model-fd" (the same model and L-BFGS/Adam, central
+//     differences instead of the reverse pass): a loss against a reference trajectory.
+//
+//   pipeline::FitRequest request;
+//   request.parameters = {"elasticity_coefficient=1.62e8:log"};
+//   request.targets = {"period=0.7246e-3"};
+//   request.out = "fit";
+//   pipeline::FitDirectorySummary summary;
+//   pipeline::FitIntoDirectory(request, &config, nullptr, {}, &summary);
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "owval/engine/config.hpp"
+#include "owval/trajectory/track.hpp"
+#include "owval/trajectory/trajectory.hpp"
+
+namespace owval::pipeline {
+
+struct FitRequest {
+  std::vector<std::string> parameters;  // NAME=START[:log|:lin][:LOWER:UPPER]
+  std::vector<std::string> targets;     // fd: METRIC=VALUE[:scale=S][:weight=W][:ref=FILE]
+  Track track;                          // the tracked quantity of targets and analytic losses
+  double time_s = 0.05;                 // simulated time per evaluation
+  int log_step = 1;
+  std::string solver = "lm";  // fd: lm | dogleg | gd; analytic: lbfgs (also "lm") | adam
+  std::string command;        // fd: an external simulator instead of the engine
+  std::string out;            // output directory
+  double threshold = 1e-4;    // stop when the loss is below
+  int max_iterations = 20;
+  double learning_rate = 0.5;
+  std::string gradient = "fd";     // fd | analytic | model-fd
+  std::string backend = "pcisph";  // fd: the engine scheme of the evaluations
+  // analytic: group centroids (every axis) in the loss instead of the tracked coordinate.
+  std::vector<std::string> loss_groups;
+  double loss_scale = 1;                          // cu
+  std::size_t checkpoint_every = 10, window = 0;  // reverse pass: stored states, TBPTT window
+  double clip_norm = 0;                           // per-step state-gradient norm clip (0: off)
+  bool quiet = false;                             // no progress line per iteration
+};
+
+struct FitDirectorySummary {
+  nlohmann::json history;                              // what history.json holds
+  std::string brief;                                   // one line: how it ended
+  std::vector<std::pair<std::string, double>> values;  // the fitted parameters
+  bool converged = false;
+};
+
+// `config`: the simulation (not read by fd fits with a command); `reference`: the analytic and
+// model-fd fits' trajectory (required there). `cancelled` is polled between evaluations (fd).
+// InputError naming the flag for a request that cannot run.
+void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
+                      const Trajectory* reference, const std::function<bool()>& cancelled,
+                      FitDirectorySummary* summary);
+
+}  // namespace owval::pipeline

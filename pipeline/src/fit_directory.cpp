@@ -1,0 +1,149 @@
+#include "owval/pipeline/fit_directory.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/reports/pipeline_report.hpp"
+#include "owval/sgd/engine_simulator.hpp"
+#include "owval/sgd/fit.hpp"
+#include "owval/sgd/gradient_fit.hpp"
+#include "owval/sgd/targets.hpp"
+
+namespace owval::pipeline {
+namespace {
+namespace fs = std::filesystem;
+
+std::vector<sgd::Parameter> ParametersOf(const FitRequest& r) {
+  std::vector<sgd::Parameter> parameters;
+  for (const std::string& p : r.parameters) parameters.push_back(sgd::ParseParameter(p));
+  return parameters;
+}
+
+// history.json after an iteration, with a progress line.
+void WriteProgress(const fs::path& out, const nlohmann::json& history, bool quiet) {
+  WriteFileAtomically(out / "history.json", history.dump(2) + "\n");
+  if (!quiet)
+    std::fprintf(stderr, "fit: iteration %zu, loss %.3g\n", history["iterations"].size() - 1,
+                 history["iterations"].back()["loss"].get<double>());
+}
+
+void WriteResults(const fs::path& out, const nlohmann::json& history, const std::string& svg) {
+  WriteFilesTogether({{out / "history.json", history.dump(2) + "\n"},
+                      {out / "parameters.json", history["final"].dump(2) + "\n"},
+                      {out / "convergence.svg", svg}});
+}
+
+void Summarise(const std::vector<sgd::Parameter>& parameters, const sgd::FitSummary& fit,
+               nlohmann::json history, FitDirectorySummary* summary) {
+  summary->history = std::move(history);
+  summary->converged = fit.converged;
+  for (std::size_t i = 0; i < parameters.size() && i < fit.final_values.size(); ++i)
+    summary->values.emplace_back(parameters[i].name, fit.final_values[i]);
+}
+
+std::vector<engine::LossTerm> LossOf(const FitRequest& r, const Trajectory& reference,
+                                     std::size_t steps) {
+  if (r.loss_groups.empty()) return sgd::TrackLoss(reference, r.track, steps, r.loss_scale);
+  std::vector<engine::LossTerm> loss;
+  for (const std::string& g : r.loss_groups)
+    for (engine::LossTerm& t :
+         sgd::TrackLoss(reference, Track{0, g, Axis::kY}, steps, r.loss_scale, /*every_axis=*/true))
+      loss.push_back(std::move(t));
+  return loss;
+}
+
+sgd::GradientFitOptions GradientOptions(const FitRequest& r) {
+  sgd::GradientFitOptions options;
+  options.loss_threshold = r.threshold;
+  options.max_iterations = r.max_iterations;
+  options.finite_differences = r.gradient == "model-fd";
+  if (r.solver == "adam") {
+    options.method = sgd::GradientFitOptions::Method::kAdam;
+    options.learning_rate = r.learning_rate;
+  } else if (r.solver != "lm" && r.solver != "lbfgs") {
+    throw InputError("fit --gradient " + r.gradient + ": --solver is lbfgs (default) or adam");
+  }
+  options.reverse.steps =
+      std::size_t(std::llround(r.time_s / engine::PhysicsConstants{}.time_step_s));
+  options.reverse.checkpoint_every = r.checkpoint_every;
+  options.reverse.window = r.window;
+  options.reverse.clip_norm = r.clip_norm;
+  return options;
+}
+
+// The analytic fit: loss against a reference trajectory, gradient from the engine's reverse pass.
+void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
+                 const Trajectory& reference, FitDirectorySummary* summary) {
+  const std::vector<sgd::Parameter> parameters = ParametersOf(r);
+  const fs::path out = r.out;
+  fs::create_directories(out);
+  const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
+  sgd::GradientFitOptions options = GradientOptions(r);
+  const std::vector<engine::LossTerm> loss = LossOf(r, reference, options.reverse.steps);
+  options.on_iteration = [&](const nlohmann::json& h) { WriteProgress(out, h, r.quiet); };
+  sgd::GradientFitSummary fit;
+  sgd::FitWithGradient(options, model, parameters, loss, &fit);
+  const nlohmann::json history = sgd::ToJson(options, parameters, fit);
+  WriteResults(out, history, reports::ConvergencePlot(fit.fit));
+  Summarise(parameters, fit.fit, history, summary);
+  summary->brief = fit.fit.BriefReport() + ", " + std::to_string(fit.total_simulation_equivalents) +
+                   " simulation-equivalents";
+}
+
+void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* config,
+                         const std::function<bool()>& cancelled, FitDirectorySummary* summary) {
+  if (r.targets.empty()) throw InputError("fit: at least one --target is required");
+  const std::vector<sgd::Parameter> parameters = ParametersOf(r);
+  std::vector<sgd::Target> targets;
+  for (const std::string& t : r.targets) targets.push_back(sgd::ParseTarget(t));
+  const fs::path out = r.out;
+  fs::create_directories(out);
+  sgd::Simulator simulator;
+  if (!r.command.empty()) {
+    simulator = sgd::CommandSimulator(r.command, parameters, out / "evaluations");
+  } else {
+    engine::RunOptions run;
+    run.duration_s = r.time_s;
+    run.log_step = r.log_step;
+    run.backend = r.backend;
+    simulator = sgd::EngineSimulator(*config, run, parameters);
+  }
+  sgd::FitOptions options;
+  options.solver = sgd::ParseSolver(r.solver);
+  options.loss_threshold = r.threshold;
+  options.max_iterations = r.max_iterations;
+  options.learning_rate = r.learning_rate;
+  const nlohmann::json targets_json = sgd::TargetsToJson(targets, r.track);
+  options.on_iteration = [&](const nlohmann::json& history) {
+    nlohmann::json h = history;
+    h["targets"] = targets_json;
+    WriteProgress(out, h, r.quiet);
+  };
+  options.cancelled = cancelled;
+  sgd::FitSummary fit;
+  sgd::Fit(options, parameters, sgd::MakeObjective(simulator, r.track, targets), &fit);
+  const nlohmann::json history = sgd::ToJson(options, parameters, fit, targets_json);
+  WriteResults(out, history, reports::ConvergencePlot(fit));
+  Summarise(parameters, fit, history, summary);
+  summary->brief = fit.BriefReport();
+}
+
+}  // namespace
+
+void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
+                      const Trajectory* reference, const std::function<bool()>& cancelled,
+                      FitDirectorySummary* summary) {
+  if (request.gradient == "fd") return FiniteDifferenceFit(request, config, cancelled, summary);
+  if (!reference)
+    throw InputError("fit --gradient " + request.gradient +
+                     ": --reference FILE (a trajectory) is required");
+  if (!request.command.empty())
+    throw InputError("fit --gradient " + request.gradient + ": takes no --command");
+  GradientFit(request, *config, *reference, summary);
+}
+
+}  // namespace owval::pipeline
