@@ -304,7 +304,7 @@ void CheckSize(const RenderOptions& o) {
 
 // The MP4 writer, opened at the first frame: by then llvmpipe has compiled its shaders, and
 // libLLVM's code leaves the resident set (code_pages.hpp) before libx264 allocates its frames.
-// A 1280x720 render peaks at about 125 MB instead of 156 MB (issue 16, docs/benchmarks.md).
+// A 1280x720 render peaks at about 125 MB instead of 156-162 MB (issue 16, docs/benchmarks.md).
 class Video {
  public:
   Video(std::string path, const RenderOptions& o) : path_(std::move(path)), options_(o) {}
