@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "owval/base/atomic_output.hpp"
@@ -10,20 +11,22 @@
 #include "owval/base/json_file.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
 namespace {
 
 // What every item's check may read: the directory, the caller's options and the two
-// trajectories (each read once; empty when missing or unreadable).
+// trajectories, read frame by frame (issue 16: memory O(particles) whatever their length), each
+// opened once; null when missing or unreadable.
 struct Evidence {
   fs::path dir;
   ChecklistOptions options;
-  std::optional<Trajectory> reference, candidate;
+  std::unique_ptr<FrameSource> reference, candidate;
 };
 
-using Check = void (*)(const Evidence& e, ChecklistItem* item);
+using Check = void (*)(Evidence& e, ChecklistItem* item);
 
 // The first of `names` that exists in dir, or empty.
 fs::path FirstExisting(const fs::path& dir, std::initializer_list<const char*> names) {
@@ -32,18 +35,22 @@ fs::path FirstExisting(const fs::path& dir, std::initializer_list<const char*> n
   return {};
 }
 
-std::optional<Trajectory> TryRead(const fs::path& file) {
-  if (file.empty()) return std::nullopt;
+std::unique_ptr<FrameSource> Open(const fs::path& file) {
   TextReadOptions quiet;
   quiet.quiet = true;
+  return OpenFrameSource(file, quiet);
+}
+
+std::unique_ptr<FrameSource> TryOpen(const fs::path& file) {
+  if (file.empty()) return nullptr;
   try {
-    return ReadTrajectory(file, quiet);
+    return Open(file);
   } catch (const std::exception&) {
-    return std::nullopt;  // the item's own check reads it again and reports why
+    return nullptr;  // the item's own check opens it again and reports why
   }
 }
 
-const Trajectory& Need(const std::optional<Trajectory>& t, const char* which) {
+FrameSource& Need(const std::unique_ptr<FrameSource>& t, const char* which) {
   if (!t) throw InputError(std::string("the ") + which + " trajectory is missing or unreadable");
   return *t;
 }
@@ -52,7 +59,7 @@ predict::Prediction ReadPrediction(const fs::path& path) {
   return predict::Prediction::FromJson(ReadJsonFile(path), path.string());
 }
 
-void CheckPrediction(const Evidence& e, ChecklistItem* item) {
+void CheckPrediction(Evidence& e, ChecklistItem* item) {
   const predict::Prediction p = ReadPrediction(e.dir / "prediction.json");
   item->detail = std::to_string(p.predictions.size()) + " predicted quantities";
   if (e.options.git_range.empty()) {
@@ -67,26 +74,38 @@ void CheckPrediction(const Evidence& e, ChecklistItem* item) {
   item->detail += "; " + order;
 }
 
-void CheckTrajectory(const fs::path& file, ChecklistItem* item) {
-  TextReadOptions quiet;
-  quiet.quiet = true;
-  const Trajectory t = ReadTrajectory(file, quiet);
-  for (float x : t.positions)
-    if (!std::isfinite(x)) throw InputError(file.string(), 0, "contains NaN or Inf positions");
+// Every frame read and its positions checked. A frame that cannot be read makes the trajectory
+// unreadable for the later items (`source` reset), as a failed whole read did.
+void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
+                     ChecklistItem* item) {
+  FrameSource& t = source ? *source : *(source = Open(file));
+  const std::size_t values = 3 * t.particle_count();
+  bool finite = true;
+  try {
+    for (std::size_t f = 0; f < t.frame_count() && finite; ++f) {
+      const FrameRef frame = t.Frame(f);
+      const float* x = frame.trajectory.position(frame.frame, 0);
+      finite = std::all_of(x, x + values, [](float v) { return std::isfinite(v); });
+    }
+  } catch (const std::exception&) {
+    source.reset();
+    throw;
+  }
+  if (!finite) throw InputError(file.string(), 0, "contains NaN or Inf positions");
   item->detail = file.filename().string() + ": " + std::to_string(t.frame_count()) + " frames, " +
                  std::to_string(t.particle_count()) + " particles";
   item->pass = t.frame_count() >= 2;
   if (!item->pass) item->detail += " (expected at least 2 frames)";
 }
 
-void CheckReference(const Evidence& e, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), item);
+void CheckReference(Evidence& e, ChecklistItem* item) {
+  CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
 }
-void CheckCandidate(const Evidence& e, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), item);
+void CheckCandidate(Evidence& e, ChecklistItem* item) {
+  CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), e.candidate, item);
 }
 
-void CheckVideo(const Evidence& e, ChecklistItem* item) {
+void CheckVideo(Evidence& e, ChecklistItem* item) {
   const VideoInfo v = ProbeVideo(e.dir / "sxs.mp4");
   std::ostringstream s;
   s << v.codec << " " << v.width << "x" << v.height << ", " << v.decoded_frames
@@ -111,11 +130,15 @@ std::size_t DecodedPngs(const fs::path& frames_dir) {
 }
 
 // The labelled values of frames.json against the trajectories: returns how many agree.
-std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, const Trajectory& ref,
-                           const Trajectory& cand, std::vector<std::size_t>* reference_frames) {
-  auto agrees = [&](const Trajectory& t, const nlohmann::json& frame, const nlohmann::json& value) {
+std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, FrameSource& ref,
+                           FrameSource& cand, std::vector<std::size_t>* reference_frames) {
+  auto agrees = [&](FrameSource& t, const nlohmann::json& frame, const nlohmann::json& value) {
     if (!frame.is_number_unsigned() || !value.is_number()) return false;
-    const double actual = track.ValueAt(t, frame.get<std::size_t>());
+    const std::size_t f = frame.get<std::size_t>();
+    // Past the end: ValueAt's own error, from the header (which knows the frame count).
+    if (f >= t.frame_count()) track.ValueAt(t.header(), f);
+    const FrameRef x = t.Frame(f);
+    const double actual = track.ValueAt(x.trajectory, x.frame);
     return std::abs(actual - value.get<double>()) <= 1e-3 * std::max(1.0, std::abs(actual));
   };
   std::size_t agree = 0;
@@ -130,7 +153,7 @@ std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, co
   return agree;
 }
 
-void CheckFrames(const Evidence& e, ChecklistItem* item) {
+void CheckFrames(Evidence& e, ChecklistItem* item) {
   const std::size_t pngs = DecodedPngs(e.dir / "frames");
   const fs::path json_path = e.dir / "frames" / "frames.json";
   const nlohmann::json j = ReadJsonFile(json_path);
@@ -138,8 +161,8 @@ void CheckFrames(const Evidence& e, ChecklistItem* item) {
     throw InputError(json_path.string(), 0, "expected an object with a \"frames\" list");
   const Track track = e.options.track.value_or(
       Track::FromJson(j.value("track", nlohmann::json::object()), json_path.string()));
-  const Trajectory& ref = Need(e.reference, "reference");
-  const Trajectory& cand = Need(e.candidate, "candidate");
+  FrameSource& ref = Need(e.reference, "reference");
+  FrameSource& cand = Need(e.candidate, "candidate");
   std::vector<std::size_t> sampled;
   const std::size_t agree = AgreeingLabels(j["frames"], track, ref, cand, &sampled);
   const std::size_t listed = j["frames"].size();
@@ -149,7 +172,7 @@ void CheckFrames(const Evidence& e, ChecklistItem* item) {
   if (sampled.empty()) return;
   // The frame gate at the sampled frames, as `owval compare --frames` computes it.
   const compare::ParityReport p =
-      compare::CompareTrajectories(ref, cand, {track, sampled, std::nullopt, e.options.gates});
+      compare::CompareFrameSources(ref, cand, {track, sampled, std::nullopt, e.options.gates});
   const compare::Gate& gate = *p.gate("frames");
   item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
                   FormatPercent(gate.value) + " of the reference range (gate < " +
@@ -170,7 +193,7 @@ void CheckFrames(const Evidence& e, ChecklistItem* item) {
   }
 }
 
-void CheckFitHistory(const Evidence& e, ChecklistItem* item) {
+void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
   if (!h.is_object())
     throw InputError((e.dir / "fit/history.json").string(), 0, "expected an object");
@@ -190,7 +213,7 @@ void CheckFitHistory(const Evidence& e, ChecklistItem* item) {
   if (!converged) item->detail += " (not converged)";
 }
 
-void CheckFdTests(const Evidence& e, ChecklistItem* item) {
+void CheckFdTests(Evidence& e, ChecklistItem* item) {
   const fs::path path = e.dir / "fd_tests.json";
   const nlohmann::json j = ReadJsonFile(path);
   if (!j.is_object() || !j.contains("tests") || !j["tests"].is_array())
@@ -205,7 +228,7 @@ void CheckFdTests(const Evidence& e, ChecklistItem* item) {
   item->pass = total > 0 && passed == total;
 }
 
-void CheckParameters(const Evidence& e, ChecklistItem* item) {
+void CheckParameters(Evidence& e, ChecklistItem* item) {
   const nlohmann::json j = ReadJsonFile(e.dir / "parameters.json");
   const nlohmann::json values = j.is_object() && j.contains("parameters") ? j["parameters"] : j;
   item->detail = std::to_string(values.size()) + " tuned values";
@@ -227,7 +250,7 @@ bool IsListItem(const std::string& line) {
   return line.find_first_not_of(" \t", i) != std::string::npos;
 }
 
-void CheckChanges(const Evidence& e, ChecklistItem* item) {
+void CheckChanges(Evidence& e, ChecklistItem* item) {
   std::istringstream in(ReadWholeFile(e.dir / "changes.md"));
   std::size_t items = 0;
   for (std::string line; std::getline(in, line);) items += IsListItem(line);
@@ -237,7 +260,7 @@ void CheckChanges(const Evidence& e, ChecklistItem* item) {
 
 // DD001: the prediction is reconciled with the reference measurement (the validated physics),
 // recomputed here from prediction.json and the reference trajectory.
-void CheckReconcile(const Evidence& e, ChecklistItem* item) {
+void CheckReconcile(Evidence& e, ChecklistItem* item) {
   const predict::Reconciliation r =
       predict::Reconcile(ReadPrediction(e.dir / "prediction.json"), Need(e.reference, "reference"));
   item->pass = r.pass;
@@ -275,7 +298,7 @@ const std::vector<ItemSpec>& Items() {
   return items;
 }
 
-ChecklistItem Evaluate(const Evidence& e, const ItemSpec& spec) {
+ChecklistItem Evaluate(Evidence& e, const ItemSpec& spec) {
   ChecklistItem item;
   item.number = spec.number;
   item.title = spec.title;
@@ -295,11 +318,11 @@ ChecklistItem Evaluate(const Evidence& e, const ItemSpec& spec) {
 }
 
 // The parity gate, recomputed from the trajectories; a parity.json that disagrees is stale.
-void JudgeParity(const Evidence& e, const nlohmann::json& frames_track, ChecklistReport* r) {
+void JudgeParity(Evidence& e, const nlohmann::json& frames_track, ChecklistReport* r) {
   if (!e.reference || !e.candidate) return;
   try {
     Track track = e.options.track.value_or(Track::FromJson(frames_track, "frames/frames.json"));
-    r->parity = compare::CompareTrajectories(*e.reference, *e.candidate,
+    r->parity = compare::CompareFrameSources(*e.reference, *e.candidate,
                                              {track, {}, std::nullopt, e.options.gates});
   } catch (const std::exception& ex) {
     r->parity_note = std::string("parity could not be computed: ") + ex.what();
@@ -374,8 +397,8 @@ ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& 
   if (!fs::is_directory(directory))
     throw InputError(directory.string(), 0, "not a directory of PR artifacts");
   Evidence e{directory, options,
-             TryRead(FirstExisting(directory, {"reference.h5", "reference.txt"})),
-             TryRead(FirstExisting(directory, {"candidate.h5", "candidate.txt"}))};
+             TryOpen(FirstExisting(directory, {"reference.h5", "reference.txt"})),
+             TryOpen(FirstExisting(directory, {"candidate.h5", "candidate.txt"}))};
   ChecklistReport r;
   r.directory = directory;
   for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(e, spec));

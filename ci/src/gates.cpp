@@ -1,11 +1,15 @@
 #include "owval/ci/gates.hpp"
 
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/skeleton.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "worm_gates.hpp"
 
 namespace owval::ci {
@@ -19,10 +23,11 @@ fs::path Find(const fs::path& dir, const std::string& stem) {
                    "missing (expected " + stem + ".h5 or " + stem + ".txt)");
 }
 
-Trajectory Load(const fs::path& dir, const std::string& stem) {
+// Read frame by frame (issue 16): memory O(particles), whatever the number of frames.
+std::unique_ptr<FrameSource> Open(const fs::path& dir, const std::string& stem) {
   TextReadOptions quiet;
   quiet.quiet = true;
-  return ReadTrajectory(Find(dir, stem), quiet);
+  return OpenFrameSource(Find(dir, stem), quiet);
 }
 
 GateResult Run(const std::string& name, const std::function<void(GateResult*)>& body) {
@@ -36,11 +41,46 @@ GateResult Run(const std::string& name, const std::function<void(GateResult*)>& 
   return g;
 }
 
-void NoNaN(const Trajectory& t, GateResult* g) {
-  const compare::StabilityReport s = compare::CheckStability(t);
+void NoNaN(FrameSource& frames, GateResult* g) {
+  const compare::StabilityReport s = compare::CheckStability(frames);
   g->pass = s.non_finite.count == 0;
-  g->detail = std::to_string(t.frame_count()) + " frames, " + std::to_string(s.non_finite.count) +
-              " non-finite particle-frames";
+  g->detail = std::to_string(frames.frame_count()) + " frames, " +
+              std::to_string(s.non_finite.count) + " non-finite particle-frames";
+}
+
+// What validate measures on one trajectory, in one pass over its frames: stability, the
+// incompressibility of its liquid (when asked, and it carries density and has liquid) and, for
+// a worm, every frame's skeleton.
+struct TrajectoryChecks {
+  compare::StabilityReport stability;
+  std::optional<compare::IncompressibilityReport> incompressibility;
+  std::optional<kinematics::SkeletonSeries> skeletons;
+};
+
+TrajectoryChecks Check(FrameSource& frames, bool incompressibility, bool skeletons) {
+  frames.ReadFields();
+  const Trajectory& header = frames.header();
+  const std::size_t count = frames.frame_count();
+  compare::StabilityMonitor stability(header.box, header.type);
+  std::optional<compare::IncompressibilityMonitor> density;
+  TrajectoryChecks c;
+  if (skeletons) c.skeletons.emplace();
+  for (std::size_t f = 0; f < count; ++f) {
+    const FrameRef frame = frames.Frame(f);
+    stability.Observe(frame);
+    if (f == 0 && incompressibility && frame.trajectory.has_density() &&
+        header.count(ParticleKind::kLiquid) > 0)
+      density.emplace(header, count, true);
+    if (density) density->Observe(f, frame);
+    if (skeletons) {
+      c.skeletons->time_s.push_back(frame.trajectory.time_s[frame.frame]);
+      c.skeletons->skeletons.push_back(kinematics::SkeletonAt(frame.trajectory, frame.frame));
+    }
+  }
+  c.stability = stability.report();
+  if (count == 0) c.stability.velocities_from_positions = true;
+  if (density) c.incompressibility = density->report();
+  return c;
 }
 
 }  // namespace
@@ -64,9 +104,9 @@ GateReport QuickTest(const fs::path& dir) {
   bool worm = false;
   for (const char* stem : {"reference", "candidate"})
     r.gates.push_back(Run(std::string(stem) + " completed without NaN", [&](GateResult* g) {
-      const Trajectory t = Load(dir, stem);
-      worm = worm || kinematics::IsWorm(t);
-      NoNaN(t, g);
+      const auto frames = Open(dir, stem);
+      worm = worm || kinematics::IsWorm(frames->header());
+      NoNaN(*frames, g);
     }));
   if (worm)
     for (const GateResult& g : internal::WormQuickTestGates(dir)) r.gates.push_back(g);
@@ -75,31 +115,34 @@ GateReport QuickTest(const fs::path& dir) {
 
 GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity) {
   GateReport r;
-  const Trajectory ref = Load(dir, "reference"), cand = Load(dir, "candidate");
-  for (const auto* t : {&ref, &cand}) {
-    const std::string which = t == &ref ? "reference" : "candidate";
+  const auto ref = Open(dir, "reference"), cand = Open(dir, "candidate");
+  const bool worm = kinematics::IsWorm(cand->header());
+  const TrajectoryChecks ref_checks = Check(*ref, false, worm && kinematics::IsWorm(ref->header()));
+  const TrajectoryChecks cand_checks = Check(*cand, true, worm);
+  for (const auto* c : {&ref_checks, &cand_checks}) {
+    const std::string which = c == &ref_checks ? "reference" : "candidate";
     r.gates.push_back(Run(which + " stability", [&](GateResult* g) {
-      const compare::StabilityReport s = compare::CheckStability(*t);
-      g->pass = s.pass();
-      g->detail = s.ToJson().dump();
+      g->pass = c->stability.pass();
+      g->detail = c->stability.ToJson().dump();
     }));
   }
-  if (cand.has_density() && cand.count(ParticleKind::kLiquid) > 0) {
+  if (cand_checks.incompressibility) {
     r.gates.push_back(Run("candidate incompressibility", [&](GateResult* g) {
-      const compare::IncompressibilityReport s = compare::CheckIncompressibility(cand);
-      g->pass = s.pass();
-      g->detail = s.ToJson().dump();
+      g->pass = cand_checks.incompressibility->pass();
+      g->detail = cand_checks.incompressibility->ToJson().dump();
     }));
   }
   r.gates.push_back(Run("parity", [&](GateResult* g) {
-    const compare::ParityReport p = compare::CompareTrajectories(ref, cand, parity);
+    const compare::ParityReport p = compare::CompareFrameSources(*ref, *cand, parity);
     g->pass = p.pass();
     g->detail = p.subject + ": " + std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
                 std::to_string(p.frames.size()) + " frames within the frame gate";
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();
   }));
-  if (kinematics::IsWorm(cand))
-    for (const GateResult& g : internal::WormValidateGates(ref, cand)) r.gates.push_back(g);
+  if (worm)
+    for (const GateResult& g : internal::WormValidateGates(
+             ref_checks.skeletons ? &*ref_checks.skeletons : nullptr, *cand_checks.skeletons))
+      r.gates.push_back(g);
   return r;
 }
 

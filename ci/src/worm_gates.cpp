@@ -27,16 +27,14 @@ std::vector<GateResult> WormQuickTestGates(const fs::path& dir) {
   return {g};
 }
 
-std::vector<GateResult> WormValidateGates(const Trajectory& reference,
-                                          const Trajectory& candidate) {
+std::vector<GateResult> WormValidateGates(const kinematics::SkeletonSeries* reference,
+                                          const kinematics::SkeletonSeries& candidate) {
   std::vector<GateResult> gates;
-  const kinematics::Report cand =
-      kinematics::Analyse(kinematics::SkeletonsFromTrajectory(candidate));
+  const kinematics::Report cand = kinematics::Analyse(candidate);
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});
-  if (kinematics::IsWorm(reference)) {
-    const kinematics::Report ref =
-        kinematics::Analyse(kinematics::SkeletonsFromTrajectory(reference));
+  if (reference) {
+    const kinematics::Report ref = kinematics::Analyse(*reference);
     for (const kinematics::AgreementCheck& c : kinematics::CompareKinematics(ref, cand))
       gates.push_back({"kinematics parity " + c.metric, c.pass, c.detail});
   }

@@ -8,11 +8,14 @@
 #include <vector>
 
 #include "owval/ci/gates.hpp"
-#include "owval/trajectory/trajectory.hpp"
+#include "owval/kinematics/skeleton.hpp"
 
 namespace owval::ci::internal {
 
 std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory);
-std::vector<GateResult> WormValidateGates(const Trajectory& reference, const Trajectory& candidate);
+// The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by
+// frame); reference: null when the reference is not a worm.
+std::vector<GateResult> WormValidateGates(const kinematics::SkeletonSeries* reference,
+                                          const kinematics::SkeletonSeries& candidate);
 
 }  // namespace owval::ci::internal

@@ -1,9 +1,9 @@
-// Issue 16's last acceptance item: `owval compare` and `owval render` read a 25,000-frame
-// trajectory frame by frame and stay within the long run's memory bound (<= 150 MB resident),
-// whatever the number of frames: their peak is measured (wait4's ru_maxrss, the child and
-// anything it forks) against the same commands on a 250-frame file of the same scene. Rendering
-// is measured at a small frame size: at 1280x720 the renderer and encoder alone take about
-// 220 MB, whatever the trajectory (docs/benchmarks.md).
+// Issue 16's last acceptance item: `owval compare`, `owval render` and `owval ci validate` read
+// a 25,000-frame trajectory frame by frame and stay within the long run's memory bound (<= 150 MB
+// resident), whatever the number of frames: their peak is measured (wait4's ru_maxrss, the child
+// and anything it forks) against the same commands on a 250-frame file of the same scene. Every
+// frame is rendered at a small frame size (25,000 frames encode in seconds); 250 of them at the
+// default 1280x720, whose renderer and encoder take most of the bound (docs/benchmarks.md).
 //
 // The trajectories are demo1's reference frames played back and forth (17,841 particles), written
 // by the streaming writer as Sibernetic text (OpenCL layout) and owval HDF5: a 25,000-frame file
@@ -58,7 +58,7 @@ void Synthesize(std::size_t frames, const fs::path& text, const fs::path& h5) {
 }
 
 struct Peaks {
-  double compare_mb = 0, render_mb = 0, render_sxs_mb = 0;
+  double compare_mb = 0, render_mb = 0, render_sxs_mb = 0, render_720p_mb = 0, validate_mb = 0;
 };
 
 Peaks Measure(std::size_t frames) {
@@ -81,18 +81,36 @@ Peaks Measure(std::size_t frames) {
                                 dir / "sxs.log");
   EXPECT_EQ(sxs.exit_code, 0) << (dir / "sxs.log");
   p.render_sxs_mb = sxs.peak_rss_mb;
-  std::printf("%zu frames: compare %.1f MB, render %.1f MB, render sxs %.1f MB\n", frames,
-              p.compare_mb, p.render_mb, p.render_sxs_mb);
+  const Finished hd =
+      RunOwval({"render", h5.string(), "--max-frames", "250", "-o", (dir / "hd.mp4").string()},
+               dir / "hd.log");
+  EXPECT_EQ(hd.exit_code, 0) << (dir / "hd.log");
+  p.render_720p_mb = hd.peak_rss_mb;
+  // ci validate's directory: the text as the reference, the HDF5 copy as the candidate (equal
+  // positions: every gate passes).
+  fs::create_directories(dir / "ci");
+  fs::create_symlink(text, dir / "ci" / "reference.txt");
+  fs::create_symlink(h5, dir / "ci" / "candidate.h5");
+  const Finished validate =
+      RunOwval({"ci", "validate", (dir / "ci").string()}, dir / "validate.log");
+  EXPECT_EQ(validate.exit_code, 0) << (dir / "validate.log");
+  p.validate_mb = validate.peak_rss_mb;
+  std::printf(
+      "%zu frames: compare %.1f MB, render %.1f MB, render sxs %.1f MB, render 1280x720 %.1f MB, "
+      "ci validate %.1f MB\n",
+      frames, p.compare_mb, p.render_mb, p.render_sxs_mb, p.render_720p_mb, p.validate_mb);
   fs::remove_all(dir);
   return p;
 }
 
-TEST(StreamMemory, CompareAndRenderOf25000FramesStayWithinTheRunsBound) {
+TEST(StreamMemory, CompareRenderAndValidateOf25000FramesStayWithinTheRunsBound) {
   const Peaks short_file = Measure(250), long_file = Measure(25000);
   for (const auto& [what, small, large] :
        {std::tuple{"compare", short_file.compare_mb, long_file.compare_mb},
         std::tuple{"render", short_file.render_mb, long_file.render_mb},
-        std::tuple{"render sxs", short_file.render_sxs_mb, long_file.render_sxs_mb}}) {
+        std::tuple{"render sxs", short_file.render_sxs_mb, long_file.render_sxs_mb},
+        std::tuple{"render 1280x720", short_file.render_720p_mb, long_file.render_720p_mb},
+        std::tuple{"ci validate", short_file.validate_mb, long_file.validate_mb}}) {
     EXPECT_GT(large, 0) << what;
     EXPECT_LE(large, kBoundMb) << what;
     // Independent of the frames' contents: 24,750 more frames cost less than 1 KiB each (times,

@@ -107,14 +107,26 @@ void StabilityMonitor::Observe(double time_s, const float* x, const float* v, co
   if (out && fraction > o_.density_outside_fraction) r.density_out_of_range.Add(f, out);
 }
 
-StabilityReport CheckStability(const Trajectory& t, const StabilityOptions& o) {
-  StabilityMonitor monitor(t.box, t.type, o);
-  const std::size_t n = t.particle_count();
-  for (std::size_t f = 0; f < t.frame_count(); ++f)
-    monitor.Observe(t.time_s[f], t.position(f, 0),
-                    t.has_velocities() ? &t.velocities[f * n * 3] : nullptr,
-                    t.has_density() ? &t.density[f * n] : nullptr);
+void StabilityMonitor::Observe(const FrameRef& frame) {
+  const Trajectory& t = frame.trajectory;
+  const std::size_t n = t.particle_count(), f = frame.frame;
+  Observe(t.time_s[f], t.position(f, 0), t.has_velocities() ? &t.velocities[f * n * 3] : nullptr,
+          t.has_density() ? &t.density[f * n] : nullptr);
+}
+
+StabilityReport CheckStability(FrameSource& frames, const StabilityOptions& o) {
+  frames.ReadFields();
+  const Trajectory& header = frames.header();
+  StabilityMonitor monitor(header.box, header.type, o);
+  for (std::size_t f = 0; f < frames.frame_count(); ++f) monitor.Observe(frames.Frame(f));
   StabilityReport r = monitor.report();
+  if (frames.frame_count() == 0) r.velocities_from_positions = true;  // as a whole empty read
+  return r;
+}
+
+StabilityReport CheckStability(const Trajectory& t, const StabilityOptions& o) {
+  const auto frames = MemoryFrameSource(t);
+  StabilityReport r = CheckStability(*frames, o);
   r.density_checked = t.has_density();
   r.velocities_from_positions = !t.has_velocities();
   return r;
@@ -149,34 +161,48 @@ std::string StabilityReport::ToTable() const {
   return s.str();
 }
 
-IncompressibilityReport CheckIncompressibility(const Trajectory& t,
-                                               const IncompressibilityOptions& o) {
-  if (!t.has_density())
+IncompressibilityMonitor::IncompressibilityMonitor(const Trajectory& header, std::size_t frames,
+                                                   bool has_density,
+                                                   const IncompressibilityOptions& o)
+    : o_(o) {
+  if (!has_density)
     throw InputError(
         "this trajectory carries no density (Sibernetic's position_buffer.txt never does); "
         "use an owval HDF5 trajectory from `owval run`");
-  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
-  IncompressibilityReport r;
-  r.liquid_particles = liquid.size();
-  r.limit = o.limit;
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t f = o.skip_first_frame && t.frame_count() > 1 ? 1 : 0; f < t.frame_count();
-       ++f) {
-    ++r.frames;
-    for (std::size_t p : liquid) {
-      const double dev = std::abs(t.density[f * t.particle_count() + p] / o.rest_density - 1);
-      sum += dev;
-      ++n;
-      if (!(dev <= r.max_deviation)) {
-        r.max_deviation = dev;
-        r.worst_frame = f;
-        r.worst_particle = p;
-      }
+  liquid_ = GroupIndices(header, "liquid");
+  report_.liquid_particles = liquid_.size();
+  report_.limit = o.limit;
+  first_ = o.skip_first_frame && frames > 1 ? 1 : 0;
+}
+
+void IncompressibilityMonitor::Observe(std::size_t index, const FrameRef& frame) {
+  if (index < first_) return;
+  const Trajectory& t = frame.trajectory;
+  const float* rho = &t.density[frame.frame * t.particle_count()];
+  ++report_.frames;
+  for (std::size_t p : liquid_) {
+    const double dev = std::abs(rho[p] / o_.rest_density - 1);
+    sum_ += dev;
+    ++count_;
+    if (!(dev <= report_.max_deviation)) {
+      report_.max_deviation = dev;
+      report_.worst_frame = index;
+      report_.worst_particle = p;
     }
   }
-  r.mean_deviation = n ? sum / double(n) : 0;
+}
+
+IncompressibilityReport IncompressibilityMonitor::report() const {
+  IncompressibilityReport r = report_;
+  r.mean_deviation = count_ ? sum_ / double(count_) : 0;
   return r;
+}
+
+IncompressibilityReport CheckIncompressibility(const Trajectory& t,
+                                               const IncompressibilityOptions& o) {
+  IncompressibilityMonitor monitor(t, t.frame_count(), t.has_density(), o);
+  for (std::size_t f = 0; f < t.frame_count(); ++f) monitor.Observe(f, {t, f});
+  return monitor.report();
 }
 
 nlohmann::json IncompressibilityReport::ToJson() const {

@@ -14,14 +14,18 @@ SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory) {
         "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
   SkeletonSeries series;
   for (std::size_t f = 0; f < trajectory.frame_count(); ++f) {
-    const Midline m = ComputeMidline(trajectory, f);
-    Skeleton s;
-    for (int b = 0; b < kMidlineBins; ++b)
-      if (m.count[b] > 0) s.push_back({m.z_mm[b], m.x_mm[b]});
     series.time_s.push_back(trajectory.time_s[f]);
-    series.skeletons.push_back(std::move(s));
+    series.skeletons.push_back(SkeletonAt(trajectory, f));
   }
   return series;
+}
+
+Skeleton SkeletonAt(const Trajectory& trajectory, std::size_t frame) {
+  const Midline m = ComputeMidline(trajectory, frame);
+  Skeleton s;
+  for (int b = 0; b < kMidlineBins; ++b)
+    if (m.count[b] > 0) s.push_back({m.z_mm[b], m.x_mm[b]});
+  return s;
 }
 
 double ArcLength(const Skeleton& s) {

@@ -23,11 +23,11 @@ struct Signal {
   compare::SignalMetrics metrics;
 };
 
-Signal TrackedSignal(const Prediction& p, const Trajectory& t) {
+Signal TrackedSignal(const Prediction& p, FrameSource& t) {
   Signal s;
   s.values = p.track.Series(t);
   s.description = p.track.Describe();
-  s.metrics = compare::MeasureSignal(t.time_s, s.values);
+  s.metrics = compare::MeasureSignal(t.header().time_s, s.values);
   return s;
 }
 
@@ -47,99 +47,122 @@ std::optional<double> CrossingTime(const std::vector<double>& t, const std::vect
   return std::nullopt;
 }
 
+// Frame f's pressure (the frame read with its fields), or null when the trajectory has none.
+const float* PressureOf(const FrameRef& x) {
+  const Trajectory& t = x.trajectory;
+  return t.has_pressure() ? &t.pressure[x.frame * t.particle_count()] : nullptr;
+}
+
 // Mean pressure of the liquid particles that start in the bottom layer, over the last 10% of
 // frames; empty when the trajectory carries no pressure.
-std::optional<double> BottomPressure(const Trajectory& t, double r0_cu) {
-  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
-  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
-  if (liquid.empty()) return std::nullopt;
+std::optional<double> BottomPressure(FrameSource& t, double r0_cu) {
+  if (t.frame_count() == 0) return std::nullopt;
+  t.ReadFields();
+  const FrameRef first = t.Frame(0);
+  const std::vector<std::size_t> liquid = GroupIndices(t.header(), "liquid");
+  if (!PressureOf(first) || liquid.empty()) return std::nullopt;
   double bottom = 1e30;
-  for (std::size_t i : liquid) bottom = std::min(bottom, double(t.coordinate(0, i, 1)));
+  for (std::size_t i : liquid)
+    bottom = std::min(bottom, double(first.trajectory.coordinate(first.frame, i, 1)));
+  std::vector<std::size_t> layer;  // the bottom layer at frame 0, in particle order
+  for (std::size_t i : liquid)
+    if (first.trajectory.coordinate(first.frame, i, 1) < bottom + r0_cu / 2) layer.push_back(i);
   std::vector<double> series;
   for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    const float* pressure = PressureOf(t.Frame(f));
     double sum = 0;
-    std::size_t n = 0;
-    for (std::size_t i : liquid)
-      if (t.coordinate(0, i, 1) < bottom + r0_cu / 2) {
-        sum += t.pressure[f * t.particle_count() + i];
-        ++n;
-      }
-    series.push_back(sum / double(n));
+    for (std::size_t i : layer) sum += pressure[i];
+    series.push_back(sum / double(layer.size()));
   }
+  return FinalMean(series);
+}
+
+// hydrostatic_tank: per frame, over the liquid within half a spacing of mid-depth (each frame's
+// positions), `value` of the particles' heights and pressures (empty: no such particle then);
+// averaged over the last 10% of the frames that have one. Empty without pressure.
+std::optional<double> MidDepthSeriesMean(
+    FrameSource& t, const Prediction& p,
+    const std::function<std::optional<double>(const std::vector<std::pair<double, float>>&)>&
+        value) {
+  if (t.frame_count() == 0) return std::nullopt;
+  t.ReadFields();
+  if (!PressureOf(t.Frame(0))) return std::nullopt;
+  const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
+  const std::vector<std::size_t> liquid = GroupIndices(t.header(), "liquid");
+  std::vector<double> series;
+  std::vector<std::pair<double, float>> at_mid;  // (y, pressure), in particle order
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    const FrameRef x = t.Frame(f);
+    const float* pressure = PressureOf(x);
+    at_mid.clear();
+    for (std::size_t i : liquid) {
+      const double y = x.trajectory.coordinate(x.frame, i, 1);
+      if (std::abs(y - mid) < half) at_mid.push_back({y, pressure[i]});
+    }
+    if (const auto v = value(at_mid)) series.push_back(*v);
+  }
+  if (series.empty()) return std::nullopt;
   return FinalMean(series);
 }
 
 // hydrostatic_tank: mean pressure of the liquid within half a spacing of mid-depth (each
 // frame's positions), averaged over the last 10% of frames.
-std::optional<double> MidDepthPressure(const Trajectory& t, const Prediction& p) {
-  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
-  const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
-  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
-  std::vector<double> series;
-  for (std::size_t f = 0; f < t.frame_count(); ++f) {
-    double sum = 0;
-    std::size_t n = 0;
-    for (std::size_t i : liquid)
-      if (std::abs(t.coordinate(f, i, 1) - mid) < half) {
-        sum += t.pressure[f * t.particle_count() + i];
-        ++n;
-      }
-    if (n > 0) series.push_back(sum / double(n));
-  }
-  if (series.empty()) return std::nullopt;
-  return FinalMean(series);
+std::optional<double> MidDepthPressure(FrameSource& t, const Prediction& p) {
+  return MidDepthSeriesMean(
+      t, p, [](const std::vector<std::pair<double, float>>& at) -> std::optional<double> {
+        double sum = 0;
+        for (const auto& [y, pressure] : at) sum += pressure;
+        if (at.empty()) return std::nullopt;
+        return sum / double(at.size());
+      });
 }
 
 // hydrostatic_tank: the same particles' root-mean-square error against the profile at their
 // own height, p(y) = p_mid (H - y)/(H - y_mid), over p_mid: the particle-to-particle error
 // that the mean hides. Averaged over the last 10% of frames.
-std::optional<double> MidDepthPressureError(const Trajectory& t, const Prediction& p) {
-  if (!t.has_pressure() || t.frame_count() == 0) return std::nullopt;
-  const double mid = p.InputValue("mid_depth_y"), half = 0.5 * p.InputValue("lattice_spacing");
-  const double surface = p.InputValue("free_surface_y"), p_mid = p.ValueOf("mid_depth_pressure");
-  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
-  std::vector<double> series;
-  for (std::size_t f = 0; f < t.frame_count(); ++f) {
-    double sum = 0;
-    std::size_t n = 0;
-    for (std::size_t i : liquid) {
-      const double y = t.coordinate(f, i, 1);
-      if (std::abs(y - mid) >= half) continue;
-      const double error =
-          t.pressure[f * t.particle_count() + i] - p_mid * (surface - y) / (surface - mid);
-      sum += error * error;
-      ++n;
-    }
-    if (n > 0) series.push_back(std::sqrt(sum / double(n)) / p_mid);
-  }
-  if (series.empty()) return std::nullopt;
-  return FinalMean(series);
+std::optional<double> MidDepthPressureError(FrameSource& t, const Prediction& p) {
+  return MidDepthSeriesMean(
+      t, p, [&](const std::vector<std::pair<double, float>>& at) -> std::optional<double> {
+        // Read here, as before: only once the trajectory is known to carry pressure.
+        const double mid = p.InputValue("mid_depth_y"), surface = p.InputValue("free_surface_y");
+        const double p_mid = p.ValueOf("mid_depth_pressure");
+        double sum = 0;
+        for (const auto& [y, pressure] : at) {
+          const double error = pressure - p_mid * (surface - y) / (surface - mid);
+          sum += error * error;
+        }
+        if (at.empty()) return std::nullopt;
+        return std::sqrt(sum / double(at.size())) / p_mid;
+      });
 }
 
 // dam_break: Z = (front - wall face)/a at T, the front the k-th largest liquid x (k = 0.2% of
 // the liquid, at least 1: a few splashed particles do not make the front) + half a spacing,
 // interpolated linearly between frames; empty past the trajectory's end.
-std::optional<double> SurgeFront(const Trajectory& t, const Prediction& p, double big_t) {
+std::optional<double> SurgeFront(FrameSource& t, const Prediction& p, double big_t) {
   const double when = big_t * p.InputValue("time_unit"), a = p.InputValue("column_width_a");
   const double wall = p.InputValue("wall_face_x"), half = 0.5 * p.InputValue("lattice_spacing");
-  const std::vector<std::size_t> liquid = GroupIndices(t, "liquid");
+  const std::vector<std::size_t> liquid = GroupIndices(t.header(), "liquid");
   if (liquid.empty() || !(a > 0)) return std::nullopt;
   const std::size_t k = std::max<std::size_t>(1, liquid.size() / 500);
   const auto front = [&](std::size_t f) {
-    std::vector<double> x;
-    for (std::size_t i : liquid) x.push_back(t.coordinate(f, i, 0));
-    std::nth_element(x.begin(), x.begin() + (k - 1), x.end(), std::greater<double>());
-    return (x[k - 1] + half - wall) / a;
+    const FrameRef x = t.Frame(f);
+    std::vector<double> xs;
+    for (std::size_t i : liquid) xs.push_back(x.trajectory.coordinate(x.frame, i, 0));
+    std::nth_element(xs.begin(), xs.begin() + (k - 1), xs.end(), std::greater<double>());
+    return (xs[k - 1] + half - wall) / a;
   };
+  const std::vector<double>& time_s = t.header().time_s;
   for (std::size_t f = 1; f < t.frame_count(); ++f)
-    if (t.time_s[f] >= when && t.time_s[f - 1] <= when) {
-      const double u = (when - t.time_s[f - 1]) / (t.time_s[f] - t.time_s[f - 1]);
-      return front(f - 1) + u * (front(f) - front(f - 1));
+    if (time_s[f] >= when && time_s[f - 1] <= when) {
+      const double u = (when - time_s[f - 1]) / (time_s[f] - time_s[f - 1]);
+      const double before = front(f - 1), after = front(f);
+      return before + u * (after - before);
     }
   return std::nullopt;
 }
 
-std::optional<double> Measure(const std::string& q, const Signal& s, const Trajectory& t,
+std::optional<double> Measure(const std::string& q, const Signal& s, FrameSource& t,
                               const Prediction& p) {
   if (q == "mid_depth_pressure") return MidDepthPressure(t, p);
   if (q == "mid_depth_pressure_rms_error") return MidDepthPressureError(t, p);
@@ -154,7 +177,7 @@ std::optional<double> Measure(const std::string& q, const Signal& s, const Traje
   if (q == "equilibrium") return m.equilibrium;
   if (q == "tip_sag") return m.initial_value - m.equilibrium;
   if (q == "contact_time" || q == "contact_time_continuous")
-    return CrossingTime(t.time_s, s.values, p.ValueOf("contact_height"));
+    return CrossingTime(t.header().time_s, s.values, p.ValueOf("contact_height"));
   if (q == "centroid_equilibrium") return FinalMean(s.values);
   if (q == "bottom_pressure") return BottomPressure(t, engine::PhysicsConstants{}.r0_cu);
   return std::nullopt;
@@ -245,7 +268,13 @@ ReconcileRow Row(const PredictedQuantity& q, const std::optional<double>& measur
 
 }  // namespace
 
-Reconciliation Reconcile(const Prediction& p, const Trajectory& t, const ReconcileOptions& o) {
+Reconciliation Reconcile(const Prediction& p, const Trajectory& trajectory,
+                         const ReconcileOptions& o) {
+  const auto frames = MemoryFrameSource(trajectory);
+  return Reconcile(p, *frames, o);
+}
+
+Reconciliation Reconcile(const Prediction& p, FrameSource& t, const ReconcileOptions& o) {
   const Signal s = TrackedSignal(p, t);
   Reconciliation r;
   r.predictor = p.predictor;

@@ -3,18 +3,25 @@
 // wall time; the full-size runs and the dam break are in docs/benchmarks.md (WCSPH).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
+
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "owval/engine/constants.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/generators.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::predict {
 namespace {
 
 struct TankRun {
+  Trajectory trajectory;
+  Prediction prediction;
   Reconciliation reconciliation;
   double max_density_variation = 0;  // over every accepted sub-step
   long rollbacks = 0, substeps = 0;
@@ -35,7 +42,9 @@ TankRun RunSmallTank(bool density_diffusion) {
   PredictOptions p;
   p.predictor = "hydrostatic_tank";
   TankRun run;
-  run.reconciliation = Reconcile(Predict(c, engine::PhysicsConstants{}, p), t);
+  run.trajectory = t;
+  run.prediction = Predict(c, engine::PhysicsConstants{}, p);
+  run.reconciliation = Reconcile(run.prediction, t);
   for (const std::string& frame : summary.frame_log) {
     const nlohmann::json log = nlohmann::json::parse(frame);
     run.max_density_variation =
@@ -111,6 +120,18 @@ TEST(WcsphDamBreak, FrontAdvancesAndStaysBehindTheShallowWaterFront) {
   EXPECT_GE(measured, 4);  // the gated points up to T = 2.547
   // Koshizuka & Oka's series rides along, informative.
   EXPECT_EQ(Row(r, "koshizuka_oka_front_Z_at_T_1.153").tolerance_kind, ToleranceKind::kInformative);
+}
+
+// Issue 16: reconciled frame by frame from the run's HDF5 file (positions and pressure
+// streamed), every row is the whole trajectory's, value for value.
+TEST(WcsphHydrostaticTank, ReconciledFromTheStreamedFileEqualsTheWholeTrajectory) {
+  const TankRun& run = WithDiffusion();
+  const std::filesystem::path h5 =
+      std::filesystem::temp_directory_path() / ("owval_tank_" + std::to_string(::getpid()) + ".h5");
+  WriteHdf5(run.trajectory, h5);
+  const auto frames = OpenFrameSource(h5);
+  EXPECT_EQ(Reconcile(run.prediction, *frames).ToJson().dump(), run.reconciliation.ToJson().dump());
+  std::filesystem::remove(h5);
 }
 
 }  // namespace

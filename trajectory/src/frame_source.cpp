@@ -42,14 +42,32 @@ class Hdf5Source : public FrameSource {
   FrameRef Frame(std::size_t f) override {
     if (f >= header_.frame_count())
       throw std::out_of_range("HDF5 frame source: frame past the end");
-    if (f != current_) frame_.time_s[0] = reader_.ReadFrame(f, frame_.positions.data());
-    current_ = f;
+    if (f != current_) {
+      current_ = SIZE_MAX;  // until every read succeeds
+      frame_.time_s[0] = reader_.ReadFrame(f, frame_.positions.data());
+      ReadFieldsOf(f);
+      current_ = f;
+    }
     return {frame_, 0};
+  }
+  void ReadFields() override {
+    const TrajectoryHeader& h = reader_.header();
+    const std::size_t n = h.type.size();
+    frame_.velocities.assign(h.velocities ? 3 * n : 0, 0.0f);
+    frame_.density.assign(h.density ? n : 0, 0.0f);
+    frame_.pressure.assign(h.pressure ? n : 0, 0.0f);
+    current_ = SIZE_MAX;
   }
   // The text format's partial mark is its name; HDF5 carries it, and so may be renamed.
   void MarkPartial() { header_.provenance["partial"].assign(1, '1'); }
 
  private:
+  void ReadFieldsOf(std::size_t f) {
+    if (frame_.has_velocities()) reader_.ReadField("velocities", f, frame_.velocities.data());
+    if (frame_.has_density()) reader_.ReadField("density", f, frame_.density.data());
+    if (frame_.has_pressure()) reader_.ReadField("pressure", f, frame_.pressure.data());
+  }
+
   Hdf5FrameReader reader_;
   Trajectory header_, frame_;
   std::size_t current_ = SIZE_MAX;

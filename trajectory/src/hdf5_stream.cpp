@@ -371,9 +371,10 @@ std::size_t BlockFrames(hid_t set, std::size_t frame_bytes) {
   Handle dcpl(H5Dget_create_plist(set), H5Pclose);
   Handle space(H5Dget_space(set), H5Sclose);
   if (!dcpl.valid() || !space.valid() || H5Pget_layout(dcpl) != H5D_CHUNKED) return 1;
-  if (H5Sget_simple_extent_ndims(space) != 3) return 1;
+  const int rank = H5Sget_simple_extent_ndims(space);  // [frame][particle] or [frame][particle][3]
+  if (rank != 2 && rank != 3) return 1;
   hsize_t chunk[3] = {1, 1, 1};
-  if (H5Pget_chunk(dcpl, 3, chunk) != 3 || chunk[0] < 1) return 1;
+  if (H5Pget_chunk(dcpl, rank, chunk) != rank || chunk[0] < 1) return 1;
   return SaturatingProduct(std::size_t(chunk[0]), frame_bytes) <= (std::size_t{64} << 20)
              ? std::size_t(chunk[0])
              : 1;
@@ -382,6 +383,17 @@ std::size_t BlockFrames(hid_t set, std::size_t frame_bytes) {
 }  // namespace owval::internal
 
 namespace owval {
+
+struct Hdf5FrameReader::Dataset {
+  std::int64_t set = -1;   // hid_t
+  std::size_t values = 0;  // floats a frame (all particles)
+  int rank = 3;            // [frame][particle][xyz], or [frame][particle]
+  std::size_t block_frames = 1, block_first = SIZE_MAX;  // block holds frames from block_first
+  std::vector<float> block;
+  ~Dataset() {
+    if (set >= 0) H5Dclose(set);
+  }
+};
 
 Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path.string()) {
   // The same checks as ReadHdf5, every libhdf5 call made first in a child (hdf5_preflight.hpp).
@@ -409,60 +421,97 @@ Hdf5FrameReader::Hdf5FrameReader(const std::filesystem::path& path) : path_(path
     H5Pset_mdc_config(fapl, &mdc);
   }
   file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, fapl);
-  positions_ = file_ >= 0 ? H5Dopen2(file_, "positions", H5P_DEFAULT) : -1;
-  if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
-  block_frames_ = internal::BlockFrames(positions_, header_.type.size() * 3 * sizeof(float));
-  CheckAllocation(SaturatingProduct(block_frames_, header_.type.size() * 3 * sizeof(float)), path_,
-                  "/positions, " + std::to_string(block_frames_) + " frames (one chunk of frames)");
-  if (block_frames_ > 1) {  // whole chunks are read into block_: libhdf5 need cache none
-    internal::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
-    H5Pset_chunk_cache(access, 0, 0, 1.0);
-    H5Dclose(positions_);
-    positions_ = H5Dopen2(file_, "positions", access);
-    if (positions_ < 0) throw InputError(path_, 0, "HDF5: cannot open /positions");
-  }
+  if (file_ < 0) throw InputError(path_, 0, "HDF5: cannot open the file");
+  Open("positions", 3);
+  // The dry run has checked the fields' shapes; which of them the file holds:
+  header_.velocities = H5Lexists(file_, "velocities", H5P_DEFAULT) > 0;
+  header_.density = H5Lexists(file_, "density", H5P_DEFAULT) > 0;
+  header_.pressure = H5Lexists(file_, "pressure", H5P_DEFAULT) > 0;
 }
 
 Hdf5FrameReader::~Hdf5FrameReader() {
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
-  if (positions_ >= 0) H5Dclose(positions_);
+  sets_.clear();
   if (file_ >= 0) H5Fclose(file_);
 }
 
 bool Hdf5FrameReader::partial() const { return header_.provenance.count("partial") > 0; }
 
-// Frames [first, first + count) of /positions into out.
-void Hdf5FrameReader::ReadFrames(std::size_t first, std::size_t count, float* out) {
-  const hsize_t n = header_.type.size(), start[3] = {first, 0, 0}, size[3] = {count, n, 3};
-  internal::Handle space(H5Dget_space(positions_), H5Sclose);
+Hdf5FrameReader::Dataset& Hdf5FrameReader::Open(const std::string& name,
+                                                std::size_t values_per_particle) {
+  auto& slot = sets_[name];
+  if (slot) return *slot;
+  auto d = std::make_unique<Dataset>();
+  d->values = header_.type.size() * values_per_particle;
+  d->rank = values_per_particle == 1 ? 2 : 3;
+  d->set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+  if (d->set < 0) throw InputError(path_, 0, "HDF5: cannot open /" + name);
+  d->block_frames = internal::BlockFrames(d->set, d->values * sizeof(float));
+  CheckAllocation(
+      SaturatingProduct(d->block_frames, d->values * sizeof(float)), path_,
+      "/" + name + ", " + std::to_string(d->block_frames) + " frames (one chunk of frames)");
+  if (d->block_frames > 1) {  // whole chunks are read into the block: libhdf5 need cache none
+    internal::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+    H5Pset_chunk_cache(access, 0, 0, 1.0);
+    H5Dclose(d->set);
+    d->set = H5Dopen2(file_, name.c_str(), access);
+    if (d->set < 0) throw InputError(path_, 0, "HDF5: cannot open /" + name);
+  }
+  slot = std::move(d);
+  return *slot;
+}
+
+namespace {
+
+// Frames [first, first + count) of a per-frame dataset (rank 3: [frame][particle][3], rank 2:
+// [frame][particle]) into out.
+void ReadFrames(hid_t set, int rank, std::size_t particles, std::size_t first, std::size_t count,
+                float* out, const std::string& path) {
+  const hsize_t start[3] = {first, 0, 0}, size[3] = {count, particles, 3};
+  internal::Handle space(H5Dget_space(set), H5Sclose);
   H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, size, nullptr);
-  internal::Handle memory(H5Screate_simple(3, size, nullptr), H5Sclose);
-  if (H5Dread(positions_, H5T_NATIVE_FLOAT, memory, space, H5P_DEFAULT, out) < 0)
-    throw InputError(path_, 0, "HDF5: cannot read frame " + std::to_string(first) + " (corrupt?)");
+  internal::Handle memory(H5Screate_simple(rank, size, nullptr), H5Sclose);
+  if (H5Dread(set, H5T_NATIVE_FLOAT, memory, space, H5P_DEFAULT, out) < 0)
+    throw InputError(path, 0, "HDF5: cannot read frame " + std::to_string(first) + " (corrupt?)");
+}
+
+}  // namespace
+
+void Hdf5FrameReader::Read(Dataset& d, std::size_t frame, float* out) {
+  if (frame >= frames_) throw std::out_of_range("Hdf5FrameReader: frame past the end");
+  const std::size_t n = header_.type.size();
+  if (d.block_frames == 1) return ReadFrames(d.set, d.rank, n, frame, 1, out, path_);
+  const std::size_t first = frame / d.block_frames * d.block_frames;
+  if (first != d.block_first) {
+    d.block.resize(d.block_frames * d.values);
+    d.block_first = SIZE_MAX;  // until the read succeeds
+    ReadFrames(d.set, d.rank, n, first, std::min(d.block_frames, frames_ - first), d.block.data(),
+               path_);
+    d.block_first = first;
+  }
+  const float* x = d.block.data() + (frame - first) * d.values;
+  std::copy(x, x + d.values, out);
 }
 
 double Hdf5FrameReader::ReadFrame(std::size_t frame, float* positions) {
-  if (frame >= frames_) throw std::out_of_range("Hdf5FrameReader: frame past the end");
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
-  const std::size_t n = header_.type.size();
-  if (block_frames_ > 1) {
-    const std::size_t first = frame / block_frames_ * block_frames_;
-    if (first != block_first_) {
-      block_.resize(block_frames_ * n * 3);
-      block_first_ = SIZE_MAX;  // until the read succeeds
-      ReadFrames(first, std::min(block_frames_, frames_ - first), block_.data());
-      block_first_ = first;
-    }
-    const float* x = block_.data() + (frame - first) * n * 3;
-    std::copy(x, x + n * 3, positions);
-  } else {
-    ReadFrames(frame, 1, positions);
-  }
-  for (std::size_t i = 0; i < n * 3; ++i)
+  Dataset& d = *sets_.at("positions");
+  Read(d, frame, positions);
+  for (std::size_t i = 0; i < d.values; ++i)
     if (!std::isfinite(positions[i]))
       throw InputError(path_, 0,
                        "HDF5: /positions of frame " + std::to_string(frame) + " is not finite");
   return time_s_[frame];
+}
+
+void Hdf5FrameReader::ReadField(const std::string& field, std::size_t frame, float* values) {
+  const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
+  const bool held =
+      field == "velocities"
+          ? header_.velocities
+          : (field == "density" ? header_.density : field == "pressure" && header_.pressure);
+  if (!held) throw InputError(path_, 0, "HDF5: no /" + field + " in this file");
+  Read(Open(field, field == "velocities" ? 3 : 1), frame, values);
 }
 
 }  // namespace owval

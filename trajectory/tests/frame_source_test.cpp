@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +112,67 @@ TEST(FrameSource, NativeLayoutAndHdf5StreamTheWholeReadersFrames) {
   WriteHdf5(demo1, h5);
   ExpectStreamEqualsWhole(native);
   ExpectStreamEqualsWhole(h5);
+}
+
+// one_sprig's frames with made-up fields, each value distinct (frame, particle, component).
+Trajectory WithFields(std::size_t frames) {
+  Trajectory t = ReadTrajectory(kOneSprig);
+  t.time_s.resize(frames);
+  t.positions.resize(frames * t.particle_count() * 3);
+  const std::size_t n = t.particle_count();
+  for (std::size_t i = 0; i < frames * n; ++i) {
+    for (int a = 0; a < 3; ++a) t.velocities.push_back(float(i) * 1e-3f + float(a));
+    t.density.push_back(1000.0f + float(i) * 0.25f);
+    t.pressure.push_back(-float(i) * 0.5f);
+  }
+  if (n > 1) t.density[n + 1] = NAN;  // a field may hold NaN (a diverged run's): passed on
+  return t;
+}
+
+// Velocities, density and pressure come with each frame once asked for (ReadFields), equal to
+// the whole read's, across chunk boundaries and in any order; before that, positions only.
+TEST(FrameSource, Hdf5FieldsStreamOnRequestEqualToTheWholeRead) {
+  const Trajectory t = WithFields(37);
+  const std::size_t n = t.particle_count();
+  for (std::size_t chunk : {std::size_t{1}, std::size_t{16}}) {
+    const fs::path h5 = TempPath("fields_" + std::to_string(chunk) + ".h5");
+    Hdf5WriteOptions options;
+    options.frames_per_chunk = chunk;
+    WriteHdf5(t, h5, options);
+    const Trajectory whole = ReadHdf5(h5);
+    const auto source = OpenFrameSource(h5);
+    EXPECT_FALSE(source->Frame(3).trajectory.has_density());
+    source->ReadFields();
+    for (std::size_t f : Jumping(37)) {
+      const FrameRef x = source->Frame(f);
+      const Trajectory& one = x.trajectory;
+      ASSERT_TRUE(one.has_velocities() && one.has_density() && one.has_pressure());
+      EXPECT_EQ(std::memcmp(&one.velocities[x.frame * n * 3], &whole.velocities[f * n * 3],
+                            n * 3 * sizeof(float)),
+                0)
+          << f;
+      EXPECT_EQ(std::memcmp(&one.density[x.frame * n], &whole.density[f * n], n * sizeof(float)), 0)
+          << f;
+      EXPECT_EQ(std::memcmp(&one.pressure[x.frame * n], &whole.pressure[f * n], n * sizeof(float)),
+                0)
+          << f;
+    }
+  }
+}
+
+TEST(FrameSource, FilesWithoutFieldsGiveNoneWhenAsked) {
+  Trajectory t = WithFields(5);
+  t.velocities.clear(), t.pressure.clear();
+  const fs::path h5 = TempPath("density_only.h5");
+  WriteHdf5(t, h5);
+  for (const fs::path& path : {h5, kOneSprig}) {
+    const auto source = OpenFrameSource(path);
+    source->ReadFields();
+    const Trajectory& one = source->Frame(1).trajectory;
+    EXPECT_FALSE(one.has_velocities()) << path;
+    EXPECT_FALSE(one.has_pressure()) << path;
+    EXPECT_EQ(one.has_density(), path == h5) << path;
+  }
 }
 
 TEST(FrameSource, MemorySourceHandsOutTheTrajectoryItself) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::compare {
@@ -48,6 +49,9 @@ struct StabilityReport {
 };
 
 StabilityReport CheckStability(const Trajectory& trajectory, const StabilityOptions& options = {});
+// The same, frame by frame from a source (its fields read: FrameSource::ReadFields): memory
+// O(particles), and the same report as CheckStability of the whole trajectory.
+StabilityReport CheckStability(FrameSource& frames, const StabilityOptions& options = {});
 
 // The same checks frame by frame, on a stream (owval run --stability): memory O(particles),
 // whatever the number of frames. CheckStability(t) and a monitor fed t's frames agree.
@@ -58,6 +62,8 @@ class StabilityMonitor {
   // may be null (speed then from the previous frame's positions).
   void Observe(double time_s, const float* positions, const float* velocities,
                const float* density);
+  // One frame of a source or trajectory: its velocities and density when it carries them.
+  void Observe(const FrameRef& frame);
   const StabilityReport& report() const { return report_; }
 
  private:
@@ -90,5 +96,26 @@ struct IncompressibilityReport {
 // Throws InputError when the trajectory has no density or no liquid particle.
 IncompressibilityReport CheckIncompressibility(const Trajectory& trajectory,
                                                const IncompressibilityOptions& options = {});
+
+// The same frame by frame (issue 16): frames are observed in order, each one's density, and the
+// report is CheckIncompressibility's, value for value.
+class IncompressibilityMonitor {
+ public:
+  // header: types (the liquid) of a trajectory of `frames` frames. Throws InputError as
+  // CheckIncompressibility when has_density is false.
+  IncompressibilityMonitor(const Trajectory& header, std::size_t frames, bool has_density,
+                           const IncompressibilityOptions& options = {});
+  // Frame `index` (0, 1, ... in order); frame.trajectory must carry density.
+  void Observe(std::size_t index, const FrameRef& frame);
+  IncompressibilityReport report() const;
+
+ private:
+  std::vector<std::size_t> liquid_;
+  IncompressibilityOptions o_;
+  std::size_t first_ = 0;  // the first frame checked
+  IncompressibilityReport report_;
+  double sum_ = 0;
+  std::size_t count_ = 0;
+};
 
 }  // namespace owval::compare

@@ -24,6 +24,8 @@ constexpr int kNormalisedPoints = 49;
 // The non-empty midline bins of every frame, head (bin 51) first, as body-plane points.
 // Throws InputError when the trajectory is not a worm (see IsWorm).
 SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory);
+// One frame's skeleton, as SkeletonsFromTrajectory gives it (for frames read one at a time).
+Skeleton SkeletonAt(const Trajectory& trajectory, std::size_t frame);
 
 // `points` evenly spaced along the arc length of the polyline, first and last points kept.
 Skeleton ResampleByArcLength(const Skeleton& skeleton, int points = kNormalisedPoints);

@@ -9,6 +9,7 @@
 
 #include "owval/engine/config.hpp"
 #include "owval/predict/prediction.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::predict {
@@ -50,6 +51,10 @@ struct ReconcileOptions {
 // diagnosis hints and an overall pass. InputError when the tracked particle or group does not
 // exist in the trajectory.
 Reconciliation Reconcile(const Prediction& prediction, const Trajectory& trajectory,
+                         const ReconcileOptions& options = {});
+// The same frame by frame (issue 16: memory O(particles) and a few numbers a frame), with the
+// same values: each measure is a pass over the frames in time order (pressures read with them).
+Reconciliation Reconcile(const Prediction& prediction, FrameSource& frames,
                          const ReconcileOptions& options = {});
 std::string ReconcileMarkdown(const Reconciliation& reconciliation);
 

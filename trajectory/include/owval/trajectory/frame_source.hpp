@@ -44,6 +44,12 @@ class FrameSource {
   // InputError naming the file on a corrupt frame, std::out_of_range past the end.
   virtual FrameRef Frame(std::size_t f) = 0;
 
+  // From now on Frame() gives the frame's velocities, density and pressure too, those the file
+  // holds (frame.trajectory.has_density() ...). A file source reads positions only until asked:
+  // the fields are most of an HDF5 file. Sibernetic text holds none; a trajectory in memory
+  // gives its own.
+  virtual void ReadFields() {}
+
   std::size_t frame_count() const { return header().frame_count(); }
   std::size_t particle_count() const { return header().particle_count(); }
   bool partial() const { return header().provenance.count("partial") > 0; }

@@ -110,7 +110,7 @@ class Hdf5FrameReader {
   Hdf5FrameReader(const Hdf5FrameReader&) = delete;
   Hdf5FrameReader& operator=(const Hdf5FrameReader&) = delete;
 
-  const TrajectoryHeader& header() const { return header_; }
+  const TrajectoryHeader& header() const { return header_; }  // velocities etc.: the file's
   std::size_t frame_count() const { return frames_; }
   const std::vector<double>& time_s() const { return time_s_; }  // every frame's time
   bool partial() const;
@@ -119,16 +119,23 @@ class Hdf5FrameReader {
   // most 64 MiB: 3.4 MB for demo1's 16 frames x 17,841 particles), so each chunk is decompressed
   // once, whatever order frames are asked in.
   double ReadFrame(std::size_t frame, float* positions);
+  // Frame f's values of a per-frame field the file holds (header(): "velocities", 3 floats a
+  // particle; "density" or "pressure", 1), read a chunk of frames at a time as positions are,
+  // the field's dataset opened at its first read. Not checked for finiteness (as ReadHdf5: a
+  // diverged run's density may be NaN, its positions may not). InputError on a corrupt chunk.
+  void ReadField(const std::string& field, std::size_t frame, float* values);
 
  private:
+  struct Dataset;  // one per-frame dataset and its block of frames
+  Dataset& Open(const std::string& name, std::size_t values_per_particle);
+  void Read(Dataset& set, std::size_t frame, float* out);
+
   std::string path_;
-  std::int64_t file_ = -1, positions_ = -1;  // HDF5 identifiers (hid_t)
+  std::int64_t file_ = -1;  // HDF5 identifier (hid_t)
   TrajectoryHeader header_;
   std::vector<double> time_s_;
   std::size_t frames_ = 0;
-  std::size_t block_frames_ = 1, block_first_ = SIZE_MAX;  // block_ holds frames from block_first_
-  std::vector<float> block_;
-  void ReadFrames(std::size_t first, std::size_t count, float* out);
+  std::map<std::string, std::unique_ptr<Dataset>> sets_;  // "positions", then fields as read
 };
 
 }  // namespace owval
