@@ -556,6 +556,7 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
   SideBySideFrame compose(refs.Frame(0), options);
   nlohmann::json entries = nlohmann::json::array();
   std::filesystem::create_directories(out_dir);
+  OutputGroup written;  // the PNGs and frames.json appear together (a rerun never mixes)
   for (std::size_t fr : frames) {
     const auto it =
         std::find_if(pairs.begin(), pairs.end(), [fr](auto p) { return p.first == fr; });
@@ -573,7 +574,7 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
     compose.text().Draw(rgba, o.width, o.height, compose.panel() + 12, Row(options, 3), diff, 16,
                         kTextColour);
     const std::string name = "frame_" + std::to_string(fr) + ".png";
-    WritePng(out_dir / name, rgba, o.width, o.height);
+    WritePng(written.Stage(out_dir / name), rgba, o.width, o.height);
     entries.push_back({{"image", name},
                        {"reference_frame", fr},
                        {"candidate_frame", fc},
@@ -588,7 +589,8 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
                                  {"candidate_label", o.candidate_label},
                                  {"reference_range_cu", scale},
                                  {"frames", entries}};
-  WriteFileAtomically(out_dir / "frames.json", result.dump(2) + "\n");
+  WriteFileAtomically(written.Stage(out_dir / "frames.json"), result.dump(2) + "\n");
+  written.Commit();
   return result;
 }
 
