@@ -77,6 +77,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   const std::size_t n = state_.size();
   moving_.assign(n, 0);
   for (std::int32_t i : state_.moving) moving_[i] = 1;
+  parallel_ = threads_ > 1 && state_.moving.size() >= kParallelMovers;
   x_.resize(n);
   v_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -87,7 +88,8 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   p_ = x_;
   dp_.assign(n, {0, 0, 0});
   wall_normal_.assign(n, {0, 0, 0});
-  wall_friction_ = std::pow(0.99, 1.0 / substeps_);
+  wall_friction_ = std::pow(
+      0.99, 1.0 / (parameters_.density_passes > 0 ? parameters_.density_passes : substeps_));
   density_lambda_.assign(n, 0);
   density_dlambda_.assign(n, 0);
   pressure_acceleration_.assign(n, Float4{});
@@ -144,8 +146,18 @@ void Xpbd<T>::Step() {
   ComputeDensity(k_, &state_, threads_);
   if (!first) {
     ComputeForces();  // at x(t), held over the substeps
-    const T h = T(k_.time_step_s) / T(substeps_);
-    for (int substep = 0; substep < substeps_; ++substep) Substep(h);
+    const int m = parameters_.density_passes;
+    if (m <= 0) {
+      const T h = T(k_.time_step_s) / T(substeps_);
+      for (int substep = 0; substep < substeps_; ++substep) Substep(h);
+    } else {
+      const int inner = (substeps_ + m - 1) / m;  // at least the derived n bond substeps
+      const T H = T(k_.time_step_s) / T(m), h = H / T(inner);
+      for (int pass = 0; pass < m; ++pass) {
+        for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+        Correct(H);
+      }
+    }
   }
   InteractWithMembranes();
   ++step_;
@@ -167,6 +179,59 @@ void Xpbd<T>::Substep(T h) {
   UpdateVelocities(h);
 }
 
+// A bond substep of the split scheme [M19 Alg. 1 without the density and wall constraints]:
+// serial, as it is a few microseconds of work (a parallel region per substep cost more than the
+// work on a shared machine).
+template <typename T>
+void Xpbd<T>::BondSubstep(T h) {
+  const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
+  for (std::int32_t i : state_.moving) {
+    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
+    const T acceleration[3] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
+    for (int d = 0; d < 3; ++d) {
+      v_[i][d] += h * acceleration[d];
+      p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
+    }
+  }
+  std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBonds(h);
+  for (std::int32_t i : state_.moving) {
+    for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
+    x_[i] = p_[i];
+  }
+}
+
+// The split scheme's correction over H = dt/m: the density constraints (compliance α/H², as
+// PBF projects them once per step [MM13]) and the walls on the bond substeps' positions, the
+// correction's displacement added to the velocity as Δp·s/H, then the contact velocity pass.
+template <typename T>
+void Xpbd<T>::Correct(T H) {
+  for (std::int32_t i : state_.moving) wall_normal_[i] = {0, 0, 0};
+  std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass) {
+    ProjectDensity(H);
+    ProjectBoundaries();
+  }
+  const T scale = T(k_.scale);
+  const T floor = T(box_.ymin) + T(k_.r0_cu), restitution = T(parameters_.floor_restitution);
+  for (std::int32_t i : state_.moving) {
+    const Vec3<T> predicted = v_[i];
+    for (int a = 0; a < 3; ++a) v_[i][a] += (p_[i][a] - x_[i][a]) * scale / H;
+    WallVelocity(i, predicted, restitution);
+    if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
+    x_[i] = p_[i];
+    WriteFloatState(i);
+  }
+}
+
+template <typename T>
+void Xpbd<T>::WriteFloatState(std::int32_t i) {
+  Float4& x = state_.position[i];
+  Float4& v = state_.velocity[i];
+  x = {float(x_[i][0]), float(x_[i][1]), float(x_[i][2]), x.w};
+  v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
+}
+
 template <typename T>
 void Xpbd<T>::ComputeForces() {
   ComputeViscosityGravitySurfaceTension(k_forces_, &state_, threads_);
@@ -181,7 +246,7 @@ void Xpbd<T>::ComputeForces() {
 template <typename T>
 void Xpbd<T>::Predict(T dt) {
   const T to_cu = T(1) / T(k_.scale);
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
     const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
@@ -200,7 +265,7 @@ template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
   const std::vector<std::int32_t>& moving = state_.moving;
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
@@ -224,7 +289,7 @@ void Xpbd<T>::ProjectDensity(T dt) {
     density_dlambda_[i] = dlambda;
     density_lambda_[i] += dlambda;
   }
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
@@ -266,7 +331,7 @@ template <typename T>
 void Xpbd<T>::ProjectBoundaries() {
   const T low[3] = {T(box_.xmin), T(box_.ymin), T(box_.zmin)};
   const T high[3] = {T(box_.xmax), T(box_.ymax), T(box_.zmax)};
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
     const Vec3<T> start = p_[i];
@@ -314,10 +379,7 @@ void Xpbd<T>::UpdateVelocities(T dt) {
     WallVelocity(i, predicted, restitution);
     if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
     x_[i] = p_[i];
-    Float4& x = state_.position[i];
-    Float4& v = state_.velocity[i];
-    x = {float(x_[i][0]), float(x_[i][1]), float(x_[i][2]), x.w};
-    v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
+    WriteFloatState(i);
   }
 }
 
@@ -368,6 +430,7 @@ std::string Xpbd<T>::parameters() const {
   std::ostringstream s;
   s << "substeps = " << substeps_ << (parameters_.substeps > 0 ? "" : " (derived)")
     << ", iterations = " << parameters_.iterations
+    << ", density_passes = " << parameters_.density_passes
     << ", damping_budget = " << parameters_.damping_budget
     << ", density_compliance = " << density_compliance_
     << (parameters_.density_compliance > 0 ? "" : " (derived)")
