@@ -153,6 +153,7 @@ void Xpbd<T>::Step() {
     } else {
       const int inner = (substeps_ + m - 1) / m;  // at least the derived n bond substeps
       const T H = T(k_.time_step_s) / T(m), h = H / T(inner);
+      BondComplianceOf(h);
       for (int pass = 0; pass < m; ++pass) {
         for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
         Correct(H);
@@ -194,7 +195,7 @@ void Xpbd<T>::BondSubstep(T h) {
     }
   }
   std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
-  for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBonds(h);
+  for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBondsOneSided();
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
     x_[i] = p_[i];
@@ -323,6 +324,41 @@ void Xpbd<T>::ProjectBonds(T dt) {
     Vec3<T> partner = p_[bond.partner];
     ProjectDistance(&p_[bond.particle], &partner, T(1), T(0), bond.rest_cu, alpha_tilde,
                     &bond_lambda_[b]);
+  }
+}
+
+// Each bond's α̃ = scale/(k(t)·h²) for the step's substep h (the activations hold over a step),
+// or −1 for a bond without stiffness, as ProjectBonds computes them per bond and substep.
+template <typename T>
+void Xpbd<T>::BondComplianceOf(T dt) {
+  bond_alpha_tilde_.resize(bonds_.size());
+  for (std::size_t b = 0; b < bonds_.size(); ++b) {
+    const Bond& bond = bonds_[b];
+    T k = bond.stiffness;
+    if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
+      const float activation = matter_.muscle_activation[bond.muscle - 1];
+      if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
+    }
+    bond_alpha_tilde_[b] = k > 0 ? T(parameters_.bond_compliance_scale) / (k * dt * dt) : T(-1);
+  }
+}
+
+// ProjectBonds with the step's α̃ and the one-sided projection (w = 1, 0) written out: the
+// same arithmetic as ProjectDistance, without the per-bond division and muscle lookup.
+template <typename T>
+void Xpbd<T>::ProjectBondsOneSided() {
+  for (std::size_t b = 0; b < bonds_.size(); ++b) {
+    const T alpha_tilde = bond_alpha_tilde_[b];
+    if (alpha_tilde < 0) continue;
+    Vec3<T>& pa = p_[bonds_[b].particle];
+    const Vec3<T>& pb = p_[bonds_[b].partner];
+    const Vec3<T> d{pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+    const T length = Norm(d);
+    const T denominator = T(1) + T(0) + alpha_tilde;
+    if (!(length > 0)) continue;
+    const T dlambda = (-(length - bonds_[b].rest_cu) - alpha_tilde * bond_lambda_[b]) / denominator;
+    bond_lambda_[b] += dlambda;
+    for (int a = 0; a < 3; ++a) pa[a] += T(1) * dlambda * d[a] / length;
   }
 }
 

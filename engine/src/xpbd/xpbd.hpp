@@ -93,6 +93,8 @@ class Xpbd final : public Solver {
   void Predict(T h);
   void ProjectDensity(T h);
   void ProjectBonds(T h);
+  void BondComplianceOf(T h);
+  void ProjectBondsOneSided();
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
@@ -119,7 +121,7 @@ class Xpbd final : public Solver {
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> wall_normal_;  // a substep's last wall push direction, or zero
   double wall_friction_ = 1;          // Sibernetic's 0.99 per step, per substep
-  std::vector<T> density_lambda_, density_dlambda_, bond_lambda_;
+  std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::size_t step_ = 0;
 };
