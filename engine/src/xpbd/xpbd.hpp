@@ -115,10 +115,12 @@ class Xpbd final : public Solver {
   NeighbourGrid grid_;
   ElasticMatter matter_;
   std::vector<Bond> bonds_;
+  std::vector<std::size_t> bond_rows_;  // bonds_[bond_rows_[r], bond_rows_[r + 1]): one row
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
   std::vector<Vec3<T>> x_, v_, p_, dp_;
+  std::vector<Vec3<T>> bond_start_;   // the split's bond pass: positions as the pass began
   std::vector<Vec3<T>> wall_normal_;  // a substep's last wall push direction, or zero
   double wall_friction_ = 1;          // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
