@@ -371,7 +371,8 @@ void Xpbd<T>::ProjectBondsOneSided() {
       const T dlambda =
           (-(length - bonds_[b].rest_cu) - alpha_tilde * bond_lambda_[b]) / (T(1) + alpha_tilde);
       bond_lambda_[b] += dlambda;
-      for (int a = 0; a < 3; ++a) sum[a] += dlambda * d[a] / length;
+      const T step = dlambda / length;
+      for (int a = 0; a < 3; ++a) sum[a] += step * d[a];
     }
     for (int a = 0; a < 3; ++a) p_[i][a] += sum[a];
   }
