@@ -66,6 +66,10 @@ const ConstantInfo kTable[] = {
     {"xpbd_substeps", nullptr, "1",
      "XPBD substeps of dt/n per step; 0: derived from the stiffest bond and the damping budget",
      R::kCount, "xpbd", OWVAL_FIELD(xpbd.substeps)},
+    {"xpbd_density_passes", nullptr, "1",
+     "XPBD density and wall corrections per step (bonds on every substep); 0: every constraint "
+     "on every substep",
+     R::kCount, "xpbd", OWVAL_FIELD(xpbd.density_passes)},
     {"xpbd_damping_budget", nullptr, "1",
      "XPBD: amplitude fraction the stiffest bond may lose per period (sets the derived substeps)",
      R::kOpenFraction, "xpbd", OWVAL_FIELD(xpbd.damping_budget)},

@@ -124,7 +124,8 @@ TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount
   c.velocity.assign(2, {0, 0, 0, 0});
   PhysicsConstants k = Quiet();
   k.xpbd.rest_density = 1000;
-  k.xpbd.substeps = 1;  // one projection
+  k.xpbd.substeps = 1;        // one projection
+  k.xpbd.density_passes = 1;  // in the split scheme's one correction per step
   Xpbd<double> solver(c, k, 1);
   solver.Step();
   solver.Step();

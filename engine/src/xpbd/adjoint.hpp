@@ -246,6 +246,14 @@ void PredictBackward(const Setup<T>& S, const Field<T>& p_bar, Field<T>* x_bar, 
     }
 }
 
+// One neighbour pair's geometry, d = p_i − p_j, |d|², |d| and f(|d|), shared by a backward's
+// loops over the pairs.
+template <typename T>
+struct PairGeometry {
+  Vec3<T> d;
+  T r2, r, f;
+};
+
 // ---- Density constraints, one Jacobi pass [MM13 eqs. 9-12] with XPBD's compliance ----
 // C_i = V0·(W(0) + Σ_j W(|d_ij|²)) − 1, g_ij = V0·G(d_ij) = ∇_{p_i}C_i's share of j,
 // D_i = Σ_{j moving}|g_ij|² + |Σ_j g_ij|² + α̃, Δλ_i = (−C_i − α̃λ_i)/D_i, λ_i += Δλ_i,
@@ -351,14 +359,23 @@ void DensityPassBackward(const Setup<T>& S, const Neighbours& nb, T V0, T at, co
     pb_out[k] = (*p_bar)[S.movers[k]];
     dl_bar[k] = (*lambda_bar)[S.movers[k]];
   }
+  // Each pair's d, |d|² and |d| once (the three loops below need the same values).
+  std::vector<PairGeometry<T>> pair(nb.index.size());
+  for (std::int32_t i : S.movers)
+    for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
+      PairGeometry<T>& g = pair[std::size_t(m)];
+      g.d = Sub(p[i], p[nb.index[m]]);
+      g.r2 = Dot(g.d, g.d);
+      g.r = std::sqrt(g.r2);
+      g.f = K.f(g.r);
+    }
   // Δp terms: the Δλ cotangents first (they feed C̄, D̄ below).
   for (std::size_t k = 0; k < movers; ++k) {
     const std::int32_t i = S.movers[k];
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
       const std::int32_t j = nb.index[m];
-      const Vec3<T> d = Sub(p[i], p[j]);
-      const T r = std::sqrt(Dot(d, d));
-      const T pg = V0 * K.f(r) * Dot(pb_out[k], d);
+      const PairGeometry<T>& g = pair[std::size_t(m)];
+      const T pg = V0 * g.f * Dot(pb_out[k], g.d);
       dl_bar[k] += pg;
       if (S.moving[j]) dl_bar[std::size_t(S.slot[j])] += pg;
     }
@@ -376,25 +393,24 @@ void DensityPassBackward(const Setup<T>& S, const Neighbours& nb, T V0, T at, co
     Vec3<T> gi{0, 0, 0};
     T w = K.W(0);
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
-      const Vec3<T> d = Sub(p[i], p[nb.index[m]]);
-      const T r2 = Dot(d, d);
-      w += K.W(r2);
-      Axpy(V0 * K.f(std::sqrt(r2)), d, &gi);
+      const PairGeometry<T>& g = pair[std::size_t(m)];
+      w += K.W(g.r2);
+      Axpy(V0 * g.f, g.d, &gi);
     }
     *V0_bar += C_bar * w;
     for (std::int32_t m = nb.start[i]; m < nb.start[i + 1]; ++m) {
       const std::int32_t j = nb.index[m];
-      const Vec3<T> d = Sub(p[i], p[j]);
-      const T r2 = Dot(d, d), r = std::sqrt(r2);
-      const T g = V0 * K.f(r);
+      const Vec3<T>& d = pair[std::size_t(m)].d;
+      const T r2 = pair[std::size_t(m)].r2, r = pair[std::size_t(m)].r, f = pair[std::size_t(m)].f;
+      const T g = V0 * f;
       // ḡ_ij: from Δp_i and from D_i.
       Vec3<T> gb{0, 0, 0};
       Axpy(dl[i] + (S.moving[j] ? dl[j] : T(0)), pb_out[k], &gb);
       Axpy(T(2) * D_bar, gi, &gb);
       if (S.moving[j]) Axpy(T(2) * D_bar * g, d, &gb);
-      *V0_bar += K.f(r) * Dot(gb, d);
+      *V0_bar += f * Dot(gb, d);
       Vec3<T> db{0, 0, 0};
-      Axpy(V0 * K.f(r), gb, &db);
+      Axpy(V0 * f, gb, &db);
       if (r > 0) Axpy(V0 * K.df(r) * Dot(d, gb) / r, d, &db);
       Axpy(C_bar * V0 * K.dW(r2), d, &db);  // from C_i's W terms
       Axpy(T(1), db, &(*p_bar)[i]);

@@ -77,6 +77,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   const std::size_t n = state_.size();
   moving_.assign(n, 0);
   for (std::int32_t i : state_.moving) moving_[i] = 1;
+  parallel_ = threads_ > 1 && state_.moving.size() >= kParallelMovers;
   x_.resize(n);
   v_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -86,8 +87,10 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   }
   p_ = x_;
   dp_.assign(n, {0, 0, 0});
+  bond_start_ = p_;
   wall_normal_.assign(n, {0, 0, 0});
-  wall_friction_ = std::pow(0.99, 1.0 / substeps_);
+  wall_friction_ = std::pow(
+      0.99, 1.0 / (parameters_.density_passes > 0 ? parameters_.density_passes : substeps_));
   density_lambda_.assign(n, 0);
   density_dlambda_.assign(n, 0);
   pressure_acceleration_.assign(n, Float4{});
@@ -103,6 +106,9 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
     }
   }
   bond_lambda_.assign(bonds_.size(), 0);
+  for (std::size_t b = 0; b < bonds_.size(); ++b)  // rows: each particle's bonds, contiguous
+    if (b == 0 || bonds_[b].particle != bonds_[b - 1].particle) bond_rows_.push_back(b);
+  bond_rows_.push_back(bonds_.size());
   grid_.Refresh(&state_, threads_);
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
@@ -144,8 +150,19 @@ void Xpbd<T>::Step() {
   ComputeDensity(k_, &state_, threads_);
   if (!first) {
     ComputeForces();  // at x(t), held over the substeps
-    const T h = T(k_.time_step_s) / T(substeps_);
-    for (int substep = 0; substep < substeps_; ++substep) Substep(h);
+    const int m = parameters_.density_passes;
+    if (m <= 0) {
+      const T h = T(k_.time_step_s) / T(substeps_);
+      for (int substep = 0; substep < substeps_; ++substep) Substep(h);
+    } else {
+      const int inner = (substeps_ + m - 1) / m;  // at least the derived n bond substeps
+      const T H = T(k_.time_step_s) / T(m), h = H / T(inner);
+      BondComplianceOf(h);
+      for (int pass = 0; pass < m; ++pass) {
+        for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+        Correct(H);
+      }
+    }
   }
   InteractWithMembranes();
   ++step_;
@@ -167,6 +184,59 @@ void Xpbd<T>::Substep(T h) {
   UpdateVelocities(h);
 }
 
+// A bond substep of the split scheme [M19 Alg. 1 without the density and wall constraints]:
+// serial, as it is a few microseconds of work (a parallel region per substep cost more than the
+// work on a shared machine).
+template <typename T>
+void Xpbd<T>::BondSubstep(T h) {
+  const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
+  for (std::int32_t i : state_.moving) {
+    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
+    const T acceleration[3] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
+    for (int d = 0; d < 3; ++d) {
+      v_[i][d] += h * acceleration[d];
+      p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
+    }
+  }
+  std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBondsOneSided();
+  for (std::int32_t i : state_.moving) {
+    for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
+    x_[i] = p_[i];
+  }
+}
+
+// The split scheme's correction over H = dt/m: the density constraints (compliance α/H², as
+// PBF projects them once per step [MM13]) and the walls on the bond substeps' positions, the
+// correction's displacement added to the velocity as Δp·s/H, then the contact velocity pass.
+template <typename T>
+void Xpbd<T>::Correct(T H) {
+  for (std::int32_t i : state_.moving) wall_normal_[i] = {0, 0, 0};
+  std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass) {
+    ProjectDensity(H);
+    ProjectBoundaries();
+  }
+  const T scale = T(k_.scale);
+  const T floor = T(box_.ymin) + T(k_.r0_cu), restitution = T(parameters_.floor_restitution);
+  for (std::int32_t i : state_.moving) {
+    const Vec3<T> predicted = v_[i];
+    for (int a = 0; a < 3; ++a) v_[i][a] += (p_[i][a] - x_[i][a]) * scale / H;
+    WallVelocity(i, predicted, restitution);
+    if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
+    x_[i] = p_[i];
+    WriteFloatState(i);
+  }
+}
+
+template <typename T>
+void Xpbd<T>::WriteFloatState(std::int32_t i) {
+  Float4& x = state_.position[i];
+  Float4& v = state_.velocity[i];
+  x = {float(x_[i][0]), float(x_[i][1]), float(x_[i][2]), x.w};
+  v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
+}
+
 template <typename T>
 void Xpbd<T>::ComputeForces() {
   ComputeViscosityGravitySurfaceTension(k_forces_, &state_, threads_);
@@ -181,7 +251,7 @@ void Xpbd<T>::ComputeForces() {
 template <typename T>
 void Xpbd<T>::Predict(T dt) {
   const T to_cu = T(1) / T(k_.scale);
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
     const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
@@ -200,7 +270,7 @@ template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
   const std::vector<std::int32_t>& moving = state_.moving;
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
@@ -224,7 +294,7 @@ void Xpbd<T>::ProjectDensity(T dt) {
     density_dlambda_[i] = dlambda;
     density_lambda_[i] += dlambda;
   }
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
@@ -261,12 +331,59 @@ void Xpbd<T>::ProjectBonds(T dt) {
   }
 }
 
+// Each bond's α̃ = scale/(k(t)·h²) for the step's substep h (the activations hold over a step),
+// or −1 for a bond without stiffness, as ProjectBonds computes them per bond and substep.
+template <typename T>
+void Xpbd<T>::BondComplianceOf(T dt) {
+  bond_alpha_tilde_.resize(bonds_.size());
+  for (std::size_t b = 0; b < bonds_.size(); ++b) {
+    const Bond& bond = bonds_[b];
+    T k = bond.stiffness;
+    if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
+      const float activation = matter_.muscle_activation[bond.muscle - 1];
+      if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
+    }
+    bond_alpha_tilde_[b] = k > 0 ? T(parameters_.bond_compliance_scale) / (k * dt * dt) : T(-1);
+  }
+}
+
+// The split scheme's bond pass: ProjectBonds with the step's α̃, Jacobi. Every bond of a row
+// reads both ends as the pass began and the row's particle moves by the sum of its bonds'
+// corrections (w = 1 for the row's particle, 0 for the partner, as ProjectDistance with those
+// weights). Per substep α̃ = 1/(k h²) is large (demo1: k h² = 3.8e-5, α̃ ≈ 2.6e4), so each bond
+// moves its particle by ~1/α̃ of its error and the sum cannot overshoot; Gauss-Seidel's serial
+// chain (a square root and a division per bond, through the particle's position) cost 5x more.
+template <typename T>
+void Xpbd<T>::ProjectBondsOneSided() {
+  for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];  // fixed entries never change
+  for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
+    const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
+    const std::int32_t i = bonds_[first].particle;
+    const Vec3<T> pa = bond_start_[i];
+    Vec3<T> sum{0, 0, 0};
+    for (std::size_t b = first; b < last; ++b) {
+      const T alpha_tilde = bond_alpha_tilde_[b];
+      if (alpha_tilde < 0) continue;
+      const Vec3<T>& pb = bond_start_[bonds_[b].partner];
+      const Vec3<T> d{pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+      const T length = Norm(d);
+      if (!(length > 0)) continue;
+      const T dlambda =
+          (-(length - bonds_[b].rest_cu) - alpha_tilde * bond_lambda_[b]) / (T(1) + alpha_tilde);
+      bond_lambda_[b] += dlambda;
+      const T step = dlambda / length;
+      for (int a = 0; a < 3; ++a) sum[a] += step * d[a];
+    }
+    for (int a = 0; a < 3; ++a) p_[i][a] += sum[a];
+  }
+}
+
 // Sibernetic's wall correction on the predicted positions [IAGT10], then the box's faces.
 template <typename T>
 void Xpbd<T>::ProjectBoundaries() {
   const T low[3] = {T(box_.xmin), T(box_.ymin), T(box_.zmin)};
   const T high[3] = {T(box_.xmax), T(box_.ymax), T(box_.zmax)};
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
     const Vec3<T> start = p_[i];
@@ -314,10 +431,7 @@ void Xpbd<T>::UpdateVelocities(T dt) {
     WallVelocity(i, predicted, restitution);
     if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
     x_[i] = p_[i];
-    Float4& x = state_.position[i];
-    Float4& v = state_.velocity[i];
-    x = {float(x_[i][0]), float(x_[i][1]), float(x_[i][2]), x.w};
-    v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
+    WriteFloatState(i);
   }
 }
 
@@ -368,6 +482,7 @@ std::string Xpbd<T>::parameters() const {
   std::ostringstream s;
   s << "substeps = " << substeps_ << (parameters_.substeps > 0 ? "" : " (derived)")
     << ", iterations = " << parameters_.iterations
+    << ", density_passes = " << parameters_.density_passes
     << ", damping_budget = " << parameters_.damping_budget
     << ", density_compliance = " << density_compliance_
     << (parameters_.density_compliance > 0 ? "" : " (derived)")

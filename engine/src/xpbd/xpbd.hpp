@@ -10,6 +10,9 @@
 //              Sibernetic's springs act only on their own row's particle), walls [IAGT10], box}
 //       → v = (p − x)·s/h, wall contacts' velocity (restitution, friction), floor restitution
 //   → the shared membrane pass.
+// Split (xpbd_density_passes = m > 0, the default): the n substeps hold only the bonds (predict,
+// bonds, v = (p − x)·s/h); after every n/m of them one correction of H = dt/m projects the
+// density constraints and walls, v += Δp·s/H, wall contacts' velocity. m = 0: the scheme above.
 // Like Sibernetic's first step, step 0 moves nothing but the membrane pass.
 // The scalar of the projections is a template parameter: float for runs, double for gradient
 // checks; neighbour search, walls and membranes work on a float copy of the positions.
@@ -85,11 +88,16 @@ class Xpbd final : public Solver {
 
   void ComputeForces();
   void Substep(T h);
+  void BondSubstep(T h);
+  void Correct(T h);
   void Predict(T h);
   void ProjectDensity(T h);
   void ProjectBonds(T h);
+  void BondComplianceOf(T h);
+  void ProjectBondsOneSided();
   void ProjectBoundaries();
   void UpdateVelocities(T h);
+  void WriteFloatState(std::int32_t i);
   void WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restitution);
   void InteractWithMembranes();
   double DerivedRestDensity() const;
@@ -97,19 +105,25 @@ class Xpbd final : public Solver {
   SphConstants k_, k_forces_;
   PhysicsConstants::Xpbd parameters_;
   float delta_;
+  // The projections' loops fork only over this many moving particles: demo1's 343 took 25x
+  // longer on two threads than on one (each substep's fork/join, on a shared machine).
+  static constexpr std::size_t kParallelMovers = 4096;
   int threads_, substeps_;
+  bool parallel_ = false;
   Box box_;
   ParticleState state_;
   NeighbourGrid grid_;
   ElasticMatter matter_;
   std::vector<Bond> bonds_;
+  std::vector<std::size_t> bond_rows_;  // bonds_[bond_rows_[r], bond_rows_[r + 1]): one row
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
   std::vector<Vec3<T>> x_, v_, p_, dp_;
+  std::vector<Vec3<T>> bond_start_;   // the split's bond pass: positions as the pass began
   std::vector<Vec3<T>> wall_normal_;  // a substep's last wall push direction, or zero
   double wall_friction_ = 1;          // Sibernetic's 0.99 per step, per substep
-  std::vector<T> density_lambda_, density_dlambda_, bond_lambda_;
+  std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::size_t step_ = 0;
 };

@@ -84,7 +84,9 @@ struct PhysicsConstants {
   struct Xpbd {
     int iterations = 1;  // constraint projection passes per substep (K)
     int substeps = 0;    // n substeps of dt/n per step [Macklin 2019]; 0: derived (docs/xpbd.md)
-    double damping_budget = 0.02;      // derived n: amplitude lost per period by the stiffest bond
+    double damping_budget = 0.02;  // derived n: amplitude lost per period by the stiffest bond
+    int density_passes = 1;        // m density/wall corrections per step, bonds on every substep;
+                             // 0: every constraint on every substep (the differentiable model's)
     double density_compliance = 0;     // alpha of C = rho/rho_rest - 1, s^2/cu^2; 0: derived
     double bond_compliance_scale = 1;  // alpha of a bond = scale / k_eff (k_eff in s^-2)
     double rest_density = 0;           // kg/m^3; 0: the configuration's interior liquid's
