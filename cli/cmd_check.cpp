@@ -18,17 +18,23 @@ struct CheckArgs {
 };
 
 void RunStability(const CheckArgs& a) {
-  const compare::StabilityReport r =
-      compare::CheckStability(ReadTrajectoryArgument(a.path), a.stability);
+  const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame
+  const compare::StabilityReport r = compare::CheckStability(*frames, a.stability);
   std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
   if (!r.pass()) SetExitCode(kExitGateFailed);
 }
 
 void RunIncompressibility(const CheckArgs& a) {
-  const Trajectory t = ReadTrajectoryArgument(a.path);
+  const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame, with density
+  frames->ReadFields();
   compare::IncompressibilityReport r;
   try {
-    r = compare::CheckIncompressibility(t, a.incompressibility);
+    compare::IncompressibilityMonitor density(
+        frames->header(), frames->frame_count(),
+        frames->frame_count() > 0 && frames->Frame(0).trajectory.has_density(),
+        a.incompressibility);
+    for (std::size_t f = 0; f < frames->frame_count(); ++f) density.Observe(f, frames->Frame(f));
+    r = density.report();
   } catch (const InputError& e) {
     throw InputError(a.path, 0, e.what());
   }

@@ -51,8 +51,8 @@ void RunReconcile(const PredictArgs& a) {
       predict::Prediction::FromJson(ReadJsonFile(a.prediction), a.prediction);
   predict::ReconcileOptions options;
   for (const std::string& t : a.tolerances) options.AddTolerance(t);
-  const predict::Reconciliation r =
-      predict::Reconcile(p, ReadTrajectoryArgument(a.trajectory), options);
+  const auto frames = OpenTrajectoryArgument(a.trajectory);  // frame by frame
+  const predict::Reconciliation r = predict::Reconcile(p, *frames, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, r.ToJson().dump(2) + "\n");
   std::cout << (a.json ? r.ToJson().dump(2) + "\n" : predict::ReconcileMarkdown(r));
   if (!r.pass) SetExitCode(kExitGateFailed);
