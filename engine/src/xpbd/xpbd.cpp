@@ -312,17 +312,24 @@ void Xpbd<T>::ProjectDensity(T dt) {
     for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
 }
 
+// A bond's stiffness now: a muscle's is k·(1 + activation·strength).
+template <typename T>
+T Xpbd<T>::StiffnessOf(const Bond& bond) const {
+  T k = bond.stiffness;
+  if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
+    const float activation = matter_.muscle_activation[bond.muscle - 1];
+    if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
+  }
+  return k;
+}
+
 // Gauss-Seidel over the bonds in file order; a bond moves only its own row's particle, as
 // Sibernetic's spring force acts only on it (pairs listed both ways move both).
 template <typename T>
 void Xpbd<T>::ProjectBonds(T dt) {
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
     const Bond& bond = bonds_[b];
-    T k = bond.stiffness;
-    if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
-      const float activation = matter_.muscle_activation[bond.muscle - 1];
-      if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
-    }
+    const T k = StiffnessOf(bond);
     if (!(k > 0)) continue;
     const T alpha_tilde = T(parameters_.bond_compliance_scale) / (k * dt * dt);
     Vec3<T> partner = p_[bond.partner];
@@ -338,11 +345,7 @@ void Xpbd<T>::BondComplianceOf(T dt) {
   bond_alpha_tilde_.resize(bonds_.size());
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
     const Bond& bond = bonds_[b];
-    T k = bond.stiffness;
-    if (bond.muscle >= 1 && bond.muscle <= kMuscles) {
-      const float activation = matter_.muscle_activation[bond.muscle - 1];
-      if (activation > 0) k *= T(1) + T(activation) * T(parameters_.muscle_strength);
-    }
+    const T k = StiffnessOf(bond);
     bond_alpha_tilde_[b] = k > 0 ? T(parameters_.bond_compliance_scale) / (k * dt * dt) : T(-1);
   }
 }

@@ -92,6 +92,7 @@ class Xpbd final : public Solver {
   void Correct(T h);
   void Predict(T h);
   void ProjectDensity(T h);
+  T StiffnessOf(const Bond& bond) const;
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
   void ProjectBondsOneSided();
