@@ -25,16 +25,10 @@ void RunStability(const CheckArgs& a) {
 }
 
 void RunIncompressibility(const CheckArgs& a) {
-  const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame, with density
-  frames->ReadFields();
+  const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame
   compare::IncompressibilityReport r;
   try {
-    compare::IncompressibilityMonitor density(
-        frames->header(), frames->frame_count(),
-        frames->frame_count() > 0 && frames->Frame(0).trajectory.has_density(),
-        a.incompressibility);
-    for (std::size_t f = 0; f < frames->frame_count(); ++f) density.Observe(f, frames->Frame(f));
-    r = density.report();
+    r = compare::CheckIncompressibility(*frames, a.incompressibility);
   } catch (const InputError& e) {
     throw InputError(a.path, 0, e.what());
   }

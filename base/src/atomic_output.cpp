@@ -71,13 +71,16 @@ void AtomicOutput::Adopt(const fs::path& existing) {
 
 void AtomicOutput::Commit() { CommitAs(destination_); }
 
+void AtomicOutput::CloseStream(const fs::path& named) {
+  if (!stream_.is_open()) return;
+  stream_.flush();
+  if (!stream_) throw InputError(named.string(), 0, "write failed (disk full?)");
+  stream_.close();
+  if (stream_.fail()) throw InputError(named.string(), 0, "write failed (disk full?)");
+}
+
 void AtomicOutput::Release() {
-  if (stream_.is_open()) {
-    stream_.flush();
-    if (!stream_) throw InputError(destination_.string(), 0, "write failed (disk full?)");
-    stream_.close();
-    if (stream_.fail()) throw InputError(destination_.string(), 0, "write failed (disk full?)");
-  }
+  CloseStream(destination_);
   committed_ = true;  // the temporary is the new owner's
 }
 
@@ -132,12 +135,7 @@ void OutputGroup::Commit() {
 }
 
 void AtomicOutput::CommitAs(const fs::path& destination) {
-  if (stream_.is_open()) {
-    stream_.flush();
-    if (!stream_) throw InputError(destination.string(), 0, "write failed (disk full?)");
-    stream_.close();
-    if (stream_.fail()) throw InputError(destination.string(), 0, "write failed (disk full?)");
-  }
+  CloseStream(destination);
   std::error_code error;
   fs::rename(temporary_, destination, error);
   if (error)

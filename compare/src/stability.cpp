@@ -205,6 +205,16 @@ IncompressibilityReport CheckIncompressibility(const Trajectory& t,
   return monitor.report();
 }
 
+IncompressibilityReport CheckIncompressibility(FrameSource& frames,
+                                               const IncompressibilityOptions& o) {
+  frames.ReadFields();
+  const std::size_t count = frames.frame_count();
+  IncompressibilityMonitor monitor(frames.header(), count,
+                                   count > 0 && frames.Frame(0).trajectory.has_density(), o);
+  for (std::size_t f = 0; f < count; ++f) monitor.Observe(f, frames.Frame(f));
+  return monitor.report();
+}
+
 nlohmann::json IncompressibilityReport::ToJson() const {
   return {{"liquid_particles", liquid_particles},
           {"frames", frames},

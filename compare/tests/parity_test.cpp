@@ -7,6 +7,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare {
 namespace {
@@ -246,6 +247,15 @@ TEST(Incompressibility, MeasuresMeanAndMaxDeviation) {
 
 TEST(Incompressibility, RefusesTrajectoryWithoutDensity) {
   EXPECT_THROW(CheckIncompressibility(OneSprig()), InputError);
+  const Trajectory sprig = OneSprig();
+  EXPECT_THROW(CheckIncompressibility(*MemoryFrameSource(sprig)), InputError);
+}
+
+TEST(Incompressibility, FrameByFrameGivesTheWholeTrajectorysReport) {
+  Trajectory t = TwoLiquidParticles(3);
+  t.density = {1000, 1000, 1000, 1030, 1000, 990};
+  EXPECT_EQ(CheckIncompressibility(*MemoryFrameSource(t)).ToJson(),
+            CheckIncompressibility(t).ToJson());
 }
 
 }  // namespace

@@ -37,6 +37,9 @@ class AtomicOutput {
   void Release();
 
  private:
+  // Flushes and closes the stream if open; InputError naming `named` on I/O failure.
+  void CloseStream(const std::filesystem::path& named);
+
   std::filesystem::path destination_;
   std::filesystem::path temporary_;
   std::ofstream stream_;

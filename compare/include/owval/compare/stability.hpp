@@ -96,6 +96,9 @@ struct IncompressibilityReport {
 // Throws InputError when the trajectory has no density or no liquid particle.
 IncompressibilityReport CheckIncompressibility(const Trajectory& trajectory,
                                                const IncompressibilityOptions& options = {});
+// The same frame by frame from a source (its fields read): memory O(particles), the same report.
+IncompressibilityReport CheckIncompressibility(FrameSource& frames,
+                                               const IncompressibilityOptions& options = {});
 
 // The same frame by frame (issue 16): frames are observed in order, each one's density, and the
 // report is CheckIncompressibility's, value for value.
