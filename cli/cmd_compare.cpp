@@ -6,7 +6,6 @@
 
 #include "backend_flags.hpp"
 #include "command.hpp"
-#include "owval/backends/sibernetic_checkout.hpp"
 #include "owval/backends/suite.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -73,21 +72,10 @@ void RunBackendCompare(const CompareArgs& a) {
   const backends::Backend& ref = registry.Find(a.reference);
   const backends::Backend& cand = registry.Find(a.candidate);
   backends::SuiteOptions options;
-  const std::filesystem::path checkout = backends::SiberneticCheckout(a.sibernetic);
-  if (!checkout.empty() && a.reference_dir.empty()) {  // Sibernetic's demos, from a checkout
-    options.manifest_directory = DataDir() / "scenarios" / "sibernetic";
-    options.scenarios =
-        backends::SiberneticScenarios(checkout, options.manifest_directory, a.scenarios);
-  } else {
-    const std::filesystem::path root =
-        a.reference_dir.empty()
-            ? backends::DefaultScenarioRoot(ref, cand,
-                                            std::filesystem::path(OWVAL_SHARED_DIR) / "reference")
-            : std::filesystem::path(a.reference_dir);
-    options.scenarios = backends::FindScenarios(root, a.scenarios);
-    options.manifest_directory = DataDir() / "scenarios" / "manifests";
-  }
-  if (options.scenarios.empty()) throw InputError("no scenario with a configuration to compare on");
+  backends::SelectScenarios(ref, cand,
+                            {a.scenarios, a.sibernetic, a.reference_dir,
+                             std::filesystem::path(OWVAL_SHARED_DIR) / "reference", DataDir()},
+                            &options);
   options.sets = ParseSets(a.sets);
   if (!Flags().quiet)
     options.on_progress = [](const std::string& s) {
@@ -113,20 +101,7 @@ void RunCompare(const CompareArgs& a) {
   const compare::ParityReport report =
       compare::CompareFrameSources(*reference, *candidate, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
-  // A partial trajectory (an interrupted run's) is compared over the frames it has, and said so.
-  const bool reference_partial = reference->partial(), candidate_partial = candidate->partial();
-  if (a.json) {
-    nlohmann::json j = report.ToJson();
-    j["reference_partial"] = reference_partial, j["candidate_partial"] = candidate_partial;
-    std::cout << j.dump(2) << "\n";
-  } else {
-    for (const auto& [path, partial] :
-         {std::pair{a.reference, reference_partial}, std::pair{a.candidate, candidate_partial}})
-      if (partial)
-        std::cout << "note: " << path
-                  << " is partial (an interrupted run's): compared over the frames it has\n";
-    std::cout << report.ToTable();
-  }
+  std::cout << (a.json ? report.ToJson().dump(2) + "\n" : report.ToTable());
   if (!report.pass()) SetExitCode(kExitGateFailed);
 }
 

@@ -1,19 +1,15 @@
 // owval fit: phase 5, parameters fitted by an optimiser with the convergence history saved.
-#include <atomic>
-#include <csignal>
 #include <iostream>
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
+#include "owval/base/stop_signals.hpp"
 #include "owval/pipeline/fit_directory.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void OnInterrupt(int) { g_interrupted = true; }
 
 struct FitArgs {
   pipeline::FitRequest request;
@@ -32,13 +28,12 @@ void RunFit(FitArgs& a) {
   const Trajectory reference = a.reference.empty() || r.gradient == "fd"
                                    ? Trajectory{}
                                    : ReadTrajectoryArgument(a.reference);
-  g_interrupted = false;
-  const auto previous = std::signal(SIGINT, OnInterrupt);
   pipeline::FitDirectorySummary summary;
-  pipeline::FitIntoDirectory(
-      r, &config, a.reference.empty() ? nullptr : &reference, [] { return g_interrupted.load(); },
-      &summary);
-  std::signal(SIGINT, previous);
+  {
+    const StopSignals signals;  // the fit stops after its current iteration, history kept
+    pipeline::FitIntoDirectory(r, &config, a.reference.empty() ? nullptr : &reference,
+                               StopRequested, &summary);
+  }
   if (a.json) {
     std::cout << summary.history.dump(2) << "\n";
   } else {

@@ -1,6 +1,5 @@
 // owval render / render sxs / frames: phase 6 and 7 pictures, without any display.
 #include <iostream>
-#include <sstream>
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
@@ -27,20 +26,6 @@ struct RenderArgs {
   bool json = false;
 };
 
-// A panel's default name: the file's stem, or its folder's name for generic file names
-// (position_buffer.txt, trajectory.h5).
-std::string LabelFor(const std::string& path, const char* fallback) {
-  if (path.empty()) return fallback;
-  std::filesystem::path p(path);
-  while (p.has_extension()) p = p.stem();
-  const std::string stem = p.filename().string();
-  if (stem == "position_buffer" || stem == "trajectory") {
-    const std::string folder = std::filesystem::path(path).parent_path().filename().string();
-    return folder.empty() ? fallback : folder;
-  }
-  return stem.empty() ? fallback : stem;
-}
-
 void RequireOut(const RenderArgs& a) {  // before any work starts
   if (a.out.empty()) throw InputError("-o/--out is required");
 }
@@ -48,8 +33,7 @@ void RequireOut(const RenderArgs& a) {  // before any work starts
 // shown: the (reference) trajectory; "auto" frames a worm with the worm view, anything else iso.
 render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
   render::RenderOptions o;
-  if (std::sscanf(a.size.c_str(), "%dx%d", &o.width, &o.height) != 2)
-    throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  render::ParseFrameSize(a.size, &o);
   o.view = a.view != "auto" ? a.view : kinematics::IsWorm(shown) ? "worm" : "iso";
   o.boundary = render::ParseBoundaryMode(a.boundary);
   o.fps = a.fps;
@@ -57,17 +41,13 @@ render::RenderOptions Options(const RenderArgs& a, const Trajectory& shown) {
   o.liquid_opacity = a.liquid_opacity;
   o.title = a.title;
   o.quiet = Flags().quiet;
-  if (!a.connections.empty()) {
-    const engine::SiberneticConfig config = ResolveConfig(a.connections);
-    for (std::size_t row = 0; row < config.connection.size(); ++row)
-      if (config.connection[row][0] >= 0)
-        o.connections.emplace_back(std::uint32_t(row / engine::kConnectionSlots),
-                                   std::uint32_t(config.connection[row][0]));
-  }
+  if (!a.connections.empty()) o.connections = engine::ConnectionPairs(ResolveConfig(a.connections));
   if (a.track.given()) o.tracking = a.track.Over(Track{});
   o.draw_box = !a.no_box;
-  o.reference_label = a.label_ref.empty() ? LabelFor(a.reference, "reference") : a.label_ref;
-  o.candidate_label = a.label_cand.empty() ? LabelFor(a.candidate, "candidate") : a.label_cand;
+  o.reference_label =
+      a.label_ref.empty() ? render::PanelLabel(a.reference, "reference") : a.label_ref;
+  o.candidate_label =
+      a.label_cand.empty() ? render::PanelLabel(a.candidate, "candidate") : a.label_cand;
   return o;
 }
 
@@ -89,16 +69,12 @@ void GateFrames(const RenderArgs& a, FrameSource& ref, FrameSource& cand,
 }
 
 void Print(const render::VideoSummary& s, const std::string& out, bool json) {
-  nlohmann::json j = {{"output", out},      {"frames", s.frames}, {"width", s.width},
-                      {"height", s.height}, {"fps", s.fps},       {"duration_s", s.duration_s},
-                      {"notes", s.notes}};
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << s.ToJson(out).dump(2) << "\n";
     return;
   }
   for (const auto& note : s.notes) std::cerr << "owval: note: " << note << "\n";
-  std::cout << "wrote " << out << ": " << s.frames << " frames " << s.width << "x" << s.height
-            << " at " << s.fps << " fps\n";
+  std::cout << s.ToText(out) << "\n";
 }
 
 void AddCommon(CLI::App* cmd, RenderArgs* a) {

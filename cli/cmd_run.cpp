@@ -1,12 +1,12 @@
 // owval run: the engine (PCISPH, Sibernetic's scheme, unless --backend says otherwise) on a
 // configuration or built-in scenario, streamed into an output directory (pipeline/run_directory).
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 
 #include "command.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
+#include "owval/base/stop_signals.hpp"
 #include "owval/engine/long_run.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/pipeline/run_directory.hpp"
@@ -20,28 +20,6 @@ struct RunArgs {
   std::string resume;  // output directory of a checkpointed run
   int threads = 0;
   bool json = false, stability = false;
-};
-
-// SIGINT / SIGTERM only set a flag; the run polls it between steps, checkpoints and leaves a
-// partial trajectory (no unwinding from a signal handler).
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void OnStopSignal(int signal) { g_stop_signal = signal; }
-
-class StopSignals {
- public:
-  StopSignals() {
-    g_stop_signal = 0;
-    int_ = std::signal(SIGINT, OnStopSignal);
-    term_ = std::signal(SIGTERM, OnStopSignal);
-  }
-  ~StopSignals() {
-    std::signal(SIGINT, int_);
-    std::signal(SIGTERM, term_);
-  }
-
- private:
-  void (*int_)(int);
-  void (*term_)(int);
 };
 
 void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunDirectorySummary& s,
@@ -61,7 +39,7 @@ void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunD
                  "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
                  "continue with: owval run --resume %s\n",
                  s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(), r.out.c_str());
-    SetExitCode(128 + int(g_stop_signal));  // 130 for SIGINT, 143 for SIGTERM
+    SetExitCode(128 + StopSignal());  // 130 for SIGINT, 143 for SIGTERM
   } else if (s.stability && !s.stability->pass()) {
     SetExitCode(kExitGateFailed);
   }
@@ -82,10 +60,10 @@ void RunEngine(const RunArgs& a) {
     if (done % 50 == 0 || done == total)
       progress.Update(done, "of " + std::to_string(total) + " steps");
   };
-  o.stop_requested = [] { return g_stop_signal != 0; };
+  o.stop_requested = [] { return StopRequested(); };
   pipeline::RunDirectorySummary summary;
   {
-    const StopSignals signals;
+    const StopSignals signals;  // checkpoint and leave a partial trajectory
     pipeline::RunIntoDirectory(config, r, o, &summary);
   }
   progress.Finish();

@@ -3,6 +3,9 @@
 #include <chrono>
 #include <cstdio>
 
+#include "owval/backends/scenario_store.hpp"
+#include "owval/backends/sibernetic_checkout.hpp"
+#include "owval/base/errors.hpp"
 #include "owval/scenarios/scenario.hpp"
 
 namespace owval::backends {
@@ -133,6 +136,24 @@ std::filesystem::path DefaultScenarioRoot(const Backend& a, const Backend& b,
   for (const Backend* x : {&a, &b})
     if (!x->store.empty()) return x->store;
   return fallback;
+}
+
+void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection& selection,
+                     SuiteOptions* options) {
+  const std::filesystem::path checkout = SiberneticCheckout(selection.sibernetic);
+  if (!checkout.empty() && selection.reference_dir.empty()) {
+    options->manifest_directory = selection.data_dir / "scenarios" / "sibernetic";
+    options->scenarios =
+        SiberneticScenarios(checkout, options->manifest_directory, selection.names);
+  } else {
+    const std::filesystem::path root = selection.reference_dir.empty()
+                                           ? DefaultScenarioRoot(a, b, selection.shared_reference)
+                                           : selection.reference_dir;
+    options->scenarios = FindScenarios(root, selection.names);
+    options->manifest_directory = selection.data_dir / "scenarios" / "manifests";
+  }
+  if (options->scenarios.empty())
+    throw InputError("no scenario with a configuration to compare on");
 }
 
 }  // namespace owval::backends

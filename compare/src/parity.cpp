@@ -345,6 +345,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   r.common_window_start_s = ref.time_s[pairs.front().first];
   r.common_window_end_s = ref.time_s[pairs.back().first];
   r.box_scale_cu = BoxScale(ref.box);
+  r.reference_partial = refs.partial(), r.candidate_partial = cands.partial();
   PairReducer reducer(ref, cand, refs, pairs, gated, o, &r);
   Reduce(refs, cands, pairs, &reducer, o.quiet);
   MeasureSignals(reducer.candidate_time(), o, &r);
@@ -413,8 +414,22 @@ nlohmann::json ParityReport::ToJson() const {
            {{"period_relative", Opt(period_gap)},
             {"half_amplitude_relative", Opt(half_amplitude_gap)},
             {"equilibrium_cu", Opt(equilibrium_gap_cu)}}},
+          {"reference_partial", reference_partial},
+          {"candidate_partial", candidate_partial},
           {"pass", pass()}};
 }
+
+namespace {
+std::string PartialNotes(const ParityReport& r, const char* prefix) {
+  std::string notes;
+  for (const auto& [side, partial] :
+       {std::pair{"reference", r.reference_partial}, std::pair{"candidate", r.candidate_partial}})
+    if (partial)
+      notes += std::string(prefix) + "note: the " + side +
+               " is partial (an interrupted run's): compared over the frames it has\n";
+  return notes;
+}
+}  // namespace
 
 std::string ParityReport::ToMarkdown() const {
   std::ostringstream s;
@@ -422,7 +437,8 @@ std::string ParityReport::ToMarkdown() const {
   if (!pass()) s << " (failed: " << FailedGates() << ")";
   s << "\n\n- paired frames: " << paired_frames << ", common window " << common_window_start_s
     << " s to " << common_window_end_s << " s\n- frame-gate scale: " << scale
-    << " cu (reference range); box scale: " << box_scale_cu << " cu\n\n";
+    << " cu (reference range); box scale: " << box_scale_cu << " cu\n"
+    << PartialNotes(*this, "- ") << "\n";
   s << GatesMarkdownTable(gates);
   return s.str();
 }
@@ -433,7 +449,8 @@ std::string ParityReport::ToTable() const {
   if (!pass()) s << " (failed: " << FailedGates() << ")";
   s << "\n  paired frames " << paired_frames << " over " << common_window_start_s << " s to "
     << common_window_end_s << " s; frame scale " << scale << " cu, box scale " << box_scale_cu
-    << " cu\n";
+    << " cu\n"
+    << PartialNotes(*this, "  ");
   s << GatesTextTable(gates);
   s << "  particle distance (cu): initial " << l2_initial_cu << ", mean " << l2_mean_cu
     << ", final " << l2_final_cu << "\n";

@@ -96,6 +96,18 @@ TEST(Parity, IdenticalRunsOfDifferentDurationsPassOverTheCommonWindow) {
   EXPECT_TRUE(CompareTrajectories(shorter, OneSprig(), {}).pass());
 }
 
+TEST(Parity, AnInterruptedRunIsComparedOverItsFramesAndTheReportSaysSo) {
+  Trajectory interrupted = FirstFrames(OneSprig(), 250);
+  interrupted.provenance["partial"] = "interrupted after step 2500";
+  const ParityReport r = CompareTrajectories(OneSprig(), interrupted, {});
+  EXPECT_FALSE(r.reference_partial);
+  EXPECT_TRUE(r.candidate_partial);
+  EXPECT_EQ(r.ToJson()["candidate_partial"], true);
+  EXPECT_NE(r.ToTable().find("note: the candidate is partial"), std::string::npos);
+  EXPECT_EQ(r.ToTable().find("the reference is partial"), std::string::npos);
+  EXPECT_FALSE(CompareTrajectories(OneSprig(), OneSprig(), {}).candidate_partial);
+}
+
 TEST(Parity, OscillationGatesDoNotApplyWithoutEnoughCrossings) {
   // 30 frames (0.6 ms) hold less than one period: one upward crossing at most.
   const Trajectory short_run = FirstFrames(OneSprig(), 30);

@@ -208,6 +208,16 @@ std::size_t NeighbourGridCells(const Box& box, double h_cu) {
   return SaturatingProduct(SaturatingProduct(axis(box.xmax), axis(box.ymax)), axis(box.zmax));
 }
 
+std::vector<std::pair<std::uint32_t, std::uint32_t>> ConnectionPairs(
+    const SiberneticConfig& config) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t row = 0; row < config.connection.size(); ++row)
+    if (config.connection[row][0] >= 0)
+      pairs.emplace_back(std::uint32_t(row / kConnectionSlots),
+                         std::uint32_t(config.connection[row][0]));
+  return pairs;
+}
+
 std::size_t SiberneticConfig::elastic_count() const {
   std::size_t n = 0;
   for (const Row4& p : position) n += KindOf(p[3]) == ParticleKind::kElastic;

@@ -601,4 +601,37 @@ nlohmann::json RenderFrames(const Trajectory& ref, const Trajectory& cand,
   return RenderFrames(*refs, *cands, frames, o, out_dir);
 }
 
+nlohmann::json VideoSummary::ToJson(const std::filesystem::path& output) const {
+  return {{"output", output.string()},
+          {"frames", frames},
+          {"width", width},
+          {"height", height},
+          {"fps", fps},
+          {"duration_s", duration_s},
+          {"notes", notes}};
+}
+
+std::string VideoSummary::ToText(const std::filesystem::path& output) const {
+  return "wrote " + output.string() + ": " + std::to_string(frames) + " frames " +
+         std::to_string(width) + "x" + std::to_string(height) + " at " + std::to_string(fps) +
+         " fps";
+}
+
+void ParseFrameSize(const std::string& text, RenderOptions* options) {
+  char end = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &options->width, &options->height, &end) != 2)
+    throw InputError("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+}
+
+std::string PanelLabel(const std::filesystem::path& trajectory, const std::string& fallback) {
+  std::filesystem::path stem = trajectory;
+  while (stem.has_extension()) stem = stem.stem();
+  const std::string name = stem.filename().string();
+  if (name == "position_buffer" || name == "trajectory") {
+    const std::string folder = trajectory.parent_path().filename().string();
+    return folder.empty() ? fallback : folder;
+  }
+  return name.empty() ? fallback : name;
+}
+
 }  // namespace owval::render

@@ -58,4 +58,18 @@ namespace owval::backends {
 std::filesystem::path DefaultScenarioRoot(const Backend& a, const Backend& b,
                                           const std::filesystem::path& fallback);
 
+// Where `owval compare A B` takes its scenarios from.
+struct ScenarioSelection {
+  std::vector<std::string> names;          // only these scenarios (empty: every one found)
+  std::string sibernetic;                  // a Sibernetic checkout (empty: $SIBERNETIC_HOME)
+  std::filesystem::path reference_dir;     // scenario folders (empty: DefaultScenarioRoot)
+  std::filesystem::path shared_reference;  // DefaultScenarioRoot's fallback
+  std::filesystem::path data_dir;  // owval's data: scenarios/manifests, scenarios/sibernetic
+};
+
+// Sets options->scenarios and manifest_directory: Sibernetic's demos from a checkout when there
+// is one and no reference_dir was given, else the scenario folders. InputError when none is found.
+void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection& selection,
+                     SuiteOptions* options);
+
 }  // namespace owval::backends

@@ -93,6 +93,8 @@ struct ParityReport {
   SignalMetrics reference_metrics, candidate_metrics;  // over the common window
   std::optional<double> period_gap, half_amplitude_gap, equilibrium_gap_cu;
   std::vector<Gate> gates;
+  // An interrupted run's trajectory is compared over the frames it has, and the report says so.
+  bool reference_partial = false, candidate_partial = false;
 
   bool pass() const { return AllApplicablePass(gates); }
   const Gate* gate(const std::string& name) const;

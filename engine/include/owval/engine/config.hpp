@@ -9,9 +9,11 @@
 //   [end]
 // Elastic particles come first; rows are in file order.
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "owval/trajectory/trajectory.hpp"
@@ -51,6 +53,11 @@ struct SiberneticConfig {
 // are checked before the engine allocates anything from them.
 SiberneticConfig ReadSiberneticConfig(const std::filesystem::path& path);
 SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::string& name);
+
+// Every filled [connection] slot as (elastic particle, partner), in file order: the elastic bonds,
+// each listed from both ends as the file lists it.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> ConnectionPairs(
+    const SiberneticConfig& config);
 
 // Cells of the neighbour grid over `box` with cells of 2h (as the engine's NeighbourGrid counts
 // them: from 0 to each maximum, two spare), saturating at SIZE_MAX.

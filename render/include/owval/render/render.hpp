@@ -60,7 +60,18 @@ struct VideoSummary {
   int width = 0, height = 0, fps = 0;
   double duration_s = 0;
   std::vector<std::string> notes;  // e.g. a time-step or log-step mismatch between the panels
+
+  nlohmann::json ToJson(const std::filesystem::path& output) const;
+  std::string ToText(const std::filesystem::path& output) const;  // "wrote OUT: N frames WxH ..."
 };
+
+// "1280x720" → width and height; InputError naming --size on anything else.
+void ParseFrameSize(const std::string& text, RenderOptions* options);
+
+// A panel's default name: the trajectory file's stem, or its folder's name for the generic file
+// names (position_buffer.txt, trajectory.h5: an owval run directory says more); `fallback` when
+// the path is empty.
+std::string PanelLabel(const std::filesystem::path& trajectory, const std::string& fallback);
 
 // The FrameSource forms pull one frame at a time (memory O(particles), whatever the number of
 // frames: issue 16); the Trajectory forms render a trajectory in memory the same way. The two
