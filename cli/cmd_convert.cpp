@@ -2,11 +2,8 @@
 #include <cstdio>
 
 #include "command.hpp"
-#include "owval/base/errors.hpp"
-#include "owval/kinematics/midline.hpp"
 #include "owval/pipeline/run_directory.hpp"
 #include "owval/trajectory/formats.hpp"
-#include "owval/trajectory/worm_formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -22,18 +19,7 @@ void RunConvert(const ConvertArgs& a) {
   CheckTrajectoryOutput(a.out);
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
-  const std::string ext = std::filesystem::path(a.out).extension().string();
-  if (ext == ".wcon") {
-    if (!kinematics::IsWorm(t)) throw InputError(a.in, 0, kinematics::kNotAWorm);
-    nlohmann::json settings = {{"source", a.in}};
-    for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
-      if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
-    pipeline::WriteWormWcon(t, settings, a.out);
-  } else if (ext == ".zarr") {
-    WriteOmeZarr(t, a.out);
-  } else {
-    WriteTrajectory(t, a.out, ParseLayout(a.out_layout));
-  }
+  pipeline::ConvertTrajectory(t, a.in, a.out, ParseLayout(a.out_layout));
   if (!Flags().quiet)
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
                  a.out.c_str());

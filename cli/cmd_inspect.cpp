@@ -1,15 +1,9 @@
 // owval inspect TRAJ: phase-3 measurements of one coordinate of a particle or group centroid.
-#include <cstdio>
 #include <iostream>
 
 #include "command.hpp"
-#include "owval/base/errors.hpp"
-#include "owval/compare/metrics_json.hpp"
-#include "owval/kinematics/kinematics.hpp"
-#include "owval/kinematics/midline.hpp"
+#include "owval/pipeline/inspect.hpp"
 #include "owval/trajectory/formats.hpp"
-#include "owval/trajectory/track.hpp"
-#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -23,28 +17,12 @@ struct InspectArgs {
 };
 
 void RunInspect(const InspectArgs& a) {
-  TextReadReport read;
-  const auto frames = OpenTrajectoryArgument(a.path, a.layout, &read);  // frame by frame
-  const Track track = a.track.Over(Track{});
-  const std::vector<double> series = track.Series(*frames);
-  const std::string subject = track.Describe();
-  const compare::SignalMetrics m =
-      compare::MeasureSignal(frames->header().time_s, series, {a.start_s, a.end_s});
-  std::optional<kinematics::Report> worm;  // a worm also gets its kinematics (issue 15): whole
-  if (kinematics::IsWorm(frames->header()))
-    worm = kinematics::Analyse(
-        kinematics::SkeletonsFromTrajectory(ReadTrajectoryArgument(a.path, a.layout)));
-  if (a.json) {
-    nlohmann::json out = {{"file", a.path},
-                          {"layout", read.description},
-                          {"signal", subject},
-                          {"metrics", compare::ToJson(m)}};
-    if (worm) out["kinematics"] = worm->ToJson();
-    std::cout << out.dump(2) << "\n";
-  } else {
-    std::printf("%s\n%s", read.description.c_str(), compare::ToText(m, subject).c_str());
-    if (worm) std::printf("\nworm kinematics: %s", worm->ToText().c_str());
-  }
+  TextReadOptions read;
+  read.layout = ParseLayout(a.layout);
+  read.quiet = Flags().quiet;
+  const pipeline::Inspection i =
+      pipeline::InspectTrajectory(a.path, read, a.track.Over(Track{}), {a.start_s, a.end_s});
+  std::cout << (a.json ? i.ToJson().dump(2) + "\n" : i.ToText());
 }
 
 void SetUp(CLI::App& app) {

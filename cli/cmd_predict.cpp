@@ -1,5 +1,4 @@
 // owval predict / owval reconcile: phase 1 and phase 3.
-#include <filesystem>
 #include <iostream>
 
 #include "command.hpp"
@@ -24,23 +23,14 @@ struct PredictArgs {
 void RunPredict(const PredictArgs& a) {
   predict::PredictOptions options;
   options.omit_quarter_factor = a.no_quarter;
-  engine::SiberneticConfig config;
-  if (std::filesystem::is_regular_file(a.config)) {
-    config = engine::ReadSiberneticConfig(a.config);
-    options.scenario = std::filesystem::path(a.config).filename().string();
-  } else {
-    const scenarios::Scenario s = scenarios::LoadScenario(a.config, DataDir());
-    config = scenarios::GenerateConfig(s, scenarios::ParseOverrides(a.params));
-    options.scenario = s.name;
-    options.predictor = s.predictor;
-  }
-  if (!a.params.empty() && std::filesystem::is_regular_file(a.config))
-    throw InputError("--param applies to a scenario's generator, not to a configuration file");
+  const scenarios::ResolvedScenario s = scenarios::ResolveScenario(a.config, a.params, DataDir());
+  options.scenario = s.name;
+  options.predictor = s.predictor;
   // Sibernetic ignores [physical parameters]; --set changes a constant explicitly, and the
   // prediction then notes that it is no longer about Sibernetic's defaults.
   engine::PhysicsConstants constants;
   for (const std::string& c : a.constants) engine::SetConstantAssignment(&constants, c);
-  const predict::Prediction p = predict::Predict(config, constants, options);
+  const predict::Prediction p = predict::Predict(s.config, constants, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, p.ToJson().dump(2) + "\n");
   std::cout << (a.json ? p.ToJson().dump(2) + "\n" : predict::PredictionMarkdown(p));
 }

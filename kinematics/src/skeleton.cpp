@@ -20,6 +20,19 @@ SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory) {
   return series;
 }
 
+SkeletonSeries SkeletonsFromFrames(FrameSource& frames) {
+  if (!IsWorm(frames.header()))
+    throw InputError(
+        "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
+  SkeletonSeries series;
+  for (std::size_t f = 0; f < frames.frame_count(); ++f) {
+    const FrameRef frame = frames.Frame(f);
+    series.time_s.push_back(frames.header().time_s[f]);
+    series.skeletons.push_back(SkeletonAt(frame.trajectory, frame.frame));
+  }
+  return series;
+}
+
 Skeleton SkeletonAt(const Trajectory& trajectory, std::size_t frame) {
   const Midline m = ComputeMidline(trajectory, frame);
   Skeleton s;

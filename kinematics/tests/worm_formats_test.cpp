@@ -9,8 +9,10 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/kinematics.hpp"
+#include "owval/kinematics/skeleton.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval::kinematics {
@@ -49,6 +51,19 @@ WormTrack WormTrackOfReference() {
   WormTrack t = TrackFromTrajectory(*Worm(), {{"configuration_fnv1a64", "0"}, {"backend", "x"}});
   t.software_version = "0.1.0";
   return t;
+}
+
+TEST(Skeletons, ReadFrameByFrameTheyEqualTheWholeTrajectorys) {
+  ASSERT_NE(Worm(), nullptr) << "needs ../shared/reference/worm_alone_0.6s";
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  const auto frames = OpenFrameSource(
+      fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz", quiet);
+  const SkeletonSeries streamed = SkeletonsFromFrames(*frames);
+  const SkeletonSeries whole = SkeletonsFromTrajectory(*Worm());
+  EXPECT_EQ(streamed.time_s, whole.time_s);
+  EXPECT_EQ(streamed.skeletons, whole.skeletons);
+  EXPECT_GT(streamed.skeletons.size(), 100u);
 }
 
 TEST(Wcon, WormWconPassesTheTrackerCommonsRules) {

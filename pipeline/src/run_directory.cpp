@@ -130,6 +130,22 @@ void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings, const fs
   WriteWcon(track, path);
 }
 
+void ConvertTrajectory(const Trajectory& t, const std::string& source, const fs::path& out,
+                       TextLayout text_layout) {
+  const std::string extension = out.extension().string();
+  if (extension == ".wcon") {
+    if (!kinematics::IsWorm(t)) throw InputError(source, 0, kinematics::kNotAWorm);
+    nlohmann::json settings = {{"source", source}};
+    for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
+      if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
+    WriteWormWcon(t, settings, out);
+  } else if (extension == ".zarr") {
+    WriteOmeZarr(t, out);
+  } else {
+    WriteTrajectory(t, out, text_layout);
+  }
+}
+
 nlohmann::json RunRequest::ToJson() const {
   return {{"config", config},
           {"time_s", time_s},

@@ -126,9 +126,20 @@ std::map<std::string, double> ParseOverrides(const std::vector<std::string>& ass
 }
 
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path, const fs::path& data_dir) {
-  if (fs::exists(name_or_path) && !fs::is_directory(name_or_path))
-    return engine::ReadSiberneticConfig(name_or_path);
-  return GenerateConfig(LoadScenario(name_or_path, data_dir));
+  return ResolveScenario(name_or_path, {}, data_dir).config;
+}
+
+ResolvedScenario ResolveScenario(const std::string& name_or_path,
+                                 const std::vector<std::string>& overrides,
+                                 const fs::path& data_dir) {
+  if (fs::exists(name_or_path) && !fs::is_directory(name_or_path)) {
+    if (!overrides.empty())
+      throw InputError("--param applies to a scenario's generator, not to a configuration file");
+    return {engine::ReadSiberneticConfig(name_or_path), fs::path(name_or_path).filename().string(),
+            ""};
+  }
+  const Scenario scenario = LoadScenario(name_or_path, data_dir);
+  return {GenerateConfig(scenario, ParseOverrides(overrides)), scenario.name, scenario.predictor};
 }
 
 }  // namespace owval::scenarios

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::kinematics {
@@ -24,6 +25,8 @@ constexpr int kNormalisedPoints = 49;
 // The non-empty midline bins of every frame, head (bin 51) first, as body-plane points.
 // Throws InputError when the trajectory is not a worm (see IsWorm).
 SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory);
+// The same, read frame by frame (memory: the skeletons, not the particles of every frame).
+SkeletonSeries SkeletonsFromFrames(FrameSource& frames);
 // One frame's skeleton, as SkeletonsFromTrajectory gives it (for frames read one at a time).
 Skeleton SkeletonAt(const Trajectory& trajectory, std::size_t frame);
 

@@ -20,6 +20,7 @@
 #include "owval/compare/stability.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::pipeline {
@@ -69,6 +70,12 @@ struct RunDirectorySummary {
 // when the trajectory is not a worm.
 void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings,
                    const std::filesystem::path& path);
+
+// `owval convert`: `t`, read from `source`, written in the format `out`'s extension names: .wcon
+// (a worm's WCON, InputError naming `source` for anything else; `t`'s provenance as its settings),
+// .zarr (OME-Zarr), else a trajectory file (text in `text_layout`, or HDF5).
+void ConvertTrajectory(const Trajectory& t, const std::string& source,
+                       const std::filesystem::path& out, TextLayout text_layout);
 
 // The engine's options for the request: unknown backend, bad --set assignment: InputError.
 engine::RunOptions EngineOptions(const RunRequest& request);

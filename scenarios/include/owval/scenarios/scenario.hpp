@@ -57,4 +57,15 @@ std::map<std::string, double> ParseOverrides(const std::vector<std::string>& ass
 engine::SiberneticConfig ResolveConfig(const std::string& name_or_path,
                                        const std::filesystem::path& data_dir);
 
+// The same, with what a scenario adds: its name (a file's: the file name), its predictor ("" for
+// a file) and generator parameter overrides ("NAME=NUMBER"; InputError on a file, which has no
+// generator).
+struct ResolvedScenario {
+  engine::SiberneticConfig config;
+  std::string name, predictor;
+};
+ResolvedScenario ResolveScenario(const std::string& name_or_path,
+                                 const std::vector<std::string>& overrides,
+                                 const std::filesystem::path& data_dir);
+
 }  // namespace owval::scenarios
