@@ -6,8 +6,6 @@
 #include "command.hpp"
 #include "owval/backends/engine_bench.hpp"
 #include "owval/base/atomic_output.hpp"
-#include "owval/base/errors.hpp"
-#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -20,26 +18,10 @@ struct BenchEngineArgs {
   backends::EngineBenchOptions options;
 };
 
-void RunBench(BenchEngineArgs a) {
+void RunBench(const BenchEngineArgs& a) {
   if (!a.json_out.empty()) CheckOutputPath(a.json_out);
-  // A folder of ../shared/reference by name (demo1_1s, test_energy, worm_alone_0.6s, ...), else a
-  // scenario or a configuration file.
-  const fs::path reference = fs::path(OWVAL_SHARED_DIR) / "reference" / a.config;
-  const bool is_reference = fs::exists(reference / "configuration");
-  backends::Scenario scenario;
-  if (a.whole_run) {
-    if (!is_reference || !fs::exists(reference / "meta.json"))
-      throw InputError(a.config, 0,
-                       "--whole-run needs a folder of ../shared/reference (configuration and "
-                       "meta.json)");
-    scenario = backends::ReadScenario(reference);
-    a.options.whole_run = &scenario;
-    a.options.phases = true;
-  }
-  const engine::SiberneticConfig config =
-      is_reference ? engine::ReadSiberneticConfig(reference / "configuration")
-                   : ResolveConfig(a.config);
-  const nlohmann::json out = backends::BenchEngine(config, a.options);
+  const nlohmann::json out = backends::BenchEngineNamed(
+      a.config, fs::path(OWVAL_SHARED_DIR) / "reference", DataDir(), a.whole_run, a.options);
   std::cout << out.dump(2) << "\n";
   if (!a.json_out.empty()) WriteFileAtomically(a.json_out, out.dump(2) + "\n");
 }

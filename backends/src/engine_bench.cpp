@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <chrono>
 
+#include "owval/base/errors.hpp"
 #include "owval/engine/profile.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/engine/solver.hpp"
+#include "owval/scenarios/scenario.hpp"
 
 namespace owval::backends {
 namespace {
@@ -103,6 +105,27 @@ nlohmann::json BenchEngine(const engine::SiberneticConfig& config, const EngineB
     out["all_threads"] = Measure(config, a.steps, omp_get_max_threads(), a.backend);
   }
   return out;
+}
+
+nlohmann::json BenchEngineNamed(const std::string& name,
+                                const std::filesystem::path& reference_root,
+                                const std::filesystem::path& data_dir, bool whole_run,
+                                EngineBenchOptions options) {
+  const std::filesystem::path reference = reference_root / name;
+  const bool is_reference = std::filesystem::exists(reference / "configuration");
+  Scenario scenario;
+  if (whole_run) {
+    if (!is_reference || !std::filesystem::exists(reference / "meta.json"))
+      throw InputError(name, 0,
+                       "--whole-run needs a folder of ../shared/reference (configuration and "
+                       "meta.json)");
+    scenario = ReadScenario(reference);
+    options.whole_run = &scenario;
+    options.phases = true;
+  }
+  return BenchEngine(is_reference ? engine::ReadSiberneticConfig(reference / "configuration")
+                                  : scenarios::ResolveConfig(name, data_dir),
+                     options);
 }
 
 }  // namespace owval::backends

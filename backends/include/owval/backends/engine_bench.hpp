@@ -5,6 +5,7 @@
 // reference scenario's whole run (its meta.json's time and log step, beside Sibernetic's recorded
 // wall time). The end-to-end figure (process start to last byte) is bench backends' (bench.hpp).
 #include <cstddef>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -27,5 +28,14 @@ struct EngineBenchOptions {
 // The JSON `owval bench engine` prints.
 nlohmann::json BenchEngine(const engine::SiberneticConfig& config,
                            const EngineBenchOptions& options);
+
+// The same on a configuration named as `owval bench engine` takes it: a folder of
+// `reference_root` by name (demo1_1s, test_energy, ...), else a scenario of `data_dir` or a
+// configuration file. `whole_run` profiles the reference folder's recorded run (InputError for
+// anything but a folder with a configuration and meta.json).
+nlohmann::json BenchEngineNamed(const std::string& name,
+                                const std::filesystem::path& reference_root,
+                                const std::filesystem::path& data_dir, bool whole_run,
+                                EngineBenchOptions options);
 
 }  // namespace owval::backends
