@@ -9,20 +9,7 @@ namespace {
 
 void List(const BackendFlags& flags, bool json) {
   const backends::Registry registry = flags.Registry();
-  nlohmann::json all = nlohmann::json::array();
-  for (const backends::Backend& b : registry.backends) all.push_back(b.ToJson());
-  if (json) {
-    std::cout << all.dump(2) << "\n";
-    return;
-  }
-  std::cout << "backends file: " << (registry.file.empty() ? "(none)" : registry.file.string())
-            << "\n";
-  for (const backends::Backend& b : registry.backends) {
-    std::string what = b.kind == backends::BackendKind::kBuiltin ? "engine " + b.engine_backend
-                       : b.kind == backends::BackendKind::kStore ? "store " + b.store.string()
-                                                                 : "command " + b.command;
-    std::printf("%-12s %-9s %s\n", b.name.c_str(), backends::KindName(b.kind), what.c_str());
-  }
+  std::cout << (json ? registry.ToJson().dump(2) + "\n" : registry.ToText());
 }
 
 void SetUp(CLI::App& app) {

@@ -164,4 +164,25 @@ std::vector<std::string> Registry::Names() const {
   return names;
 }
 
+nlohmann::json Registry::ToJson() const {
+  nlohmann::json all = nlohmann::json::array();
+  for (const Backend& b : backends) all.push_back(b.ToJson());
+  return all;
+}
+
+std::string Registry::ToText() const {
+  std::string text = "backends file: " + (file.empty() ? "(none)" : file.string()) + "\n";
+  for (const Backend& b : backends) {
+    const std::string what = b.kind == BackendKind::kBuiltin ? "engine " + b.engine_backend
+                             : b.kind == BackendKind::kStore ? "store " + b.store.string()
+                                                             : "command " + b.command;
+    auto padded = [](std::string field, std::size_t width) {
+      if (field.size() < width) field.resize(width, ' ');
+      return field + " ";
+    };
+    text += padded(b.name, 12) + padded(KindName(b.kind), 9) + what + "\n";
+  }
+  return text;
+}
+
 }  // namespace owval::backends

@@ -55,6 +55,8 @@ struct Registry {
   // The backend by name or alias; InputError listing the known names otherwise.
   const Backend& Find(const std::string& name) const;
   std::vector<std::string> Names() const;
+  nlohmann::json ToJson() const;  // every backend's definition
+  std::string ToText() const;     // the file, then one line per backend: name, kind, what it runs
 };
 
 // Built-ins plus the selected file's entries. InputError naming the file and entry for a
