@@ -19,17 +19,10 @@ struct ChecklistArgs {
 
 void RunChecklistCommand(const ChecklistArgs& a) {
   ci::ChecklistOptions options;
-  if (!a.scenario.empty()) {
-    const scenarios::Scenario s = scenarios::LoadScenario(a.scenario, DataDir());
-    options.gates = s.gates;
-    options.track = s.track;
-  }
-  if (!a.manifest.empty()) {
-    compare::ParityOptions parity;
-    scenarios::ApplyManifestFile(a.manifest, &parity);
-    options.gates = parity.gates;
-    options.track = parity.track;
-  }
+  const compare::ParityOptions parity =
+      scenarios::ParityOptionsFrom(a.scenario, a.manifest, DataDir());
+  options.gates = parity.gates;
+  if (!a.scenario.empty() || !a.manifest.empty()) options.track = parity.track;
   options.git_range = a.git_range;
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
   const ci::ChecklistReport report = ci::RunChecklist(a.directory, options);

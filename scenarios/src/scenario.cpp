@@ -89,6 +89,18 @@ void ApplyManifestFile(const fs::path& manifest, compare::ParityOptions* options
   if (m.contains("gates")) ApplyManifestGates(m["gates"], manifest.string(), &options->gates);
 }
 
+compare::ParityOptions ParityOptionsFrom(const std::string& scenario, const fs::path& manifest,
+                                         const fs::path& data_dir) {
+  compare::ParityOptions options;
+  if (!scenario.empty()) {
+    const Scenario s = LoadScenario(scenario, data_dir);
+    options.gates = s.gates;
+    options.track = s.track;
+  }
+  if (!manifest.empty()) ApplyManifestFile(manifest, &options);
+  return options;
+}
+
 std::vector<std::string> ListScenarios(const fs::path& data_dir) {
   std::vector<std::string> names;
   const fs::path dir = data_dir / "scenarios" / "manifests";

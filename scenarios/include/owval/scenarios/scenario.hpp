@@ -41,6 +41,12 @@ void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
 // A manifest file's "track" and "gates" onto parity options (owval compare --manifest).
 void ApplyManifestFile(const std::filesystem::path& manifest, compare::ParityOptions* options);
 
+// A built-in scenario's track and gates (by name), else a manifest file's, over the defaults
+// (both empty: the defaults): what `owval checklist --scenario|--manifest` applies.
+compare::ParityOptions ParityOptionsFrom(const std::string& scenario,
+                                         const std::filesystem::path& manifest,
+                                         const std::filesystem::path& data_dir);
+
 // Reads data_dir/scenarios/manifests/NAME.json; InputError for an unknown name or bad manifest.
 Scenario LoadScenario(const std::string& name, const std::filesystem::path& data_dir);
 std::vector<std::string> ListScenarios(const std::filesystem::path& data_dir);

@@ -1,0 +1,98 @@
+// owval bench engine|io|render: in-process benchmarks, JSON on stdout (and --json-out FILE).
+// The whole-process comparison of backends is cmd_bench_backends.cpp.
+#include <filesystem>
+#include <iostream>
+
+#include "command.hpp"
+#include "owval/backends/engine_bench.hpp"
+#include "owval/base/atomic_output.hpp"
+#include "owval/render/render_benchmark.hpp"
+#include "owval/trajectory/io_benchmark.hpp"
+
+namespace owval::cli {
+namespace {
+namespace fs = std::filesystem;
+
+// --json-out is checked before the benchmark runs and written atomically after it.
+void AddJsonOut(CLI::App* cmd, std::string* json_out) {
+  cmd->add_option("--json-out", *json_out, "Also write the JSON result here");
+  cmd->parse_complete_callback([json_out] {
+    if (!json_out->empty()) CheckOutputPath(*json_out);
+  });
+}
+void Emit(const nlohmann::json& result, const std::string& json_out) {
+  std::cout << result.dump(2) << "\n";
+  if (!json_out.empty()) WriteFileAtomically(json_out, result.dump(2) + "\n");
+}
+
+struct BenchArgs {
+  std::string json_out;
+  std::string config = "demo1";  // engine
+  bool whole_run = false;
+  backends::EngineBenchOptions engine;
+  IoBenchmarkOptions io;
+  render::RenderBenchmarkOptions render;
+};
+
+void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+  backends::EngineBenchOptions& o = a->engine;
+  CLI::App* cmd =
+      bench.add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
+  cmd->add_option("config", a->config,
+                  "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
+  cmd->add_option("--steps", o.steps, "Steps to time");
+  AddJsonOut(cmd, &a->json_out);
+  cmd->add_option("--backend", o.backend, "Solver to time (pcisph, xpbd; default pcisph)");
+  cmd->add_flag("--phases", o.phases,
+                "Time each phase of the step and the frames' fields (one run, --threads)");
+  cmd->add_flag("--whole-run", a->whole_run,
+                "With a reference folder: profile its whole run (meta.json's time and log step)");
+  cmd->add_option("--threads", o.threads, "Threads for --phases (default: the engine's rule)");
+  cmd->add_option("--time", o.time_s, "Simulated seconds for --phases instead of --steps")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")
+      ->check(CLI::PositiveNumber);
+  cmd->callback([a] {
+    Emit(backends::BenchEngineNamed(a->config, fs::path(OWVAL_SHARED_DIR) / "reference", DataDir(),
+                                    a->whole_run, a->engine),
+         a->json_out);
+  });
+}
+
+void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+  IoBenchmarkOptions& o = a->io;
+  CLI::App* cmd =
+      bench.add_subcommand("io", "Text parse and HDF5 read throughput on a large generated file");
+  cmd->add_option("--size-mb", o.text_size_mb, "Size of the generated position_buffer.txt (MB)");
+  cmd->add_option("--dir", o.directory, "Where to write the generated files");
+  AddJsonOut(cmd, &a->json_out);
+  cmd->add_option("--hdf5-level", o.hdf5.compression_level, "HDF5 deflate level (0-9)");
+  cmd->add_option("--hdf5-chunk-frames", o.hdf5.frames_per_chunk, "HDF5 frames per chunk");
+  cmd->add_flag("--keep", o.keep_files, "Keep the generated files");
+  cmd->callback([a] {
+    a->io.quiet = Flags().quiet;
+    Emit(RunIoBenchmark(a->io), a->json_out);
+  });
+}
+
+void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+  CLI::App* cmd = bench.add_subcommand("render", "Render + H.264 encode frames per second (JSON)");
+  cmd->add_option("--frames", a->render.frames, "Frames per case");
+  AddJsonOut(cmd, &a->json_out);
+  cmd->callback([a] {
+    a->render.demo1_trajectory = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
+    Emit(render::RunRenderBenchmark(a->render), a->json_out);
+  });
+}
+
+void SetUp(CLI::App& app) {
+  auto a = std::make_shared<BenchArgs>();
+  SetUpEngine(Bench(app), a);
+  SetUpIo(Bench(app), a);
+  SetUpRender(Bench(app), a);
+}
+
+const bool registered = RegisterCommand(&SetUp);
+
+}  // namespace
+}  // namespace owval::cli
