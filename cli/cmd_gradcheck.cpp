@@ -54,6 +54,10 @@ void SetUp(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--steps", a->options.end_to_end_steps, "Steps of the end-to-end test")
       ->check(CLI::Range(20, 100000));
+  cmd->add_option("--density-passes", a->options.end_to_end_density_passes,
+                  "Step scheme of the end-to-end test: xpbd_density_passes (default the run's: "
+                  "1, the split step; 0: the unsplit step)")
+      ->check(CLI::Range(0, 1000));
   cmd->add_option("--alpha-density", a->options.end_to_end_alpha_density,
                   "Density compliance of the end-to-end test (s^2/cu^2; default: the model's)")
       ->check(CLI::NonNegativeNumber);

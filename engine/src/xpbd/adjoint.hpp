@@ -75,6 +75,11 @@ struct Setup {
   // once per step) works on substeps.
   T dt = 2e-5, s = 7.4e-6, mass = 2e-12;
   int substeps = 1;
+  // The split step (xpbd_density_passes = m > 0, the run's default, xpbd.hpp): m passes of
+  // `substeps` bond substeps of dt each, then one correction of correction_dt = m·… = the step/m
+  // (density constraints, box, velocity correction). m = 0: `substeps` full substeps of dt.
+  int density_passes = 0;
+  T correction_dt = 0;
   T h = 3.34, poly6_cu = 0, spiky_cu = 0;  // density constraint kernels, cu
   T hs = 0, hs2 = 0, poly6_m = 0;          // SPH density, metres
   T viscosity_beta = 0;  // 1.5·m·(−∇Wspiky coefficient)/1000 (sphFluid.cl:657)
@@ -503,6 +508,77 @@ void BondPassBackward(const Setup<T>& S, const Parameters<T>& theta, const Field
   }
 }
 
+// ---- Bonds of the split step: one Jacobi pass of one-sided distance constraints ----
+// Every bond reads both ends as the pass began (s), and its row's particle moves by the sum of
+// its bonds' corrections: p_a = s_a + Σ_b Δλ_b·n_b, n_b = d_b/L_b, d_b = s_a − s_q,
+// Δλ_b = (−(L_b − r_b) − α̃_b λ_b)/(1 + α̃_b), λ_b += Δλ_b, α̃_b = scale/(k_b dt²)
+// (Xpbd::ProjectBondsOneSided). `starts`, when given, receives each bond's s_a (particles) and
+// s_q (partners).
+template <typename T>
+void BondPassJacobi(const Setup<T>& S, const Parameters<T>& theta, Field<T>* p,
+                    std::vector<T>* lambda, std::vector<Vec3<T>>* partner_record = nullptr,
+                    std::vector<Vec3<T>>* particle_record = nullptr) {
+  const Field<T> start = *p;
+  Field<T> sum(S.n, Vec3<T>{0, 0, 0});  // summed apart, then added: the run's rounding
+  for (std::size_t b = 0; b < S.bonds.size(); ++b) {
+    const Bond& bond = S.bonds[b];
+    const Vec3<T>&sa = start[bond.particle], &sq = start[bond.partner];
+    if (particle_record) (*particle_record)[b] = sa, (*partner_record)[b] = sq;
+    const T k = BondStiffness(S, bond, theta);
+    if (!(k > 0)) continue;
+    const Vec3<T> d = Sub(sa, sq);
+    const T L = std::sqrt(Dot(d, d));
+    if (!(L > 0)) continue;
+    const T at = S.bond_compliance_scale / (k * S.dt * S.dt);
+    const T dl = (-(L - T(bond.rest_cu)) - at * (*lambda)[b]) / (T(1) + at);
+    (*lambda)[b] += dl;
+    Axpy(dl / L, d, &sum[bond.particle]);
+  }
+  for (std::size_t b = 0; b < S.bonds.size(); ++b)  // each row's particle once
+    if (b == 0 || S.bonds[b].particle != S.bonds[b - 1].particle)
+      for (int c = 0; c < 3; ++c) (*p)[S.bonds[b].particle][c] += sum[S.bonds[b].particle][c];
+}
+// Backward (p_bar, lambda_bar: output cotangents in, input cotangents out). p_a = s_a + Σ
+// passes p̄ to s̄ unchanged; each bond then adds, from the OUTPUT cotangent p̄_a (read before
+// any bond's contribution is added): Δλ̄ = λ̄' + p̄_a·n, n̄ = Δλ·p̄_a, C̄ = −Δλ̄/D,
+// λ̄ = λ̄' − α̃Δλ̄/D, ᾱ̃ = −Δλ̄(λ + Δλ)/D, d̄ = C̄n + (n̄ − (n̄·n)n)/L, s̄_a += d̄, s̄_q −= d̄,
+// and k̄ as in BondPassBackward. λ is the pass's input.
+template <typename T>
+void BondPassJacobiBackward(const Setup<T>& S, const Parameters<T>& theta,
+                            const std::vector<T>& lambda, const std::vector<Vec3<T>>& particles,
+                            const std::vector<Vec3<T>>& partners, Field<T>* p_bar,
+                            std::vector<T>* lambda_bar, Parameters<T>* theta_bar) {
+  const Field<T> out_bar = *p_bar;
+  for (std::size_t b = 0; b < S.bonds.size(); ++b) {
+    const Bond& bond = S.bonds[b];
+    const T k = BondStiffness(S, bond, theta);
+    if (!(k > 0)) continue;
+    const Vec3<T> d = Sub(particles[b], partners[b]);
+    const T L = std::sqrt(Dot(d, d));
+    if (!(L > 0)) continue;
+    const T at = S.bond_compliance_scale / (k * S.dt * S.dt), D = T(1) + at;
+    const T dl = (-(L - T(bond.rest_cu)) - at * lambda[b]) / D;
+    const Vec3<T> n{d[0] / L, d[1] / L, d[2] / L};
+    const Vec3<T>& pa_bar = out_bar[bond.particle];
+    const T dl_bar = (*lambda_bar)[b] + Dot(pa_bar, n);
+    const Vec3<T> n_bar{dl * pa_bar[0], dl * pa_bar[1], dl * pa_bar[2]};
+    const T C_bar = -dl_bar / D;
+    (*lambda_bar)[b] += -at * dl_bar / D;
+    const T at_bar = -dl_bar * (lambda[b] + dl) / D;
+    const T nn = Dot(n_bar, n);
+    Vec3<T> d_bar;
+    for (int c = 0; c < 3; ++c) d_bar[c] = C_bar * n[c] + (n_bar[c] - nn * n[c]) / L;
+    Axpy(T(1), d_bar, &(*p_bar)[bond.particle]);
+    Axpy(T(-1), d_bar, &(*p_bar)[bond.partner]);
+    const T k_bar = -at_bar * at / k;
+    const T k_type = bond.type == 0 ? theta[kBondStiffnessBody] : theta[kBondStiffnessOther];
+    const T factor = k / k_type;
+    (*theta_bar)[bond.type == 0 ? kBondStiffnessBody : kBondStiffnessOther] += k_bar * factor;
+    if (factor != T(1))
+      (*theta_bar)[kMuscleStrength] += k_bar * k_type * T(S.activation[bond.muscle - 1]);
+  }
+}
+
 // ---- Box: p clamped into [low, high], the floor parameter as low y ----
 template <typename T>
 void BoxPass(const Setup<T>& S, T floor, Field<T>* p) {
@@ -560,6 +636,39 @@ void UpdateVelocityBackward(const Setup<T>& S, T floor, T e, const Field<T>& x, 
     for (int c = 0; c < 3; ++c) {
       (*p_bar)[i][c] += vb[c] * S.s / S.dt + x_next_bar[i][c];
       (*x_bar)[i][c] += -vb[c] * S.s / S.dt;
+    }
+  }
+}
+
+// ---- The split step's velocity correction over H: u = v + (p − x)s/H; within r0 of the floor a
+// downward u_y becomes −e·u_y; v' = u, x' = p (Xpbd::Correct without the wall particles) ----
+template <typename T>
+void CorrectVelocity(const Setup<T>& S, T H, T floor, T e, const Field<T>& x, const Field<T>& p,
+                     Field<T>* v, Field<T>* x_next) {
+  for (std::int32_t i : S.movers) {  // x_next may be x itself: x[i] is read before it is set
+    for (int c = 0; c < 3; ++c) (*v)[i][c] += (p[i][c] - x[i][c]) * S.s / H;
+    if (p[i][1] <= floor + S.r0 && (*v)[i][1] < 0) (*v)[i][1] = -e * (*v)[i][1];
+    (*x_next)[i] = p[i];
+  }
+}
+// v_in is the input velocity. ū = v̄' except a restituted y: ū_y = −e·v̄'_y, ē += −u_y·v̄'_y;
+// v̄_in = ū, p̄ += ū s/H + x̄', x̄ += −ū s/H (moving particles; the floor test is a switch).
+template <typename T>
+void CorrectVelocityBackward(const Setup<T>& S, T H, T floor, T e, const Field<T>& x,
+                             const Field<T>& p, const Field<T>& v_in, const Field<T>& v_bar,
+                             const Field<T>& x_next_bar, Field<T>* x_bar, Field<T>* v_in_bar,
+                             Field<T>* p_bar, T* e_bar) {
+  for (std::int32_t i : S.movers) {
+    Vec3<T> ub = v_bar[i];
+    const T uy = v_in[i][1] + (p[i][1] - x[i][1]) * S.s / H;
+    if (p[i][1] <= floor + S.r0 && uy < 0) {
+      *e_bar += -uy * ub[1];
+      ub[1] = -e * ub[1];
+    }
+    for (int c = 0; c < 3; ++c) {
+      (*v_in_bar)[i][c] += ub[c];
+      (*p_bar)[i][c] += ub[c] * S.s / H + x_next_bar[i][c];
+      (*x_bar)[i][c] += -ub[c] * S.s / H;
     }
   }
 }

@@ -28,6 +28,9 @@ void ZeroMovers(const Setup<double>& S, std::vector<V>* all) {
   for (std::int32_t i : S.movers) (*all)[i] = V{};
 }
 
+// A floor no particle reaches: a bond substep's velocity update never restitutes.
+constexpr double kNoFloor = 1e300;
+
 std::int64_t CellKey(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
   return (cx * 1000003 + cy) * 1000033 + cz;
 }
@@ -43,7 +46,7 @@ std::size_t StepTape::Bytes() const {
   std::size_t b = (nb.start.size() + nb.index.size()) * sizeof(std::int32_t);
   b += FieldBytes(x) + FieldBytes(v) + FieldBytes(a) + FieldBytes(rho);
   for (const SubstepTape& s : substeps) {
-    b += FieldBytes(s.x) + FieldBytes(s.p_final);
+    b += FieldBytes(s.x) + FieldBytes(s.p_final) + FieldBytes(s.v);
     for (const PassTape& p : s.passes)
       b += FieldBytes(p.p_before_density) + FieldBytes(p.p_before_box) +
            FieldBytes(p.lambda_density) + FieldBytes(p.dlambda) + FieldBytes(p.denominator) +
@@ -127,7 +130,15 @@ Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& co
     }
   S.activation.assign(96, 0.0f);
   S.substeps = SubstepsOf(config, constants);
-  S.dt = double(k.time_step_s) / double(S.substeps);  // as the run's Xpbd<double> computes h
+  S.density_passes = std::max(constants.xpbd.density_passes, 0);
+  if (S.density_passes > 0) {  // as the run's Xpbd<double> computes H and h (xpbd.cpp, Step)
+    const int m = S.density_passes;
+    S.substeps = (S.substeps + m - 1) / m;
+    S.correction_dt = double(k.time_step_s) / double(m);
+    S.dt = S.correction_dt / double(S.substeps);
+  } else {
+    S.dt = double(k.time_step_s) / double(S.substeps);
+  }
   S.s = k.scale;
   S.mass = k.mass_kg;
   S.h = k.h_cu;
@@ -256,6 +267,107 @@ void SubstepBackward(const Setup<double>& S, const Parameters<double>& theta, co
   }
 }
 
+// The split step's bond substep: predict, K Jacobi bond passes, v = (p − x)s/h (no floor
+// restitution: the correction applies it), x' = p.
+void BondSubstepForward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
+                        Field<double>* x, Field<double>* v, Field<double>* p, SubstepTape* st) {
+  std::vector<double> lb(S.bonds.size(), 0.0);
+  Gather(S, *x, &st->x);
+  Predict(S, *x, *v, t.a, p, false);
+  st->passes.resize(std::size_t(std::max(S.iterations, 0)));
+  for (PassTape& pt : st->passes) {
+    pt.lambda_bonds = lb;
+    pt.bond_partners.resize(S.bonds.size());
+    pt.bond_particles.resize(S.bonds.size());
+    BondPassJacobi(S, theta, p, &lb, &pt.bond_partners, &pt.bond_particles);
+  }
+  Gather(S, *p, &st->p_final);
+  UpdateVelocity(S, -kNoFloor, 0.0, *x, *p, v, x, false);
+}
+
+void BondSubstepBackward(const Setup<double>& S, const Parameters<double>& theta,
+                         const SubstepTape& st, Field<double>* x, Field<double>* p, Work* w,
+                         Field<double>* x_bar, Field<double>* v_bar, Field<double>* p_bar,
+                         Field<double>* a_bar, Parameters<double>* theta_bar) {
+  Scatter(S, st.x, x);
+  Scatter(S, st.p_final, p);
+  ZeroMovers(S, p_bar);
+  ZeroMovers(S, &w->x_in_bar);
+  ZeroMovers(S, &w->v_in_bar);
+  double e_bar = 0;  // no restitution in a bond substep
+  UpdateVelocityBackward(S, -kNoFloor, 0.0, *x, *p, *v_bar, *x_bar, &w->x_in_bar, p_bar, &e_bar,
+                         false);
+  std::fill(w->bond_lambda_bar.begin(), w->bond_lambda_bar.end(), 0.0);
+  for (std::size_t k = st.passes.size(); k-- > 0;) {
+    const PassTape& pt = st.passes[k];
+    BondPassJacobiBackward(S, theta, pt.lambda_bonds, pt.bond_particles, pt.bond_partners, p_bar,
+                           &w->bond_lambda_bar, theta_bar);
+  }
+  PredictBackward(S, *p_bar, &w->x_in_bar, &w->v_in_bar, a_bar, false);
+  for (std::int32_t i : S.movers) {
+    (*x_bar)[i] = w->x_in_bar[i];
+    (*v_bar)[i] = w->v_in_bar[i];
+  }
+}
+
+// The split step's correction over H: K × {density constraints (α̃ = α/H²), box} from p = x,
+// then CorrectVelocity. Its tape: x (input), v (input velocity), p_final and the passes.
+void CorrectionForward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
+                       Field<double>* x, Field<double>* v, Field<double>* p, Work* w,
+                       SubstepTape* st) {
+  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
+  ZeroMovers(S, &w->lambda);
+  Gather(S, *x, &st->x);
+  Gather(S, *v, &st->v);
+  for (std::int32_t i : S.movers) (*p)[i] = (*x)[i];
+  st->passes.resize(std::size_t(std::max(S.iterations, 0)));
+  for (PassTape& pt : st->passes) {
+    Gather(S, *p, &pt.p_before_density);
+    Gather(S, w->lambda, &pt.lambda_density);
+    DensityPass(S, t.nb, V0, at, p, &w->lambda, &w->multipliers);
+    Gather(S, w->multipliers[0], &pt.dlambda);
+    Gather(S, w->multipliers[1], &pt.denominator);
+    Gather(S, *p, &pt.p_before_box);
+    BoxPass(S, theta[kFloorHeight], p);
+  }
+  Gather(S, *p, &st->p_final);
+  CorrectVelocity(S, S.correction_dt, theta[kFloorHeight], theta[kRestitution], *x, *p, v, x);
+}
+
+void CorrectionBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
+                        const SubstepTape& st, Field<double>* x, Field<double>* p, Work* w,
+                        Field<double>* x_bar, Field<double>* v_bar, Field<double>* p_bar,
+                        Parameters<double>* theta_bar, double* V0_bar, double* at_bar) {
+  const double V0 = RestVolume(S, theta), at = DensityAlphaTilde(S, theta);
+  Parameters<double>& tb = *theta_bar;
+  Field<double> v_in(S.n, Vec3<double>{0, 0, 0});
+  Scatter(S, st.x, x);
+  Scatter(S, st.p_final, p);
+  Scatter(S, st.v, &v_in);
+  ZeroMovers(S, p_bar);
+  ZeroMovers(S, &w->x_in_bar);
+  ZeroMovers(S, &w->v_in_bar);
+  CorrectVelocityBackward(S, S.correction_dt, theta[kFloorHeight], theta[kRestitution], *x, *p,
+                          v_in, *v_bar, *x_bar, &w->x_in_bar, &w->v_in_bar, p_bar,
+                          &tb[kRestitution]);
+  ZeroMovers(S, &w->lambda_bar);
+  for (std::size_t k = st.passes.size(); k-- > 0;) {
+    const PassTape& pt = st.passes[k];
+    Scatter(S, pt.p_before_box, p);
+    BoxPassBackward(S, theta[kFloorHeight], *p, p_bar, &tb[kFloorHeight]);
+    Scatter(S, pt.p_before_density, p);
+    Scatter(S, pt.lambda_density, &w->lambda);
+    Scatter(S, pt.dlambda, &w->multipliers[0]);
+    Scatter(S, pt.denominator, &w->multipliers[1]);
+    DensityPassBackward(S, t.nb, V0, at, *p, w->lambda, p_bar, &w->lambda_bar, V0_bar, at_bar,
+                        &w->multipliers);
+  }
+  for (std::int32_t i : S.movers) {  // p started as x
+    for (int c = 0; c < 3; ++c) (*x_bar)[i][c] = w->x_in_bar[i][c] + (*p_bar)[i][c];
+    (*v_bar)[i] = w->v_in_bar[i];
+  }
+}
+
 }  // namespace
 
 void StepForward(const Setup<double>& S, const Parameters<double>& theta, const Field<double>& x,
@@ -273,8 +385,22 @@ void StepForward(const Setup<double>& S, const Parameters<double>& theta, const 
   for (std::int32_t i : S.movers) (*v_next)[i] = v[i];
   Field<double> p = x;
   Work w(S);
-  t.substeps.resize(std::size_t(std::max(S.substeps, 1)));
-  for (SubstepTape& st : t.substeps) SubstepForward(S, theta, t, x_next, v_next, &p, &w, &st);
+  if (S.density_passes <= 0) {
+    t.substeps.resize(std::size_t(std::max(S.substeps, 1)));
+    for (SubstepTape& st : t.substeps) SubstepForward(S, theta, t, x_next, v_next, &p, &w, &st);
+    return;
+  }
+  // m × {inner bond substeps, one correction}: the tape holds them in that order.
+  const std::size_t inner = std::size_t(std::max(S.substeps, 1));
+  t.substeps.resize(std::size_t(S.density_passes) * (inner + 1));
+  for (std::size_t k = 0; k < t.substeps.size(); ++k) {
+    SubstepTape& st = t.substeps[k];
+    st.correction = (k + 1) % (inner + 1) == 0;
+    if (st.correction)
+      CorrectionForward(S, theta, t, x_next, v_next, &p, &w, &st);
+    else
+      BondSubstepForward(S, theta, t, x_next, v_next, &p, &st);
+  }
 }
 
 void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
@@ -284,9 +410,16 @@ void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const
   Field<double> x = t.x, p = t.x, p_bar(S.n, Vec3<double>{0, 0, 0}), a_bar = p_bar;
   Work w(S);
   double V0_bar = 0, at_bar = 0;
-  for (std::size_t s = t.substeps.size(); s-- > 0;)
-    SubstepBackward(S, theta, t, t.substeps[s], &x, &p, &w, x_bar, v_bar, &p_bar, &a_bar, &tb,
-                    &V0_bar, &at_bar);
+  for (std::size_t s = t.substeps.size(); s-- > 0;) {
+    const SubstepTape& st = t.substeps[s];
+    if (S.density_passes <= 0)
+      SubstepBackward(S, theta, t, st, &x, &p, &w, x_bar, v_bar, &p_bar, &a_bar, &tb, &V0_bar,
+                      &at_bar);
+    else if (st.correction)
+      CorrectionBackward(S, theta, t, st, &x, &p, &w, x_bar, v_bar, &p_bar, &tb, &V0_bar, &at_bar);
+    else
+      BondSubstepBackward(S, theta, st, &x, &p, &w, x_bar, v_bar, &p_bar, &a_bar, &tb);
+  }
   // A fixed particle: x' = x, so x̄ = x̄' + every projection's cotangent of it as a neighbour;
   // its velocity never enters (v' = 0).
   for (std::size_t i = 0; i < S.n; ++i)
@@ -299,7 +432,7 @@ void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const
                  &tb[kViscosity]);
   SphDensityBackward(S, t.nb, t.x, rho_bar, x_bar);
   tb[kRestDensity] += V0_bar * -RestVolume(S, theta) / theta[kRestDensity];
-  tb[kAlphaDensity] += at_bar / (S.dt * S.dt);
+  tb[kAlphaDensity] += at_bar / (DensityDt(S) * DensityDt(S));
 }
 
 }  // namespace owval::engine::internal::adjoint

@@ -21,7 +21,9 @@ struct PassTape {
 };
 struct SubstepTape {
   std::vector<Vec3<double>> x, p_final;  // moving particles: the substep's input, final p
+  std::vector<Vec3<double>> v;           // a split step's correction: its input velocity
   std::vector<PassTape> passes;
+  bool correction = false;  // a split step's correction (else a substep or a bond substep)
 };
 // Everything one step's backward needs: its input state (every particle), neighbour lists, the
 // SPH density and forces (once per step), and each substep's tape.
@@ -49,12 +51,18 @@ void StepForward(const Setup<double>& S, const Parameters<double>& theta, const 
 void StepBackward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& tape,
                   Field<double>* x_bar, Field<double>* v_bar, Parameters<double>* theta_bar);
 
+// The interval the density constraint's compliance is scaled by: the split step's correction
+// (the step/m), else the substep.
+inline double DensityDt(const Setup<double>& S) {
+  return S.density_passes > 0 ? S.correction_dt : S.dt;
+}
+
 // The rest volume V0 = m/(ρ_rest s³) (cu³) and α̃ = α/dt² of the density constraint.
 inline double RestVolume(const Setup<double>& S, const Parameters<double>& t) {
   return S.mass / (t[kRestDensity] * S.s * S.s * S.s);
 }
 inline double DensityAlphaTilde(const Setup<double>& S, const Parameters<double>& t) {
-  return t[kAlphaDensity] / (S.dt * S.dt);
+  return t[kAlphaDensity] / (DensityDt(S) * DensityDt(S));
 }
 
 }  // namespace owval::engine::internal::adjoint

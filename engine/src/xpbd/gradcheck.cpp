@@ -293,7 +293,7 @@ KernelCheck DensityCheck(const SceneState& s) {
     out.insert(out.end(), lb.begin(), lb.end());
     const double rho = z[z.size() - 2];
     out.push_back(V0_bar * -V0 / rho);
-    out.push_back(at_bar / (s.S.dt * s.S.dt));
+    out.push_back(at_bar / (ad::DensityDt(s.S) * ad::DensityDt(s.S)));
     return out;
   };
   return k;
@@ -369,6 +369,98 @@ KernelCheck BoxCheck(const SceneState& s) {
     Vector out;
     Put(pb, &out);
     out.push_back(floor_bar);
+    return out;
+  };
+  return k;
+}
+
+// The split step's Jacobi bond pass: positions, multipliers and the stiffness parameters in.
+KernelCheck BondJacobiCheck(const SceneState& s) {
+  KernelCheck k = BondCheck(s);
+  const std::size_t n = s.S.n, nb = s.S.bonds.size();
+  const int ids[3] = {ad::kBondStiffnessBody, ad::kBondStiffnessOther, ad::kMuscleStrength};
+  auto unpack = [&s, n, nb, ids](const Vector& z, Field<double>* p, Vector* l,
+                                 Parameters<double>* t) {
+    std::size_t i = 0;
+    *p = TakeField(z, &i, n);
+    *l = Take(z, &i, nb);
+    *t = s.theta;
+    for (int id : ids) (*t)[id] = z[i++];
+  };
+  k.f = [&s, unpack](const Vector& z) {
+    Field<double> p;
+    Vector l;
+    Parameters<double> t;
+    unpack(z, &p, &l, &t);
+    ad::BondPassJacobi(s.S, t, &p, &l);
+    Vector out;
+    Put(p, &out);
+    out.insert(out.end(), l.begin(), l.end());
+    return out;
+  };
+  k.vjp = [&s, unpack, n, nb, ids](const Vector& z, const Vector& u) {
+    Field<double> p;
+    Vector l;
+    Parameters<double> t, tb{};
+    unpack(z, &p, &l, &t);
+    std::vector<Vec3d> particles(nb), partners(nb);
+    Field<double> q = p;
+    Vector lq = l;
+    ad::BondPassJacobi(s.S, t, &q, &lq, &partners, &particles);
+    std::size_t i = 0;
+    Field<double> pb = TakeField(u, &i, n);
+    Vector lb = Take(u, &i, nb);
+    ad::BondPassJacobiBackward(s.S, t, l, particles, partners, &pb, &lb, &tb);
+    Vector out;
+    Put(pb, &out);
+    out.insert(out.end(), lb.begin(), lb.end());
+    for (int id : ids) out.push_back(tb[id]);
+    return out;
+  };
+  return k;
+}
+
+// The split step's velocity correction: x, p, the input velocity and the restitution in (the
+// floor as the scene's, with particles below it: the restitution applies to some).
+KernelCheck VelocityCorrectionCheck(const SceneState& s) {
+  const std::size_t n = s.S.n;
+  KernelCheck k{1e-4, {}, Ones(9 * n, 1e-2), {}, {}};
+  Field<double> p = s.x;
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> g(0, 0.05);
+  for (std::int32_t i : s.S.movers)
+    for (double& c : p[std::size_t(i)]) c += g(rng);
+  Put(s.x, &k.at);
+  Put(p, &k.at);
+  Put(s.v, &k.at);
+  k.at.push_back(s.theta[ad::kRestitution]);
+  k.scale.push_back(0.1);
+  const double floor = s.theta[ad::kFloorHeight], H = s.S.dt * 7;
+  k.f = [&s, n, floor, H](const Vector& z) {
+    std::size_t i = 0;
+    const Field<double> x = TakeField(z, &i, n), p = TakeField(z, &i, n);
+    Field<double> v = TakeField(z, &i, n), xn = x;
+    ad::CorrectVelocity(s.S, H, floor, z[i], x, p, &v, &xn);
+    Vector out;
+    Put(v, &out);
+    Put(xn, &out);
+    return out;
+  };
+  k.vjp = [&s, n, floor, H](const Vector& z, const Vector& u) {
+    std::size_t i = 0, j = 0;
+    const Field<double> x = TakeField(z, &i, n), p = TakeField(z, &i, n);
+    const Field<double> v = TakeField(z, &i, n);
+    const Field<double> vb = TakeField(u, &j, n), xnb = TakeField(u, &j, n);
+    Field<double> xb(n, Vec3d{0, 0, 0}), pb = xb, vin_b = xb;
+    for (std::size_t q = 0; q < n; ++q)  // a fixed particle: x' = x, v' = v
+      if (!s.S.moving[q]) xb[q] = xnb[q], vin_b[q] = vb[q];
+    double eb = 0;
+    ad::CorrectVelocityBackward(s.S, H, floor, z[i], x, p, v, vb, xnb, &xb, &vin_b, &pb, &eb);
+    Vector out;
+    Put(xb, &out);
+    Put(pb, &out);
+    Put(vin_b, &out);
+    out.push_back(eb);
     return out;
   };
   return k;
@@ -506,9 +598,17 @@ void RunKernel(const std::string& name, const KernelCheck& k, const GradCheckOpt
 }  // namespace
 
 const std::vector<std::string>& GradCheckKernels() {
-  static const std::vector<std::string> names = {
-      "sph_density", "forces", "predict", "density_projection", "bond_projection", "box",
-      "velocity",    "step",   "reverse"};
+  static const std::vector<std::string> names = {"sph_density",
+                                                 "forces",
+                                                 "predict",
+                                                 "density_projection",
+                                                 "bond_projection",
+                                                 "bond_projection_jacobi",
+                                                 "box",
+                                                 "velocity",
+                                                 "velocity_correction",
+                                                 "step",
+                                                 "reverse"};
   return names;
 }
 
@@ -532,14 +632,16 @@ GradCheckSummary RunGradCheck(const GradCheckOptions& options) {
       RunEndToEnd(options, &rng, &out);
       continue;
     }
-    const KernelCheck k = name == "sph_density"          ? SphDensityCheck(scene)
-                          : name == "forces"             ? ForcesCheck(scene)
-                          : name == "predict"            ? PredictCheck(scene)
-                          : name == "density_projection" ? DensityCheck(scene)
-                          : name == "bond_projection"    ? BondCheck(scene)
-                          : name == "box"                ? BoxCheck(scene)
-                          : name == "velocity"           ? VelocityCheck(scene)
-                                                         : StepCheck(scene);
+    const KernelCheck k = name == "sph_density"              ? SphDensityCheck(scene)
+                          : name == "forces"                 ? ForcesCheck(scene)
+                          : name == "predict"                ? PredictCheck(scene)
+                          : name == "density_projection"     ? DensityCheck(scene)
+                          : name == "bond_projection"        ? BondCheck(scene)
+                          : name == "bond_projection_jacobi" ? BondJacobiCheck(scene)
+                          : name == "velocity_correction"    ? VelocityCorrectionCheck(scene)
+                          : name == "box"                    ? BoxCheck(scene)
+                          : name == "velocity"               ? VelocityCheck(scene)
+                                                             : StepCheck(scene);
     RunKernel(name, k, options, &rng, &out);
   }
   out.pass = !out.tests.empty();
@@ -572,7 +674,9 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   if (o.end_to_end_config.empty())
     throw InputError("gradcheck reverse: no configuration for the end-to-end test");
   const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
-  DifferentiableXpbd model(config, PhysicsConstants{});
+  PhysicsConstants constants;
+  if (o.end_to_end_density_passes >= 0) constants.xpbd.density_passes = o.end_to_end_density_passes;
+  DifferentiableXpbd model(config, constants);
   std::vector<double> theta = model.DefaultParameters();
   if (o.end_to_end_alpha_density > 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
   std::vector<double> shifted = theta;
@@ -629,7 +733,7 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
           }
         std::vector<double> t = theta;
         for (std::size_t p = 0; p < t.size(); ++p) t[p] += sign * eps * dt[p];
-        DifferentiableXpbd m = DifferentiableXpbd(config, PhysicsConstants{});
+        DifferentiableXpbd m = DifferentiableXpbd(config, constants);
         m.SetInitialState(x, v);
         return m.Loss(t, loss, N);
       };
@@ -651,7 +755,9 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
       t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
       std::ostringstream s;
       s << "reverse " << N << " steps (" << o.end_to_end_config
-        << ", alpha_density=" << theta[ad::kAlphaDensity] << ") eps=" << eps << " direction " << d;
+        << ", alpha_density=" << theta[ad::kAlphaDensity]
+        << ", density_passes=" << constants.xpbd.density_passes << ") eps=" << eps << " direction "
+        << d;
       t.name = s.str();
       out->tests.push_back(t);
     }
