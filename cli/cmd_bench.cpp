@@ -1,5 +1,5 @@
-// owval bench engine|io|render: in-process benchmarks, JSON on stdout (and --json-out FILE).
-// The whole-process comparison of backends is cmd_bench_backends.cpp.
+// owval bench engine|io|render|gradient: in-process benchmarks, JSON on stdout (and --json-out
+// FILE). The whole-process comparison of backends is cmd_bench_backends.cpp.
 #include <filesystem>
 #include <iostream>
 
@@ -8,6 +8,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/render/render_benchmark.hpp"
 #include "owval/trajectory/io_benchmark.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -32,6 +33,8 @@ struct BenchArgs {
   backends::EngineBenchOptions engine;
   IoBenchmarkOptions io;
   render::RenderBenchmarkOptions render;
+  engine::GradientOptions gradient;
+  double alpha_density = -1;  // gradient: < 0, the model's
 };
 
 void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
@@ -85,11 +88,31 @@ void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   });
 }
 
+void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+  CLI::App* cmd = bench.add_subcommand(
+      "gradient", "XPBD reverse pass: backward cost per step over forward, tape memory (JSON)");
+  cmd->add_option("config", a->config, "Scenario name or Sibernetic configuration")->required();
+  cmd->add_option("--steps", a->gradient.steps, "Steps of the window")
+      ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--checkpoint-every", a->gradient.checkpoint_every,
+                  "States kept every k steps (0: full tape)");
+  cmd->add_option("--alpha-density", a->alpha_density,
+                  "Density compliance (s^2); default the run's");
+  AddJsonOut(cmd, &a->json_out);
+  cmd->callback([a] {
+    nlohmann::json result =
+        backends::BenchGradient(ResolveConfig(a->config), a->gradient, a->alpha_density);
+    result["config"] = a->config;
+    Emit(result, a->json_out);
+  });
+}
+
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<BenchArgs>();
   SetUpEngine(Bench(app), a);
   SetUpIo(Bench(app), a);
   SetUpRender(Bench(app), a);
+  SetUpGradient(Bench(app), a);
 }
 
 const bool registered = RegisterCommand(&SetUp);

@@ -128,4 +128,37 @@ nlohmann::json BenchEngineNamed(const std::string& name,
                      options);
 }
 
+nlohmann::json BenchGradient(const engine::SiberneticConfig& config,
+                             const engine::GradientOptions& options, double alpha_density) {
+  const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
+  std::vector<double> theta = model.DefaultParameters();
+  if (alpha_density >= 0) {
+    const auto& names = engine::GradientParameterNames();
+    theta[std::size_t(std::find(names.begin(), names.end(), "alpha_density") - names.begin())] =
+        alpha_density;
+  }
+  engine::LossTerm loss;
+  loss.target = engine::LossTerm::Target::kAllMoving;
+  loss.frame_steps = {options.steps};
+  std::vector<engine::Vec3d> start;
+  for (std::int32_t i : model.moving()) start.push_back(model.initial_positions()[std::size_t(i)]);
+  loss.reference = {start};
+  const engine::GradientSummary g = model.Gradient(theta, {loss}, options);
+  const double steps = double(options.steps);
+  return {{"benchmark", "gradient"},
+          {"config", config.source},
+          {"particles", model.particle_count()},
+          {"moving", model.moving().size()},
+          {"steps", options.steps},
+          {"checkpoint_every", options.checkpoint_every},
+          {"forward_s_per_step", g.forward_seconds / steps},
+          {"backward_s_per_step", g.backward_seconds / steps},
+          {"backward_over_forward", g.backward_seconds / g.forward_seconds},
+          {"forward_steps_run", g.forward_steps},
+          {"stored_states", g.stored_states},
+          {"peak_tape_bytes", g.peak_tape_bytes},
+          {"peak_tape_mib", double(g.peak_tape_bytes) / (1024.0 * 1024.0)},
+          {"loss", g.loss}};
+}
+
 }  // namespace owval::backends

@@ -11,6 +11,7 @@
 
 #include "owval/backends/scenario_store.hpp"
 #include "owval/engine/config.hpp"
+#include "owval/engine/gradient.hpp"
 
 namespace owval::backends {
 
@@ -37,5 +38,11 @@ nlohmann::json BenchEngineNamed(const std::string& name,
                                 const std::filesystem::path& reference_root,
                                 const std::filesystem::path& data_dir, bool whole_run,
                                 EngineBenchOptions options);
+
+// `owval bench gradient`: the XPBD reverse pass's cost per step against its forward pass and
+// the memory its checkpointing holds, on a loss that touches every moving particle (each one's
+// distance to its initial position at the window's last step). alpha_density < 0: the model's.
+nlohmann::json BenchGradient(const engine::SiberneticConfig& config,
+                             const engine::GradientOptions& options, double alpha_density);
 
 }  // namespace owval::backends
