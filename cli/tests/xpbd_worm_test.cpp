@@ -16,8 +16,8 @@ const std::filesystem::path kWorm =
     std::filesystem::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
 
 nlohmann::json CompareJson(const std::string& args) {
-  const Result r = Owval("compare " + (kWorm / "position_buffer.txt.gz").string() + " " + args +
-                         " --json");
+  const Result r =
+      Owval("compare " + (kWorm / "position_buffer.txt.gz").string() + " " + args + " --json");
   EXPECT_NE(r.exit_code, 2) << r.err;
   return nlohmann::json::parse(r.out);
 }
