@@ -454,6 +454,41 @@ void BondPass(const Setup<T>& S, const Parameters<T>& theta, Field<T>* p, std::v
   }
 }
 
+// One bond's backward, shared by the Gauss-Seidel and the Jacobi pass (the derivation above
+// BondPassBackward): bond b read its particle at pa and its partner at pb, with multiplier lam;
+// pa_bar is the cotangent of its particle's position after it. Adds d̄ to both ends' p̄, maps
+// λ̄_b in place and adds k̄ to θ̄.
+template <typename T>
+void BondBackward(const Setup<T>& S, const Parameters<T>& theta, std::size_t b, const Vec3<T>& pa,
+                  const Vec3<T>& pb, T lam, const Vec3<T> pa_bar, Field<T>* p_bar,
+                  std::vector<T>* lambda_bar, Parameters<T>* theta_bar) {
+  const Bond& bond = S.bonds[b];
+  const T k = BondStiffness(S, bond, theta);
+  if (!(k > 0)) return;
+  const T at = S.bond_compliance_scale / (k * S.dt * S.dt), D = T(1) + at;
+  const Vec3<T> d = Sub(pa, pb);
+  const T L = std::sqrt(Dot(d, d));
+  if (!(L > 0)) return;
+  const T dl = (-(L - T(bond.rest_cu)) - at * lam) / D;
+  const Vec3<T> n{d[0] / L, d[1] / L, d[2] / L};
+  const T dl_bar = (*lambda_bar)[b] + Dot(pa_bar, n);
+  const Vec3<T> n_bar{dl * pa_bar[0], dl * pa_bar[1], dl * pa_bar[2]};
+  const T C_bar = -dl_bar / D;
+  (*lambda_bar)[b] += -at * dl_bar / D;
+  const T at_bar = -dl_bar * (lam + dl) / D;
+  const T nn = Dot(n_bar, n);
+  Vec3<T> d_bar;
+  for (int c = 0; c < 3; ++c) d_bar[c] = C_bar * n[c] + (n_bar[c] - nn * n[c]) / L;
+  Axpy(T(1), d_bar, &(*p_bar)[bond.particle]);
+  Axpy(T(-1), d_bar, &(*p_bar)[bond.partner]);
+  const T k_bar = -at_bar * at / k;
+  const T k_type = bond.type == 0 ? theta[kBondStiffnessBody] : theta[kBondStiffnessOther];
+  const T factor = k / k_type;
+  (*theta_bar)[bond.type == 0 ? kBondStiffnessBody : kBondStiffnessOther] += k_bar * factor;
+  if (factor != T(1))
+    (*theta_bar)[kMuscleStrength] += k_bar * k_type * T(S.activation[bond.muscle - 1]);
+}
+
 // Backward of BondPass (p_bar, lambda_bar: output cotangents in, input cotangents out): the
 // forward is re-run to record each bond's input positions, then the bonds are reversed. For
 // one bond, n = d/L, d = p_a − p_b, D = 1 + α̃:
@@ -476,43 +511,17 @@ void BondPassBackward(const Setup<T>& S, const Parameters<T>& theta, const Field
   }
   const std::vector<Vec3<T>>& pa = particles ? *particles : local_a;
   const std::vector<Vec3<T>>& pb = partners ? *partners : local_b;
-  for (std::size_t b = nb; b-- > 0;) {
-    const Bond& bond = S.bonds[b];
-    const T k = BondStiffness(S, bond, theta);
-    if (!(k > 0)) continue;
-    const T at = S.bond_compliance_scale / (k * S.dt * S.dt), D = T(1) + at;
-    const Vec3<T> d = Sub(pa[b], pb[b]);
-    const T L = std::sqrt(Dot(d, d));
-    if (!(L > 0)) continue;
-    // λ before this bond: λ_b is touched only by bond b, once per pass.
-    const T lam = lambda[b];
-    const T dl = (-(L - T(bond.rest_cu)) - at * lam) / D;
-    const Vec3<T> n{d[0] / L, d[1] / L, d[2] / L};
-    const Vec3<T> pa_bar = (*p_bar)[bond.particle];
-    const T dl_bar = (*lambda_bar)[b] + Dot(pa_bar, n);
-    Vec3<T> n_bar{dl * pa_bar[0], dl * pa_bar[1], dl * pa_bar[2]};
-    const T C_bar = -dl_bar / D;
-    (*lambda_bar)[b] += -at * dl_bar / D;
-    const T at_bar = -dl_bar * (lam + dl) / D;
-    const T nn = Dot(n_bar, n);
-    Vec3<T> d_bar;
-    for (int c = 0; c < 3; ++c) d_bar[c] = C_bar * n[c] + (n_bar[c] - nn * n[c]) / L;
-    Axpy(T(1), d_bar, &(*p_bar)[bond.particle]);
-    Axpy(T(-1), d_bar, &(*p_bar)[bond.partner]);
-    const T k_bar = -at_bar * at / k;
-    const T k_type = bond.type == 0 ? theta[kBondStiffnessBody] : theta[kBondStiffnessOther];
-    const T factor = k / k_type;
-    (*theta_bar)[bond.type == 0 ? kBondStiffnessBody : kBondStiffnessOther] += k_bar * factor;
-    if (factor != T(1))
-      (*theta_bar)[kMuscleStrength] += k_bar * k_type * T(S.activation[bond.muscle - 1]);
-  }
+  // λ before each bond is the pass's input: λ_b is touched only by bond b, once per pass.
+  for (std::size_t b = nb; b-- > 0;)
+    BondBackward(S, theta, b, pa[b], pb[b], lambda[b], (*p_bar)[S.bonds[b].particle], p_bar,
+                 lambda_bar, theta_bar);
 }
 
 // ---- Bonds of the split step: one Jacobi pass of one-sided distance constraints ----
 // Every bond reads both ends as the pass began (s), and its row's particle moves by the sum of
 // its bonds' corrections: p_a = s_a + Σ_b Δλ_b·n_b, n_b = d_b/L_b, d_b = s_a − s_q,
 // Δλ_b = (−(L_b − r_b) − α̃_b λ_b)/(1 + α̃_b), λ_b += Δλ_b, α̃_b = scale/(k_b dt²)
-// (Xpbd::ProjectBondsOneSided). `starts`, when given, receives each bond's s_a (particles) and
+// (Xpbd::ProjectBondsOneSided). The records, when given, receive each bond's s_a (particles) and
 // s_q (partners).
 template <typename T>
 void BondPassJacobi(const Setup<T>& S, const Parameters<T>& theta, Field<T>* p,
@@ -539,44 +548,17 @@ void BondPassJacobi(const Setup<T>& S, const Parameters<T>& theta, Field<T>* p,
       for (int c = 0; c < 3; ++c) (*p)[S.bonds[b].particle][c] += sum[S.bonds[b].particle][c];
 }
 // Backward (p_bar, lambda_bar: output cotangents in, input cotangents out). p_a = s_a + Σ
-// passes p̄ to s̄ unchanged; each bond then adds, from the OUTPUT cotangent p̄_a (read before
-// any bond's contribution is added): Δλ̄ = λ̄' + p̄_a·n, n̄ = Δλ·p̄_a, C̄ = −Δλ̄/D,
-// λ̄ = λ̄' − α̃Δλ̄/D, ᾱ̃ = −Δλ̄(λ + Δλ)/D, d̄ = C̄n + (n̄ − (n̄·n)n)/L, s̄_a += d̄, s̄_q −= d̄,
-// and k̄ as in BondPassBackward. λ is the pass's input.
+// passes p̄ to s̄ unchanged; each bond then adds its BondBackward from the OUTPUT cotangent p̄_a
+// (read before any bond's contribution is added), with λ the pass's input.
 template <typename T>
 void BondPassJacobiBackward(const Setup<T>& S, const Parameters<T>& theta,
                             const std::vector<T>& lambda, const std::vector<Vec3<T>>& particles,
                             const std::vector<Vec3<T>>& partners, Field<T>* p_bar,
                             std::vector<T>* lambda_bar, Parameters<T>* theta_bar) {
   const Field<T> out_bar = *p_bar;
-  for (std::size_t b = 0; b < S.bonds.size(); ++b) {
-    const Bond& bond = S.bonds[b];
-    const T k = BondStiffness(S, bond, theta);
-    if (!(k > 0)) continue;
-    const Vec3<T> d = Sub(particles[b], partners[b]);
-    const T L = std::sqrt(Dot(d, d));
-    if (!(L > 0)) continue;
-    const T at = S.bond_compliance_scale / (k * S.dt * S.dt), D = T(1) + at;
-    const T dl = (-(L - T(bond.rest_cu)) - at * lambda[b]) / D;
-    const Vec3<T> n{d[0] / L, d[1] / L, d[2] / L};
-    const Vec3<T>& pa_bar = out_bar[bond.particle];
-    const T dl_bar = (*lambda_bar)[b] + Dot(pa_bar, n);
-    const Vec3<T> n_bar{dl * pa_bar[0], dl * pa_bar[1], dl * pa_bar[2]};
-    const T C_bar = -dl_bar / D;
-    (*lambda_bar)[b] += -at * dl_bar / D;
-    const T at_bar = -dl_bar * (lambda[b] + dl) / D;
-    const T nn = Dot(n_bar, n);
-    Vec3<T> d_bar;
-    for (int c = 0; c < 3; ++c) d_bar[c] = C_bar * n[c] + (n_bar[c] - nn * n[c]) / L;
-    Axpy(T(1), d_bar, &(*p_bar)[bond.particle]);
-    Axpy(T(-1), d_bar, &(*p_bar)[bond.partner]);
-    const T k_bar = -at_bar * at / k;
-    const T k_type = bond.type == 0 ? theta[kBondStiffnessBody] : theta[kBondStiffnessOther];
-    const T factor = k / k_type;
-    (*theta_bar)[bond.type == 0 ? kBondStiffnessBody : kBondStiffnessOther] += k_bar * factor;
-    if (factor != T(1))
-      (*theta_bar)[kMuscleStrength] += k_bar * k_type * T(S.activation[bond.muscle - 1]);
-  }
+  for (std::size_t b = 0; b < S.bonds.size(); ++b)
+    BondBackward(S, theta, b, particles[b], partners[b], lambda[b], out_bar[S.bonds[b].particle],
+                 p_bar, lambda_bar, theta_bar);
 }
 
 // ---- Box: p clamped into [low, high], the floor parameter as low y ----

@@ -199,6 +199,29 @@ struct Work {
   Field<double> x_in_bar, v_in_bar;
 };
 
+// One density pass, with what its backward needs recorded in pt: the positions and
+// multipliers before it, its Δλ and denominators.
+void RecordedDensityPass(const Setup<double>& S, const Neighbours& nb, double V0, double at,
+                         Field<double>* p, Work* w, PassTape* pt) {
+  Gather(S, *p, &pt->p_before_density);
+  Gather(S, w->lambda, &pt->lambda_density);
+  DensityPass(S, nb, V0, at, p, &w->lambda, &w->multipliers);
+  Gather(S, w->multipliers[0], &pt->dlambda);
+  Gather(S, w->multipliers[1], &pt->denominator);
+}
+
+// Its backward from the record (p, w's multipliers: working fields, overwritten).
+void DensityPassBackwardFromTape(const Setup<double>& S, const Neighbours& nb, double V0, double at,
+                                 const PassTape& pt, Field<double>* p, Work* w,
+                                 Field<double>* p_bar, double* V0_bar, double* at_bar) {
+  Scatter(S, pt.p_before_density, p);
+  Scatter(S, pt.lambda_density, &w->lambda);
+  Scatter(S, pt.dlambda, &w->multipliers[0]);
+  Scatter(S, pt.denominator, &w->multipliers[1]);
+  DensityPassBackward(S, nb, V0, at, *p, w->lambda, p_bar, &w->lambda_bar, V0_bar, at_bar,
+                      &w->multipliers);
+}
+
 // One substep [M19]: predict, K passes, velocity update; x, v (every particle, fixed entries
 // constant) are the substep's input and output, p its working positions (fixed entries = x).
 void SubstepForward(const Setup<double>& S, const Parameters<double>& theta, const StepTape& t,
@@ -211,11 +234,7 @@ void SubstepForward(const Setup<double>& S, const Parameters<double>& theta, con
   Predict(S, *x, *v, t.a, p, false);
   st->passes.resize(std::size_t(std::max(S.iterations, 0)));
   for (PassTape& pt : st->passes) {
-    Gather(S, *p, &pt.p_before_density);
-    Gather(S, w->lambda, &pt.lambda_density);
-    DensityPass(S, t.nb, V0, at, p, &w->lambda, &w->multipliers);
-    Gather(S, w->multipliers[0], &pt.dlambda);
-    Gather(S, w->multipliers[1], &pt.denominator);
+    RecordedDensityPass(S, t.nb, V0, at, p, w, &pt);
     pt.lambda_bonds = lb;
     pt.bond_partners.resize(S.bonds.size());
     pt.bond_particles.resize(S.bonds.size());
@@ -253,12 +272,7 @@ void SubstepBackward(const Setup<double>& S, const Parameters<double>& theta, co
     BoxPassBackward(S, theta[kFloorHeight], *p, p_bar, &tb[kFloorHeight]);
     BondPassBackward(S, theta, *p, pt.lambda_bonds, p_bar, &w->bond_lambda_bar, &tb,
                      &pt.bond_partners, &pt.bond_particles);
-    Scatter(S, pt.p_before_density, p);
-    Scatter(S, pt.lambda_density, &w->lambda);
-    Scatter(S, pt.dlambda, &w->multipliers[0]);
-    Scatter(S, pt.denominator, &w->multipliers[1]);
-    DensityPassBackward(S, t.nb, V0, at, *p, w->lambda, p_bar, &w->lambda_bar, V0_bar, at_bar,
-                        &w->multipliers);
+    DensityPassBackwardFromTape(S, t.nb, V0, at, pt, p, w, p_bar, V0_bar, at_bar);
   }
   PredictBackward(S, *p_bar, &w->x_in_bar, &w->v_in_bar, a_bar, false);
   for (std::int32_t i : S.movers) {
@@ -322,11 +336,7 @@ void CorrectionForward(const Setup<double>& S, const Parameters<double>& theta, 
   for (std::int32_t i : S.movers) (*p)[i] = (*x)[i];
   st->passes.resize(std::size_t(std::max(S.iterations, 0)));
   for (PassTape& pt : st->passes) {
-    Gather(S, *p, &pt.p_before_density);
-    Gather(S, w->lambda, &pt.lambda_density);
-    DensityPass(S, t.nb, V0, at, p, &w->lambda, &w->multipliers);
-    Gather(S, w->multipliers[0], &pt.dlambda);
-    Gather(S, w->multipliers[1], &pt.denominator);
+    RecordedDensityPass(S, t.nb, V0, at, p, w, &pt);
     Gather(S, *p, &pt.p_before_box);
     BoxPass(S, theta[kFloorHeight], p);
   }
@@ -355,12 +365,7 @@ void CorrectionBackward(const Setup<double>& S, const Parameters<double>& theta,
     const PassTape& pt = st.passes[k];
     Scatter(S, pt.p_before_box, p);
     BoxPassBackward(S, theta[kFloorHeight], *p, p_bar, &tb[kFloorHeight]);
-    Scatter(S, pt.p_before_density, p);
-    Scatter(S, pt.lambda_density, &w->lambda);
-    Scatter(S, pt.dlambda, &w->multipliers[0]);
-    Scatter(S, pt.denominator, &w->multipliers[1]);
-    DensityPassBackward(S, t.nb, V0, at, *p, w->lambda, p_bar, &w->lambda_bar, V0_bar, at_bar,
-                        &w->multipliers);
+    DensityPassBackwardFromTape(S, t.nb, V0, at, pt, p, w, p_bar, V0_bar, at_bar);
   }
   for (std::int32_t i : S.movers) {  // p started as x
     for (int c = 0; c < 3; ++c) (*x_bar)[i][c] = w->x_in_bar[i][c] + (*p_bar)[i][c];

@@ -299,7 +299,9 @@ KernelCheck DensityCheck(const SceneState& s) {
   return k;
 }
 
-KernelCheck BondCheck(const SceneState& s) {
+// A bond pass (the unsplit step's Gauss-Seidel one, or with `jacobi` the split step's):
+// positions, multipliers and the stiffness parameters in.
+KernelCheck BondCheck(const SceneState& s, bool jacobi) {
   const std::size_t n = s.S.n, nb = s.S.bonds.size();
   KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
   Put(s.x, &k.at);
@@ -318,18 +320,21 @@ KernelCheck BondCheck(const SceneState& s) {
     *t = s.theta;
     for (int id : ids) (*t)[id] = z[i++];
   };
-  k.f = [&s, unpack](const Vector& z) {
+  k.f = [&s, unpack, jacobi](const Vector& z) {
     Field<double> p;
     Vector l;
     Parameters<double> t;
     unpack(z, &p, &l, &t);
-    ad::BondPass(s.S, t, &p, &l);
+    if (jacobi)
+      ad::BondPassJacobi(s.S, t, &p, &l);
+    else
+      ad::BondPass(s.S, t, &p, &l);
     Vector out;
     Put(p, &out);
     out.insert(out.end(), l.begin(), l.end());
     return out;
   };
-  k.vjp = [&s, unpack, n, nb, ids](const Vector& z, const Vector& u) {
+  k.vjp = [&s, unpack, n, nb, ids, jacobi](const Vector& z, const Vector& u) {
     Field<double> p;
     Vector l;
     Parameters<double> t, tb{};
@@ -337,7 +342,15 @@ KernelCheck BondCheck(const SceneState& s) {
     std::size_t i = 0;
     Field<double> pb = TakeField(u, &i, n);
     Vector lb = Take(u, &i, nb);
-    ad::BondPassBackward(s.S, t, p, l, &pb, &lb, &tb);
+    if (jacobi) {
+      std::vector<Vec3d> particles(nb), partners(nb);
+      Field<double> q = p;
+      Vector lq = l;
+      ad::BondPassJacobi(s.S, t, &q, &lq, &partners, &particles);
+      ad::BondPassJacobiBackward(s.S, t, l, particles, partners, &pb, &lb, &tb);
+    } else {
+      ad::BondPassBackward(s.S, t, p, l, &pb, &lb, &tb);
+    }
     Vector out;
     Put(pb, &out);
     out.insert(out.end(), lb.begin(), lb.end());
@@ -369,52 +382,6 @@ KernelCheck BoxCheck(const SceneState& s) {
     Vector out;
     Put(pb, &out);
     out.push_back(floor_bar);
-    return out;
-  };
-  return k;
-}
-
-// The split step's Jacobi bond pass: positions, multipliers and the stiffness parameters in.
-KernelCheck BondJacobiCheck(const SceneState& s) {
-  KernelCheck k = BondCheck(s);
-  const std::size_t n = s.S.n, nb = s.S.bonds.size();
-  const int ids[3] = {ad::kBondStiffnessBody, ad::kBondStiffnessOther, ad::kMuscleStrength};
-  auto unpack = [&s, n, nb, ids](const Vector& z, Field<double>* p, Vector* l,
-                                 Parameters<double>* t) {
-    std::size_t i = 0;
-    *p = TakeField(z, &i, n);
-    *l = Take(z, &i, nb);
-    *t = s.theta;
-    for (int id : ids) (*t)[id] = z[i++];
-  };
-  k.f = [&s, unpack](const Vector& z) {
-    Field<double> p;
-    Vector l;
-    Parameters<double> t;
-    unpack(z, &p, &l, &t);
-    ad::BondPassJacobi(s.S, t, &p, &l);
-    Vector out;
-    Put(p, &out);
-    out.insert(out.end(), l.begin(), l.end());
-    return out;
-  };
-  k.vjp = [&s, unpack, n, nb, ids](const Vector& z, const Vector& u) {
-    Field<double> p;
-    Vector l;
-    Parameters<double> t, tb{};
-    unpack(z, &p, &l, &t);
-    std::vector<Vec3d> particles(nb), partners(nb);
-    Field<double> q = p;
-    Vector lq = l;
-    ad::BondPassJacobi(s.S, t, &q, &lq, &partners, &particles);
-    std::size_t i = 0;
-    Field<double> pb = TakeField(u, &i, n);
-    Vector lb = Take(u, &i, nb);
-    ad::BondPassJacobiBackward(s.S, t, l, particles, partners, &pb, &lb, &tb);
-    Vector out;
-    Put(pb, &out);
-    out.insert(out.end(), lb.begin(), lb.end());
-    for (int id : ids) out.push_back(tb[id]);
     return out;
   };
   return k;
@@ -636,8 +603,8 @@ GradCheckSummary RunGradCheck(const GradCheckOptions& options) {
                           : name == "forces"                 ? ForcesCheck(scene)
                           : name == "predict"                ? PredictCheck(scene)
                           : name == "density_projection"     ? DensityCheck(scene)
-                          : name == "bond_projection"        ? BondCheck(scene)
-                          : name == "bond_projection_jacobi" ? BondJacobiCheck(scene)
+                          : name == "bond_projection"        ? BondCheck(scene, false)
+                          : name == "bond_projection_jacobi" ? BondCheck(scene, true)
                           : name == "velocity_correction"    ? VelocityCorrectionCheck(scene)
                           : name == "box"                    ? BoxCheck(scene)
                           : name == "velocity"               ? VelocityCheck(scene)
