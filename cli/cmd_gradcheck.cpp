@@ -6,21 +6,31 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/engine/gradient.hpp"
 #include "owval/sgd/gradcheck.hpp"
+#include "owval/sgd/gradient_fit.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::cli {
 namespace {
 
 struct GradCheckArgs {
   engine::GradCheckOptions options;
-  std::string output;
+  std::string reference, output;
   bool json = false;
 };
 
 void RunGradCheckCommand(GradCheckArgs& a) {
   if (!a.output.empty()) CheckOutputPath(a.output);
-  if (a.options.end_to_end_config.empty())
-    a.options.end_to_end_config =
-        (std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1/configuration").string();
+  const std::filesystem::path demo1 = std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1";
+  if (a.options.end_to_end_config.empty()) {
+    a.options.end_to_end_config = (demo1 / "configuration").string();
+    if (a.reference.empty()) a.reference = (demo1 / "position_buffer.txt").string();
+  }
+  if (!a.reference.empty()) {  // demo1's fit loss: the centroids against a reference run
+    const Trajectory reference = ReadTrajectory(a.reference, {.quiet = true});
+    a.options.end_to_end_loss = sgd::GroupCentroidLoss(reference, {"elastic", "liquid"},
+                                                       a.options.end_to_end_steps, 1.0);
+    a.options.end_to_end_loss_name = "centroids vs " + a.reference;
+  }
   const engine::GradCheckSummary summary = engine::RunGradCheck(a.options);
   const nlohmann::json j = sgd::GradCheckJson(summary, a.options);
   if (!a.output.empty()) WriteFileAtomically(a.output, j.dump(2) + "\n");
@@ -41,7 +51,7 @@ void SetUp(CLI::App& app) {
       "gradcheck", "XPBD backward kernels against central differences in double (issue 14)");
   cmd->footer(
       "Kernels: all, sph_density, forces, predict, density_projection, bond_projection, "
-      "box, velocity, step, reverse. Each runs at eps = 1e-3 and its own eps; a test "
+      "bond_projection_jacobi, box, velocity, velocity_correction, step, reverse. Each runs at eps = 1e-3 and its own eps; a test "
       "passes at relative error <= --tolerance. Exit 1 when any test fails.");
   cmd->add_option("kernels", a->options.kernels, "Kernels to check (default all)");
   cmd->add_option("--directions", a->options.directions, "Random directions per kernel and eps")
@@ -51,6 +61,11 @@ void SetUp(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--config", a->options.end_to_end_config,
                   "Configuration of the end-to-end (reverse) test (default: the shared demo1)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--reference", a->reference,
+                  "End-to-end loss: elastic and liquid centroids against this run (default with "
+                  "the default --config: the shared OpenCL demo1 run; without: the model's own "
+                  "trajectory at shifted parameters)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--steps", a->options.end_to_end_steps, "Steps of the end-to-end test")
       ->check(CLI::Range(20, 100000));

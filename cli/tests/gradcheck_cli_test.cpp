@@ -23,6 +23,22 @@ TEST(GradCheckCli, WritesChecklistItemSevenInput) {
   }
 }
 
+// Issue 14's end-to-end check: 100 split steps of demo1, the fit's loss (elastic and liquid
+// centroids against Sibernetic's OpenCL run), reverse pass against central differences.
+TEST(GradCheckCli, HundredStepDemo1GradientAgainstTheOpenClRunMatchesFiniteDifferences) {
+  const auto demo1 = std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1";
+  if (ReferenceMissing(demo1 / "position_buffer.txt")) GTEST_SKIP() << "no " << demo1;
+  const Result r = Owval("gradcheck reverse --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["tests"].size(), 6u);  // 2 eps x 3 directions
+  for (const auto& t : j["tests"]) {
+    EXPECT_LE(t["relative_error"].get<double>(), 1e-3) << t.dump();
+    EXPECT_NE(t["name"].get<std::string>().find("position_buffer.txt"), std::string::npos);
+    EXPECT_NE(t["name"].get<std::string>().find("density_passes=1"), std::string::npos);
+  }
+}
+
 TEST(GradCheckCli, UnknownKernelIsBadInputAndWritesNothing) {
   const auto file = Scratch() / "fd_tests_bad.json";
   std::filesystem::remove(file);

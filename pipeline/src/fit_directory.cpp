@@ -48,12 +48,7 @@ void Summarise(const std::vector<sgd::Parameter>& parameters, const sgd::FitSumm
 std::vector<engine::LossTerm> LossOf(const FitRequest& r, const Trajectory& reference,
                                      std::size_t steps) {
   if (r.loss_groups.empty()) return sgd::TrackLoss(reference, r.track, steps, r.loss_scale);
-  std::vector<engine::LossTerm> loss;
-  for (const std::string& g : r.loss_groups)
-    for (engine::LossTerm& t :
-         sgd::TrackLoss(reference, Track{0, g, Axis::kY}, steps, r.loss_scale, /*every_axis=*/true))
-      loss.push_back(std::move(t));
-  return loss;
+  return sgd::GroupCentroidLoss(reference, r.loss_groups, steps, r.loss_scale);
 }
 
 sgd::GradientFitOptions GradientOptions(const FitRequest& r) {

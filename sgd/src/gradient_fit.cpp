@@ -306,6 +306,17 @@ std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track
   return {term};
 }
 
+std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
+                                                const std::vector<std::string>& groups,
+                                                std::size_t steps, double scale) {
+  std::vector<engine::LossTerm> loss;
+  for (const std::string& g : groups)
+    for (engine::LossTerm& t :
+         TrackLoss(reference, Track{0, g, Axis::kY}, steps, scale, /*every_axis=*/true))
+      loss.push_back(std::move(t));
+  return loss;
+}
+
 std::vector<engine::LossTerm> OscillatorLoss(std::int32_t particle, int axis, double period_s,
                                              double equilibrium, double start, double time_step_s,
                                              std::size_t steps, double scale) {

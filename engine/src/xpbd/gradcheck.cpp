@@ -633,26 +633,18 @@ std::string GradCheckSummary::BriefReport() const {
 
 namespace owval::engine {
 
-// The end-to-end test: at α_density = end_to_end_alpha_density, the loss of the elastic and
-// liquid centroids at every 20th of end_to_end_steps steps against the model's own trajectory at
-// shifted parameters (ρ_rest +1%, bond stiffness −10%, viscosity ×1.5), differentiated by the
-// checkpointed reverse pass along random directions in (x0, v0, θ).
-void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSummary* out) {
-  if (o.end_to_end_config.empty())
-    throw InputError("gradcheck reverse: no configuration for the end-to-end test");
-  const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
-  PhysicsConstants constants;
-  if (o.end_to_end_density_passes >= 0) constants.xpbd.density_passes = o.end_to_end_density_passes;
-  DifferentiableXpbd model(config, constants);
-  std::vector<double> theta = model.DefaultParameters();
-  if (o.end_to_end_alpha_density > 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+// The default end-to-end loss: the elastic and liquid centroids at every 20th of `steps` steps
+// against the model's own trajectory at shifted parameters (ρ_rest +1%, bond stiffness −10%,
+// viscosity ×1.5).
+std::vector<LossTerm> SelfReferencedLoss(const SiberneticConfig& config,
+                                         const DifferentiableXpbd& model,
+                                         const std::vector<double>& theta, std::size_t steps) {
   std::vector<double> shifted = theta;
   shifted[ad::kRestDensity] *= 1.01;
   shifted[ad::kBondStiffnessBody] *= 0.9;
   shifted[ad::kBondStiffnessOther] *= 0.9;
   shifted[ad::kViscosity] *= 1.5;
-  const std::size_t N = o.end_to_end_steps;
-  const auto reference = model.Trajectory(shifted, N);
+  const auto reference = model.Trajectory(shifted, steps);
   std::vector<LossTerm> loss(2);
   for (std::size_t i = 0; i < config.particle_count(); ++i) {
     const float type = config.position[i][3];
@@ -663,7 +655,7 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   if (loss[0].particles.empty()) loss.erase(loss.begin());
   for (LossTerm& term : loss) {
     term.target = LossTerm::Target::kCentroid;
-    for (std::size_t t = 20; t <= N; t += 20) {
+    for (std::size_t t = 20; t <= steps; t += 20) {
       term.frame_steps.push_back(t);
       Vec3d c{0, 0, 0};
       for (std::int32_t i : term.particles)
@@ -672,6 +664,29 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
       term.reference.push_back({c});
     }
   }
+  return loss;
+}
+
+// The end-to-end test: at α_density = end_to_end_alpha_density, the end-to-end loss over
+// end_to_end_steps steps, differentiated by the checkpointed reverse pass along random
+// directions in (x0, v0, θ).
+void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSummary* out) {
+  if (o.end_to_end_config.empty())
+    throw InputError("gradcheck reverse: no configuration for the end-to-end test");
+  const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
+  PhysicsConstants constants;
+  if (o.end_to_end_density_passes >= 0) constants.xpbd.density_passes = o.end_to_end_density_passes;
+  DifferentiableXpbd model(config, constants);
+  std::vector<double> theta = model.DefaultParameters();
+  if (o.end_to_end_alpha_density > 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  const std::size_t N = o.end_to_end_steps;
+  const std::vector<LossTerm> loss =
+      o.end_to_end_loss.empty() ? SelfReferencedLoss(config, model, theta, N) : o.end_to_end_loss;
+  for (const LossTerm& term : loss)
+    for (std::size_t step : term.frame_steps)
+      if (step < 1 || step > N)
+        throw InputError("gradcheck reverse: the loss has a frame at step " +
+                         std::to_string(step) + ", outside 1.." + std::to_string(N));
   GradientOptions go;
   go.steps = N;
   go.checkpoint_every = 10;
@@ -679,7 +694,12 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   const std::vector<Vec3d> x0 = model.initial_positions(), v0 = model.initial_velocities();
   const std::vector<std::int32_t> movers = model.moving();
   std::normal_distribution<double> gauss(0, 1);
-  for (double eps : {1e-3, 1e-5})
+  // DD001's ε and this test's own, 3e-3 (not the kernels' 1e-5): the 100-step forward pass
+  // amplifies double rounding to a relative noise of ~1e-9 in demo1's loss, so the quotient's
+  // noise error (σ/ε) and truncation error (ε²·|L‴|/6) balance near ε = 1e-3. Measured over 10
+  // directions (seed 2): worst relative error 4.5e-5 at 1e-3, 1.8e-4 at 3e-3, 7.0e-4 at 3e-4,
+  // and at 1e-4 and 1e-5 up to 1.7e-3 and 2.5e-3: the noise, not the derivative.
+  for (double eps : {1e-3, 3e-3})
     for (std::size_t d = 0; d < o.directions; ++d) {
       std::vector<Vec3d> dx(x0.size(), Vec3d{0, 0, 0}), dv = dx;
       for (std::int32_t i : movers)
@@ -721,7 +741,8 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
                          std::max({std::abs(t.finite_difference), std::abs(an), 1e-300});
       t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
       std::ostringstream s;
-      s << "reverse " << N << " steps (" << o.end_to_end_config
+      s << "reverse " << N << " steps (" << o.end_to_end_config << ", "
+        << (o.end_to_end_loss.empty() ? "centroids vs shifted parameters" : o.end_to_end_loss_name)
         << ", alpha_density=" << theta[ad::kAlphaDensity]
         << ", density_passes=" << constants.xpbd.density_passes << ") eps=" << eps << " direction "
         << d;

@@ -118,11 +118,17 @@ struct GradCheckOptions {
   // At 4e-8 the 100-step gradient agrees to 1.5e-5 and 3.6e-4 (docs/xpbd.md §Gradients).
   double end_to_end_alpha_density = 4e-8;
   // The step scheme of the end-to-end test: the run's xpbd_density_passes (−1: its default, the
-  // split step with m = 1; 0: the unsplit step). On demo1 the split step's 100-step loss is
-  // about 100x less sensitive than the unsplit step's (its density constraint, α/H² with H the
-  // step instead of a substep, is stiffer), and central differences no longer agree to 1e-3:
-  // they scatter by 2-5% between ε = 1e-4 and 1e-6 (docs/xpbd.md §Gradients).
+  // split step with m = 1; 0: the unsplit step).
   int end_to_end_density_passes = -1;
+  // The end-to-end test's loss (frames at most end_to_end_steps). Empty: the elastic and liquid
+  // centroids every 20 steps against the model's own trajectory at shifted parameters (ρ_rest
+  // +1%, bond stiffness −10%, viscosity ×1.5). `owval gradcheck` passes demo1's fit loss, the
+  // centroids against the OpenCL reference run (sgd::GroupCentroidLoss). On demo1 the split
+  // step barely feels those shifts: the self-referenced loss is 7e-14, so near its minimum that
+  // its directional derivatives (~6e-9) drown in the 100-step loss's rounding noise over 2ε and
+  // central differences scatter by 0.5-20% (docs/xpbd.md §Gradients).
+  std::vector<LossTerm> end_to_end_loss;
+  std::string end_to_end_loss_name;  // how the test names end_to_end_loss
   // Test-only: negates the backward kernel's result of this kernel (a broken backward that
   // the check must catch).
   std::string sabotage;

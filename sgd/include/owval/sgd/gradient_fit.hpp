@@ -59,6 +59,11 @@ nlohmann::json ToJson(const GradientFitOptions& options, const std::vector<Param
 std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
                                         std::size_t steps, double scale, bool every_axis = false);
 
+// TrackLoss of each group's centroid, every axis (demo1's fit loss: {"elastic", "liquid"}).
+std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
+                                                const std::vector<std::string>& groups,
+                                                std::size_t steps, double scale);
+
 // DD001's oscillator loss through a differentiable surrogate: the tracked coordinate against
 // y(t) = equilibrium + (start − equilibrium)·cos(2πt/period) at every step up to `steps`
 // (half-amplitude |start − equilibrium|), normalised as TrackLoss. Zero exactly when the
