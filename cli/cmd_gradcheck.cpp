@@ -27,8 +27,8 @@ void RunGradCheckCommand(GradCheckArgs& a) {
   }
   if (!a.reference.empty()) {  // demo1's fit loss: the centroids against a reference run
     const Trajectory reference = ReadTrajectory(a.reference, {.quiet = true});
-    a.options.end_to_end_loss = sgd::GroupCentroidLoss(reference, {"elastic", "liquid"},
-                                                       a.options.end_to_end_steps, 1.0);
+    a.options.end_to_end_loss =
+        sgd::GroupCentroidLoss(reference, {"elastic", "liquid"}, a.options.end_to_end_steps, 1.0);
     a.options.end_to_end_loss_name = "centroids vs " + a.reference;
   }
   const engine::GradCheckSummary summary = engine::RunGradCheck(a.options);
@@ -51,7 +51,8 @@ void SetUp(CLI::App& app) {
       "gradcheck", "XPBD backward kernels against central differences in double (issue 14)");
   cmd->footer(
       "Kernels: all, sph_density, forces, predict, density_projection, bond_projection, "
-      "bond_projection_jacobi, box, velocity, velocity_correction, step, reverse. Each runs at eps = 1e-3 and its own eps; a test "
+      "bond_projection_jacobi, box, velocity, velocity_correction, step, reverse. Each runs at eps "
+      "= 1e-3 and its own eps; a test "
       "passes at relative error <= --tolerance. Exit 1 when any test fails.");
   cmd->add_option("kernels", a->options.kernels, "Kernels to check (default all)");
   cmd->add_option("--directions", a->options.directions, "Random directions per kernel and eps")
