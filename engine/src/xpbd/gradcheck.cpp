@@ -387,16 +387,23 @@ KernelCheck BoxCheck(const SceneState& s) {
   return k;
 }
 
+// A projection's output for the velocity kernels: the scene's positions with the moving
+// particles displaced by N(0, 0.05 cu) per axis.
+Field<double> ProjectedPositions(const SceneState& s, std::uint64_t seed) {
+  Field<double> p = s.x;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0, 0.05);
+  for (std::int32_t i : s.S.movers)
+    for (double& c : p[std::size_t(i)]) c += g(rng);
+  return p;
+}
+
 // The split step's velocity correction: x, p, the input velocity and the restitution in (the
 // floor as the scene's, with particles below it: the restitution applies to some).
 KernelCheck VelocityCorrectionCheck(const SceneState& s) {
   const std::size_t n = s.S.n;
   KernelCheck k{1e-4, {}, Ones(9 * n, 1e-2), {}, {}};
-  Field<double> p = s.x;
-  std::mt19937_64 rng(17);
-  std::normal_distribution<double> g(0, 0.05);
-  for (std::int32_t i : s.S.movers)
-    for (double& c : p[std::size_t(i)]) c += g(rng);
+  const Field<double> p = ProjectedPositions(s, 17);
   Put(s.x, &k.at);
   Put(p, &k.at);
   Put(s.v, &k.at);
@@ -436,11 +443,7 @@ KernelCheck VelocityCorrectionCheck(const SceneState& s) {
 KernelCheck VelocityCheck(const SceneState& s) {
   const std::size_t n = s.S.n;
   KernelCheck k{1e-4, {}, Ones(6 * n, 1e-2), {}, {}};
-  Field<double> p = s.x;
-  std::mt19937_64 rng(13);
-  std::normal_distribution<double> g(0, 0.05);
-  for (std::int32_t i : s.S.movers)
-    for (double& c : p[std::size_t(i)]) c += g(rng);
+  const Field<double> p = ProjectedPositions(s, 13);
   Put(s.x, &k.at);
   Put(p, &k.at);
   k.at.push_back(s.theta[ad::kRestitution]);
