@@ -70,6 +70,10 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--max-iterations", a->request.max_iterations, "Iteration cap");
   cmd->add_option("--learning-rate", a->request.learning_rate,
                   "Gradient descent step in internal units");
+  cmd->add_option("--patience", a->request.patience,
+                  "--solver adam: stop after this many iterations without a 0.1% lower best loss "
+                  "(0: never); the result is the best iterate")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--out", a->request.out,
                   "Output directory (history.json, parameters.json, convergence.svg)")
       ->required();

@@ -59,6 +59,7 @@ sgd::GradientFitOptions GradientOptions(const FitRequest& r) {
   if (r.solver == "adam") {
     options.method = sgd::GradientFitOptions::Method::kAdam;
     options.learning_rate = r.learning_rate;
+    options.patience = r.patience;
   } else if (r.solver != "lm" && r.solver != "lbfgs") {
     throw InputError("fit --gradient " + r.gradient + ": --solver is lbfgs (default) or adam");
   }

@@ -176,6 +176,8 @@ void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& 
   for (std::size_t i = 0; i < n; ++i) step[i] = o.learning_rate * std::max(std::abs(u[i]), 1.0);
   FitSummary& fit = summary->fit;
   double cost = 0;
+  std::size_t best = 0;  // the best iterate's index in fit.iterations
+  int stalled = 0;       // iterations since the best loss last improved by min_improvement
   for (int it = 0; it <= o.max_iterations; ++it) {
     if (!f.Evaluate(u.data(), &cost, g.data()))
       throw InputError("fit: the loss is not finite at iteration " + std::to_string(it));
@@ -192,7 +194,16 @@ void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& 
     summary->gradient_norm.push_back(std::sqrt(norm));
     summary->simulation_equivalents.push_back(summary->total_simulation_equivalents);
     if (o.on_iteration) o.on_iteration(ToJson(o, parameters, *summary));
+    const double best_loss = fit.iterations[best].loss;
+    stalled = it > 0 && !(cost < best_loss * (1 - o.min_improvement)) ? stalled + 1 : 0;
+    if (cost < best_loss) best = fit.iterations.size() - 1;
     if (cost < o.loss_threshold || it == o.max_iterations) break;
+    if (o.patience > 0 && stalled >= o.patience) {
+      fit.stop_reason = "stalled: the best loss fell by less than " +
+                        std::to_string(o.min_improvement) + " (relative) in " +
+                        std::to_string(o.patience) + " iterations";
+      break;
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const Parameter& p = parameters[i];
       if (p.log_space) {
@@ -209,10 +220,13 @@ void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& 
       u[i] = std::clamp(u[i] - sign * step[i], p.lower, p.upper);
     }
   }
-  fit.final_values = f.Values(u.data());
-  fit.final_loss = cost;
-  fit.converged = cost < o.loss_threshold;
-  fit.stop_reason = fit.converged ? "loss below threshold" : "maximum iterations reached";
+  fit.final_values = fit.iterations[best].values;
+  fit.final_loss = fit.iterations[best].loss;
+  fit.converged = fit.final_loss < o.loss_threshold;
+  if (fit.converged) fit.stop_reason = "loss below threshold";
+  if (fit.stop_reason.empty()) fit.stop_reason = "maximum iterations reached";
+  if (best + 1 != fit.iterations.size())
+    fit.stop_reason += "; result: the best iterate, " + std::to_string(best);
   fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
 }
 

@@ -1,6 +1,8 @@
 // owval fit --gradient analytic: Ceres L-BFGS on the XPBD reverse pass's gradient.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 
@@ -92,6 +94,34 @@ TEST(GradientFit, AdamLowersTheOneSprigLossInLogSpace) {
   EXPECT_LT(s.fit.iterations.back().loss, 0.5 * s.fit.iterations.front().loss);
   EXPECT_GT(s.fit.final_values[0], 0.54 * 3e8);  // moved up, toward the true k
   EXPECT_EQ(ToJson(o, {{"elasticity_coefficient", 0.54 * 3e8, true}}, s)["solver"], "adam");
+}
+
+// Adam's steps do not shrink: at a large rate it overshoots the true k and wanders, so the
+// result is the best iterate and the fit ends as stalled once the best loss stops falling.
+TEST(GradientFit, AdamReturnsItsBestIterateAndStopsWhenStalled) {
+  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
+                                         engine::PhysicsConstants{});
+  GradientFitOptions o;
+  o.method = GradientFitOptions::Method::kAdam;
+  o.learning_rate = 0.5;
+  o.max_iterations = 60;
+  o.loss_threshold = 0;  // never met: only the stall rule can end it early
+  o.patience = 4;
+  o.reverse.steps = 30;
+  GradientFitSummary s;
+  FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 30),
+                  &s);
+  ASSERT_LT(s.fit.iterations.size(), 61u) << s.fit.BriefReport();
+  EXPECT_NE(s.fit.stop_reason.find("stalled"), std::string::npos) << s.fit.stop_reason;
+  const auto best =
+      std::min_element(s.fit.iterations.begin(), s.fit.iterations.end(),
+                       [](const Iteration& a, const Iteration& b) { return a.loss < b.loss; });
+  EXPECT_EQ(s.fit.final_loss, best->loss);
+  EXPECT_EQ(s.fit.final_values, best->values);
+  EXPECT_LT(s.fit.final_loss, s.fit.iterations.back().loss);  // it did wander off the best
+  // The last `patience` iterations did not beat the best by 0.1%.
+  for (std::size_t i = s.fit.iterations.size() - 4; i < s.fit.iterations.size(); ++i)
+    EXPECT_GE(s.fit.iterations[i].loss, best->loss * (1 - 1e-3) - 1e-300);
 }
 
 }  // namespace

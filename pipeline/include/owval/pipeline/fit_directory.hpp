@@ -40,6 +40,7 @@ struct FitRequest {
   double threshold = 1e-4;    // stop when the loss is below
   int max_iterations = 20;
   double learning_rate = 0.5;
+  int patience = 10;  // --solver adam: iterations without a 0.1% better loss before it stops
   std::string gradient = "fd";     // fd | analytic | model-fd
   std::string backend = "pcisph";  // fd: the engine scheme of the evaluations
   // analytic: group centroids (every axis) in the loss instead of the tracked coordinate.

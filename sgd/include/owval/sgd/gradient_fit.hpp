@@ -25,6 +25,12 @@ struct GradientFitOptions {
   double learning_rate = 0.05;
   double loss_threshold = 1e-4;
   int max_iterations = 20;
+  // kAdam: the fit ends as stalled once `patience` iterations in a row have not lowered the best
+  // loss by a relative `min_improvement` (0: never); its result is the best iterate, not the
+  // last (Adam's steps do not shrink, so it wanders around a minimum, and a truncated gradient
+  // (reverse.window) can lead it back uphill).
+  int patience = 10;
+  double min_improvement = 1e-3;
   engine::GradientOptions reverse;  // steps, checkpointing, window, clipping
   // The comparison run: the same model, loss and L-BFGS, the gradient by central differences
   // (2 forward simulations per parameter, step `fd_step` in internal coordinates) instead of
