@@ -73,7 +73,8 @@ sgd::GradientFitOptions GradientOptions(const FitRequest& r) {
 
 // The analytic fit: loss against a reference trajectory, gradient from the engine's reverse pass.
 void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
-                 const Trajectory& reference, FitDirectorySummary* summary) {
+                 const Trajectory& reference, const std::function<bool()>& cancelled,
+                 FitDirectorySummary* summary) {
   const std::vector<sgd::Parameter> parameters = ParametersOf(r);
   const fs::path out = r.out;
   fs::create_directories(out);
@@ -81,6 +82,7 @@ void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
   sgd::GradientFitOptions options = GradientOptions(r);
   const std::vector<engine::LossTerm> loss = LossOf(r, reference, options.reverse.steps);
   options.on_iteration = [&](const nlohmann::json& h) { WriteProgress(out, h, r.quiet); };
+  options.cancelled = cancelled;
   sgd::GradientFitSummary fit;
   sgd::FitWithGradient(options, model, parameters, loss, &fit);
   const nlohmann::json history = sgd::ToJson(options, parameters, fit);
@@ -139,7 +141,7 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
                      ": --reference FILE (a trajectory) is required");
   if (!request.command.empty())
     throw InputError("fit --gradient " + request.gradient + ": takes no --command");
-  GradientFit(request, *config, *reference, summary);
+  GradientFit(request, *config, *reference, cancelled, summary);
 }
 
 }  // namespace owval::pipeline

@@ -74,15 +74,16 @@ class Function final : public ceres::FirstOrderFunction {
     summary_.total_simulation_equivalents += 1;
     last_gradient_.assign(n, 0);
     if (gradient) {
-      for (std::size_t i = 0; i < n; ++i) {
-        std::vector<double> up(u, u + n), down(u, u + n);
-        up[i] += fd_step_;
-        down[i] -= fd_step_;
-        last_gradient_[i] = (model_.Loss(Theta(Values(up.data())), loss_, reverse_.steps) -
-                             model_.Loss(Theta(Values(down.data())), loss_, reverse_.steps)) /
-                            (2 * fd_step_);
-        gradient[i] = last_gradient_[i];
+      // The 2n shifted simulations are independent (the model is const): one per thread.
+      std::vector<double> shifted(2 * n);
+#pragma omp parallel for schedule(dynamic)
+      for (std::size_t k = 0; k < 2 * n; ++k) {
+        std::vector<double> at(u, u + n);
+        at[k / 2] += k % 2 == 0 ? fd_step_ : -fd_step_;
+        shifted[k] = model_.Loss(Theta(Values(at.data())), loss_, reverse_.steps);
       }
+      for (std::size_t i = 0; i < n; ++i)
+        gradient[i] = last_gradient_[i] = (shifted[2 * i] - shifted[2 * i + 1]) / (2 * fd_step_);
       summary_.total_simulation_equivalents += 2.0 * double(n);
     }
     if (!std::isfinite(*cost)) return false;
@@ -149,8 +150,8 @@ class History final : public ceres::IterationCallback {
     s_.gradient_norm.push_back(summary.gradient_norm);
     s_.simulation_equivalents.push_back(s_.total_simulation_equivalents);
     if (o_.on_iteration) o_.on_iteration(ToJson(o_, parameters_, s_));
-    return summary.cost < o_.loss_threshold ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
-                                            : ceres::SOLVER_CONTINUE;
+    if (summary.cost < o_.loss_threshold) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    return o_.cancelled && o_.cancelled() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
   }
 
  private:
@@ -198,6 +199,10 @@ void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& 
     stalled = it > 0 && !(cost < best_loss * (1 - o.min_improvement)) ? stalled + 1 : 0;
     if (cost < best_loss) best = fit.iterations.size() - 1;
     if (cost < o.loss_threshold || it == o.max_iterations) break;
+    if (o.cancelled && o.cancelled()) {
+      fit.stop_reason = "cancelled";
+      break;
+    }
     if (o.patience > 0 && stalled >= o.patience) {
       fit.stop_reason = "stalled: the best loss fell by less than " +
                         std::to_string(o.min_improvement) + " (relative) in " +
@@ -260,10 +265,12 @@ void FitWithGradient(const GradientFitOptions& o, const engine::DifferentiableXp
   ceres::GradientProblemSolver::Summary s;
   ceres::Solve(options, problem, u.data(), &s);
   FitSummary& fit = summary->fit;
+  // Cancelled (SOLVER_ABORT): Ceres leaves final_cost unset; u is the last iteration's state.
+  const bool cancelled = s.termination_type == ceres::USER_FAILURE && !fit.iterations.empty();
   fit.final_values = function->Values(u.data());
-  fit.final_loss = s.final_cost;
-  fit.converged = s.final_cost < o.loss_threshold;
-  fit.stop_reason = fit.converged ? "loss below threshold" : s.message;
+  fit.final_loss = cancelled ? fit.iterations.back().loss : s.final_cost;
+  fit.converged = fit.final_loss < o.loss_threshold;
+  fit.stop_reason = fit.converged ? "loss below threshold" : cancelled ? "cancelled" : s.message;
   fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
 }
 

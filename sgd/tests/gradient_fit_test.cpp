@@ -124,5 +124,29 @@ TEST(GradientFit, AdamReturnsItsBestIterateAndStopsWhenStalled) {
     EXPECT_GE(s.fit.iterations[i].loss, best->loss * (1 - 1e-3) - 1e-300);
 }
 
+// Ctrl-C in `owval fit --gradient analytic` (StopSignals -> cancelled): both solvers stop after
+// the iteration in progress, with the history so far.
+TEST(GradientFit, CancellationStopsEitherSolverAfterTheIterationInProgress) {
+  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
+                                         engine::PhysicsConstants{});
+  for (const auto method :
+       {GradientFitOptions::Method::kAdam, GradientFitOptions::Method::kLbfgs}) {
+    GradientFitOptions o;
+    o.method = method;
+    o.max_iterations = 20;
+    o.loss_threshold = 0;
+    o.reverse.steps = 30;
+    int polls = 0;
+    o.cancelled = [&polls] { return ++polls >= 2; };
+    GradientFitSummary s;
+    FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 30),
+                    &s);
+    EXPECT_EQ(s.fit.stop_reason, "cancelled");
+    EXPECT_EQ(polls, 2);
+    EXPECT_EQ(s.fit.iterations.size(), 2u);
+    EXPECT_FALSE(s.fit.converged);
+  }
+}
+
 }  // namespace
 }  // namespace owval::sgd

@@ -59,8 +59,8 @@ struct FitDirectorySummary {
 };
 
 // `config`: the simulation (not read by fd fits with a command); `reference`: the analytic and
-// model-fd fits' trajectory (required there). `cancelled` is polled between evaluations (fd).
-// InputError naming the flag for a request that cannot run.
+// model-fd fits' trajectory (required there). `cancelled` is polled between evaluations (fd) or
+// iterations. InputError naming the flag for a request that cannot run.
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
                       const Trajectory* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary);

@@ -38,6 +38,9 @@ struct GradientFitOptions {
   bool finite_differences = false;
   double fd_step = 1e-4;
   std::function<void(const nlohmann::json& history)> on_iteration;
+  // Polled after each iteration: true ends the fit with stop reason "cancelled", its history
+  // and best iterate kept.
+  std::function<bool()> cancelled;
 };
 
 struct GradientFitSummary {
