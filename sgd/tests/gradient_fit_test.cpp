@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <filesystem>
 
@@ -28,6 +27,17 @@ std::vector<engine::LossTerm> SprigLoss(const engine::DifferentiableXpbd& model,
   }
   term.weight = 1.0 / double(steps);
   return {term};
+}
+
+// A fit of one_sprig's stiffness from 0.54 k to SprigLoss over `steps` steps.
+GradientFitSummary FitSprigFromHalfStiffness(GradientFitOptions o, std::size_t steps) {
+  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
+                                         engine::PhysicsConstants{});
+  o.reverse.steps = steps;
+  GradientFitSummary s;
+  FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, steps),
+                  &s);
+  return s;
 }
 
 // 30 steps, 0.83 of a period: with substeps the spring hardly damps, and over 100 steps (2.8
@@ -80,16 +90,11 @@ namespace owval::sgd {
 namespace {
 
 TEST(GradientFit, AdamLowersTheOneSprigLossInLogSpace) {
-  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
-                                         engine::PhysicsConstants{});
   GradientFitOptions o;
   o.method = GradientFitOptions::Method::kAdam;
   o.learning_rate = 0.1;
   o.max_iterations = 6;
-  o.reverse.steps = 50;
-  GradientFitSummary s;
-  FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 50),
-                  &s);
+  const GradientFitSummary s = FitSprigFromHalfStiffness(o, 50);
   ASSERT_EQ(s.fit.iterations.size(), 7u);
   EXPECT_LT(s.fit.iterations.back().loss, 0.5 * s.fit.iterations.front().loss);
   EXPECT_GT(s.fit.final_values[0], 0.54 * 3e8);  // moved up, toward the true k
@@ -99,18 +104,13 @@ TEST(GradientFit, AdamLowersTheOneSprigLossInLogSpace) {
 // Adam's steps do not shrink: at a large rate it overshoots the true k and wanders, so the
 // result is the best iterate and the fit ends as stalled once the best loss stops falling.
 TEST(GradientFit, AdamReturnsItsBestIterateAndStopsWhenStalled) {
-  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
-                                         engine::PhysicsConstants{});
   GradientFitOptions o;
   o.method = GradientFitOptions::Method::kAdam;
   o.learning_rate = 0.5;
   o.max_iterations = 60;
   o.loss_threshold = 0;  // never met: only the stall rule can end it early
   o.patience = 4;
-  o.reverse.steps = 30;
-  GradientFitSummary s;
-  FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 30),
-                  &s);
+  const GradientFitSummary s = FitSprigFromHalfStiffness(o, 30);
   ASSERT_LT(s.fit.iterations.size(), 61u) << s.fit.BriefReport();
   EXPECT_NE(s.fit.stop_reason.find("stalled"), std::string::npos) << s.fit.stop_reason;
   const auto best =
@@ -127,20 +127,15 @@ TEST(GradientFit, AdamReturnsItsBestIterateAndStopsWhenStalled) {
 // Ctrl-C in `owval fit --gradient analytic` (StopSignals -> cancelled): both solvers stop after
 // the iteration in progress, with the history so far.
 TEST(GradientFit, CancellationStopsEitherSolverAfterTheIterationInProgress) {
-  const engine::DifferentiableXpbd model(engine::ReadSiberneticConfig(kOneSprig),
-                                         engine::PhysicsConstants{});
   for (const auto method :
        {GradientFitOptions::Method::kAdam, GradientFitOptions::Method::kLbfgs}) {
     GradientFitOptions o;
     o.method = method;
     o.max_iterations = 20;
     o.loss_threshold = 0;
-    o.reverse.steps = 30;
     int polls = 0;
     o.cancelled = [&polls] { return ++polls >= 2; };
-    GradientFitSummary s;
-    FitWithGradient(o, model, {{"elasticity_coefficient", 0.54 * 3e8, true}}, SprigLoss(model, 30),
-                    &s);
+    const GradientFitSummary s = FitSprigFromHalfStiffness(o, 30);
     EXPECT_EQ(s.fit.stop_reason, "cancelled");
     EXPECT_EQ(polls, 2);
     EXPECT_EQ(s.fit.iterations.size(), 2u);
