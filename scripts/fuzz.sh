@@ -37,7 +37,7 @@ export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
 export ASAN_OPTIONS="allocator_may_return_null=1:detect_leaks=1"
 findings=build-fuzz/findings
 mkdir -p "$findings"
-rm -f "$findings"/*.summary "$findings"/*.outcome
+rm -f "$findings"/*.outcome
 # One target per core (libFuzzer's own -jobs would split one target's executions instead): two
 # at a time on CI's 2 cores, which halves the wall time of the same executions.
 fuzz_one() {
@@ -62,13 +62,14 @@ fuzz_one() {
   done_line=$(grep -E '^#[0-9]+\s+DONE' "$log" | tail -1 || true)
   cov=$(sed -n 's/.*cov: \([0-9]*\).*/\1/p' <<<"$done_line")
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  # First line: what the summing below reads; then what is printed.
   {
+    echo "${execs:-0} $result"
     echo "fuzz $t: $result, ${execs:-?} executions in ${seconds}s, coverage ${cov:-?} edges"
     if [ "$result" = FAILED ]; then
       grep -E 'ERROR|SUMMARY|runtime error|Test unit written' "$log" | head -20 || true
     fi
-  } >"$findings/$t.summary"
-  echo "${execs:-0} $result" >"$findings/$t.outcome"
+  } >"$findings/$t.outcome"
 }
 parallel=${FUZZ_JOBS:-2}
 for t in $targets; do
@@ -84,7 +85,7 @@ total=0
 status=0
 for t in $targets; do
   if [ -f "$findings/$t.outcome" ]; then
-    cat "$findings/$t.summary"
+    tail -n +2 "$findings/$t.outcome"
     read -r execs result <"$findings/$t.outcome"
     total=$(( total + execs ))
     [ "$result" = ok ] || status=1
@@ -92,7 +93,7 @@ for t in $targets; do
     echo "fuzz $t: FAILED, no outcome recorded (see $findings/$t.log)"
     status=1
   fi
-  rm -f "$findings/$t.summary" "$findings/$t.outcome"
+  rm -f "$findings/$t.outcome"
 done
 echo "fuzz: $total executions in all"
 exit $status
