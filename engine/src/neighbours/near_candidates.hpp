@@ -20,8 +20,9 @@ struct CandidateCell {
 
 // Writes the candidates m of cell with d² = fma(dz, dz, fma(dx, dx, dy·dy)) <= h2 (d = p − x_m,
 // sphFluid.cl:311 as PoCL contracts it) and index != self into near_index/near_d2, in order, and
-// returns how many. The outputs hold cell.count + kNearSlack entries. Uses AVX-512 when the
-// running CPU has it (same operations per lane, so the same floats), scalar code otherwise.
+// returns how many. The outputs hold cell.count + kNearSlack entries. Uses AVX-512 or else AVX2
+// with FMA when the running CPU has it (same operations per lane, so the same floats), scalar
+// code otherwise.
 int NearCandidates(const CandidateCell& cell, const float p[3], float h2, std::int32_t self,
                    std::int32_t* near_index, float* near_d2);
 
@@ -31,7 +32,7 @@ int NearCandidatesOfCells(const CandidateCell* cells, int cell_count, const floa
                           std::int32_t self, std::int32_t* near_index, float* near_d2);
 
 // The first index of the largest of 32 squared distances (std::max_element's answer; the values
-// are never NaN). AVX-512 when the running CPU has it.
+// are never NaN). Vector code when the running CPU has AVX2 or AVX-512.
 int FirstLargestOf32(const float* d2);
 
 }  // namespace owval::engine::internal
