@@ -17,13 +17,15 @@ const fs::path kShared = OWVAL_SHARED_DIR;
 
 enum class Path { kCpuChoice, kScalar, kAvx2 };
 
-Trajectory RunWith(Path path, const std::string& name, double duration_s, int threads = 1) {
+Trajectory RunWith(Path path, const std::string& name, double duration_s, int threads = 1,
+                   const std::string& backend = "pcisph") {
   internal::ForceScalarPaths(path == Path::kScalar);
   if (path == Path::kAvx2) internal::ForceAvx2Paths();
   RunOptions o;
   o.duration_s = duration_s;
   o.log_step = 10;
   o.threads = threads;
+  o.backend = backend;
   const Trajectory t = Run(ReadSiberneticConfig(kShared / "reference" / name / "configuration"), o);
   internal::ForceScalarPaths(false);
   return t;
@@ -33,9 +35,10 @@ bool SameBits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-void ExpectSameBits(const std::string& name, double duration_s, Path vector_path) {
-  const Trajectory vector = RunWith(vector_path, name, duration_s);
-  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s);
+void ExpectSameBits(const std::string& name, double duration_s, Path vector_path,
+                    const std::string& backend = "pcisph") {
+  const Trajectory vector = RunWith(vector_path, name, duration_s, 1, backend);
+  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s, 1, backend);
   ASSERT_GT(vector.frame_count(), 1u);
   EXPECT_TRUE(SameBits(vector.positions, scalar.positions)) << name;
   EXPECT_TRUE(SameBits(vector.velocities, scalar.velocities)) << name;
@@ -59,6 +62,12 @@ TEST(VectorPaths, EightLanePathsGiveTheScalarPathsBits) {
   if (!avx2) return;
   ExpectSameBits("demo1", 0.004, Path::kAvx2);
   ExpectSameBits("test_energy", 0.0004, Path::kAvx2);
+  ExpectSameBits("demo1", 0.004, Path::kAvx2, "xpbd");  // the bond pass
+}
+
+// XPBD's bond pass (bond_pushes.hpp) on demo1's 1,848 bonds.
+TEST(VectorPaths, GiveTheScalarPathsBitsOnDemo1UnderXpbd) {
+  ExpectSameBits("demo1", 0.004, Path::kCpuChoice, "xpbd");
 }
 
 // The default thread count follows the machine's idle cores, so the output must not depend on it:

@@ -96,6 +96,7 @@ class Xpbd final : public Solver {
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
   void ProjectBondsOneSided();
+  bool ProjectBondsOneSidedVector();
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
@@ -117,6 +118,10 @@ class Xpbd final : public Solver {
   ElasticMatter matter_;
   std::vector<Bond> bonds_;
   std::vector<std::size_t> bond_rows_;  // bonds_[bond_rows_[r], bond_rows_[r + 1]): one row
+  // The float solver's vector bond pass (bond_pushes.hpp): the rest lengths as one array, and
+  // each bond's offset, then push, in the current pass (x, y, z blocks of bonds_.size() rounded
+  // up to 8).
+  std::vector<float> bond_rest_cu_, bond_push_;
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
