@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "hdf5_chunk_writer.hpp"
 #include "hdf5_handle.hpp"
 #include "hdf5_preflight.hpp"
 #include "owval/base/atomic_output.hpp"
@@ -31,7 +32,9 @@ class Hdf5Writer : public TrajectoryWriter {
       : out_(destination),
         name_(destination.string()),
         particles_(header.type.size()),
-        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
+        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
+        particles_per_chunk_(std::max<std::size_t>(1, options.particles_per_chunk)),
+        compression_level_(options.compression_level) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
@@ -54,7 +57,9 @@ class Hdf5Writer : public TrajectoryWriter {
       : out_(destination),
         name_(file.string()),
         particles_(header.type.size()),
-        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)) {
+        frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
+        particles_per_chunk_(std::max<std::size_t>(1, options.particles_per_chunk)),
+        compression_level_(options.compression_level) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     out_.Adopt(file);
@@ -306,14 +311,30 @@ class Hdf5Writer : public TrajectoryWriter {
     if (H5Dwrite(set, mem_type, memory, file_space, H5P_DEFAULT, data) < 0) Fail("write frames");
   }
 
+  // Extends `set` to hold `frames` more frames.
+  void Grow(hid_t set, std::size_t frames) {
+    Handle space(H5Dget_space(set), H5Sclose);
+    std::vector<hsize_t> dims(std::size_t(H5Sget_simple_extent_ndims(space)));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    dims[0] = written_ + frames;
+    if (H5Dset_extent(set, dims.data()) < 0) Fail("extend a dataset");
+  }
+
+  // The buffered frames: the float datasets' chunks deflated on all cores (hdf5_chunk_writer),
+  // the times through HDF5. Frames are buffered a whole chunk at a time, so written_ is always at
+  // a chunk's start.
   void Flush() {
     const std::size_t frames = times_.size();
     if (frames == 0) return;
-    for (Stream* s : {&positions_, &velocities_, &density_, &pressure_}) {
-      if (s->set < 0) continue;
-      Extend(s->set, frames, s->buffer.data(), H5T_NATIVE_FLOAT);
-      s->buffer.clear();
+    std::vector<FloatFrames> sets;
+    for (Stream* s : Streams()) {
+      Grow(s->set, frames);
+      sets.push_back({s->set, s->buffer.data(), particles_, s->values_per_frame / particles_});
     }
+    if (!WriteDeflatedChunks(sets, written_, frames, frames_per_chunk_, particles_per_chunk_,
+                             compression_level_))
+      Fail("write frames");
+    for (Stream* s : Streams()) s->buffer.clear();
     Extend(time_, frames, times_.data(), H5T_NATIVE_DOUBLE);
     written_ += frames;
     times_.clear();
@@ -338,7 +359,8 @@ class Hdf5Writer : public TrajectoryWriter {
   AtomicOutput out_;
   std::string name_;
   hsize_t particles_;
-  std::size_t frames_per_chunk_, written_ = 0;
+  std::size_t frames_per_chunk_, particles_per_chunk_, written_ = 0;
+  int compression_level_;
   hid_t file_ = -1, time_ = -1;
   Stream positions_, velocities_, density_, pressure_;
   std::vector<double> times_;

@@ -19,4 +19,17 @@ bool ZlibChunkDecoder::Decode(const unsigned char* in, std::size_t in_bytes, uns
          LIBDEFLATE_SUCCESS;
 }
 
+ZlibChunkEncoder::ZlibChunkEncoder(int level) : compressor_(libdeflate_alloc_compressor(level)) {
+  if (!compressor_) throw std::bad_alloc();  // also a level outside 0..12
+}
+
+ZlibChunkEncoder::~ZlibChunkEncoder() { libdeflate_free_compressor(compressor_); }
+
+void ZlibChunkEncoder::Encode(const unsigned char* in, std::size_t size,
+                              std::vector<unsigned char>* out) {
+  out->resize(libdeflate_zlib_compress_bound(compressor_, size));
+  // Within the bound the compressor cannot run out of room.
+  out->resize(libdeflate_zlib_compress(compressor_, in, size, out->data(), out->size()));
+}
+
 }  // namespace owval::internal

@@ -1,0 +1,28 @@
+#pragma once
+// The writing twin of hdf5_chunks.hpp: frames of owval's float datasets (chunked, [shuffle,
+// deflate]) shuffled and deflated here, on all cores, and stored with H5Dwrite_chunk. The stored
+// bytes are what HDF5's own filter pipeline would decode (any HDF5 reader sees an ordinary
+// dataset); HDF5 itself would deflate one chunk at a time, on one core, with zlib.
+#include <hdf5.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace owval::internal {
+
+// One dataset [frames, particles(, components)] with chunks {frames_per_chunk,
+// particles_per_chunk(, components)}, and the frames to store in it, frame after frame.
+struct FloatFrames {
+  hid_t set;
+  const float* values;
+  std::size_t particles, components;
+};
+
+// Stores `frames` frames (at most frames_per_chunk) at frame `first_frame` (a multiple of
+// frames_per_chunk) of each dataset, already extended to hold them; chunk cells past the
+// dataset's end are written as 0, the fill value. False when HDF5 refuses a chunk.
+bool WriteDeflatedChunks(const std::vector<FloatFrames>& sets, hsize_t first_frame,
+                         std::size_t frames, std::size_t frames_per_chunk,
+                         std::size_t particles_per_chunk, int level);
+
+}  // namespace owval::internal
