@@ -62,7 +62,7 @@ PhaseProfile ProfilePhases(const SiberneticConfig& config, const RunOptions& opt
       std::copy(signal.begin(), signal.end(), solver->muscle_activation().begin());
       p.muscles_s += Since(&mark);
     }
-    if (solver->FirstNonFinite() >= 0)
+    if (solver->FirstNonFinite().particle >= 0)
       throw InputError(config.source, 0, "NaN at step " + std::to_string(k));
     p.check_s += Since(&mark);
     if (k % log_step == 0) {

@@ -141,21 +141,8 @@ void Provenance(const SiberneticConfig& config, const RunOptions& o, const Physi
   if (!parameters.empty()) t->provenance["scheme_parameters"] = parameters;
 }
 
-// The first moving particle whose position or velocity is not finite: (index, quantity), or
-// (-1, "").
-std::pair<std::int64_t, const char*> FirstNonFinite(const Solver& solver) {
-  const std::int64_t bad = solver.FirstNonFinite();
-  if (bad >= 0) return {bad, "position"};
-  const std::span<const Float4> x = solver.positions(), v = solver.velocities();
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (!internal::IsBoundary(x[i].w) &&
-        !(std::isfinite(v[i].x) && std::isfinite(v[i].y) && std::isfinite(v[i].z)))
-      return {std::int64_t(i), "velocity"};
-  return {-1, ""};
-}
-
 void StopOnNonFinite(const Solver& solver, std::size_t k, const RunOptions& options) {
-  const auto [bad, quantity] = FirstNonFinite(solver);
+  const auto [bad, quantity] = solver.FirstNonFinite();
   if (bad < 0) return;
   const std::string dump = DumpState(solver, k, options.dump_dir);
   throw SimulationError("NaN at step " + std::to_string(k) + " in particle " + std::to_string(bad) +

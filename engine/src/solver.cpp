@@ -88,14 +88,18 @@ int ThreadsFor(const SiberneticConfig& config, int requested) {
 
 }  // namespace
 
-std::int64_t Solver::FirstNonFinite() const {
-  const std::span<const Float4> x = positions();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (internal::IsBoundary(x[i].w)) continue;
-    if (!std::isfinite(x[i].x) || !std::isfinite(x[i].y) || !std::isfinite(x[i].z))
-      return std::int64_t(i);
-  }
-  return -1;
+Solver::NonFinite Solver::FirstNonFinite() const {
+  const std::span<const Float4> x = positions(), v = velocities();
+  const auto first_of = [&x](std::span<const Float4> values) -> std::int64_t {
+    for (std::size_t i = 0; i < values.size(); ++i)
+      if (!internal::IsBoundary(x[i].w) &&
+          !(std::isfinite(values[i].x) && std::isfinite(values[i].y) && std::isfinite(values[i].z)))
+        return std::int64_t(i);
+    return -1;
+  };
+  if (const std::int64_t bad = first_of(x); bad >= 0) return {bad, "position"};
+  if (const std::int64_t bad = first_of(v); bad >= 0) return {bad, "velocity"};
+  return {};
 }
 
 void Solver::SaveState(std::string*) const {

@@ -6,9 +6,11 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "state/non_finite.hpp"
 
 namespace owval::engine {
 namespace {
@@ -61,9 +63,28 @@ TEST(Solver, FactoryBuildsAPcisphThatStepsAndExposesItsState) {
   EXPECT_LT(solver->positions()[0].y, 50.0f);  // falling
   EXPECT_EQ(solver->Density().size(), 2u);
   EXPECT_EQ(solver->pressure().size(), 2u);
-  EXPECT_EQ(solver->FirstNonFinite(), -1);
+  EXPECT_EQ(solver->FirstNonFinite().particle, -1);
   o.integrator = Integrator::kLeapfrog;
   EXPECT_FALSE(MakeSolver(TwoLiquidParticlesAt(40, 60), o)->reference_equivalent());
+}
+
+// Only moving particles are checked, positions before velocities.
+TEST(NonFinite, FindsTheFirstMovingPositionThenVelocity) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<Float4> x(3, Float4{1, 2, 3, 1}), v(3, Float4{0, 0, 0, 0});
+  const std::vector<std::int32_t> moving = {0, 2};
+  EXPECT_EQ(internal::FirstNonFiniteOf(x, v, moving).particle, -1);
+  x[1].y = nan;  // not in the moving list: never changes, never checked
+  EXPECT_EQ(internal::FirstNonFiniteOf(x, v, moving).particle, -1);
+  v[0].z = nan;
+  x[2].x = std::numeric_limits<float>::infinity();
+  const Solver::NonFinite position = internal::FirstNonFiniteOf(x, v, moving);
+  EXPECT_EQ(position.particle, 2);
+  EXPECT_STREQ(position.quantity, "position");
+  x[2].x = 0;
+  const Solver::NonFinite velocity = internal::FirstNonFiniteOf(x, v, moving);
+  EXPECT_EQ(velocity.particle, 0);
+  EXPECT_STREQ(velocity.quantity, "velocity");
 }
 
 TEST(RunDump, NaNStateDumpGoesToTheDumpDirectory) {

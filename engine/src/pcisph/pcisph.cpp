@@ -10,6 +10,7 @@
 #include "phases/pressure_force.hpp"
 #include "phases/walls.hpp"
 #include "state/initial_state.hpp"
+#include "state/non_finite.hpp"
 #include "state/state_io.hpp"
 
 namespace owval::engine::internal {
@@ -164,12 +165,8 @@ void Pcisph::RestoreState(const std::string& state, const std::string& source) {
   step_ = std::size_t(steps);
 }
 
-std::int64_t Pcisph::FirstNonFinite() const {
-  for (std::int32_t i : state_.moving) {
-    const Float4& x = state_.position[i];
-    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) return i;
-  }
-  return -1;
+Solver::NonFinite Pcisph::FirstNonFinite() const {
+  return FirstNonFiniteOf(state_.position, state_.velocity, state_.moving);
 }
 
 }  // namespace owval::engine::internal

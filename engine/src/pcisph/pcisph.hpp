@@ -53,7 +53,7 @@ class Pcisph final : public Solver {
   std::span<const float> pressure() const override { return state_.pressure; }
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
-  std::int64_t FirstNonFinite() const override;
+  NonFinite FirstNonFinite() const override;
   void EnablePhaseTiming() override { timing_ = true; }
   std::vector<PhaseTime> phase_seconds() const override;
   // Everything Step() reads: the particle state (x, v, a, last a, ρ, p, neighbour lists, active

@@ -14,6 +14,7 @@
 #include "phases/pressure_force.hpp"
 #include "phases/walls.hpp"
 #include "state/initial_state.hpp"
+#include "state/non_finite.hpp"
 #include "state/state_io.hpp"
 #include "xpbd/bond_pushes.hpp"
 
@@ -540,6 +541,11 @@ std::string Xpbd<T>::parameters() const {
     << ", pressure_force = " << parameters_.pressure_force
     << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
   return s.str();
+}
+
+template <typename T>
+Solver::NonFinite Xpbd<T>::FirstNonFinite() const {
+  return FirstNonFiniteOf(state_.position, state_.velocity, state_.moving);
 }
 
 template class Xpbd<float>;

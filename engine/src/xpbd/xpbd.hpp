@@ -67,6 +67,7 @@ class Xpbd final : public Solver {
   std::span<const float> pressure() const override { return state_.pressure; }
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::string parameters() const override;
+  NonFinite FirstNonFinite() const override;
   // Checkpoints: the float state the phases share, the solver's positions and velocities in T
   // and the muscle activations; everything else is rebuilt within a step.
   void SaveState(std::string* out) const override;

@@ -48,8 +48,14 @@ class Solver {
   // frame and returns the answers in RunSummary::frame_log.
   virtual std::string TakeStepLog() { return ""; }
 
-  // Index of the first moving (non-boundary) particle with a non-finite position, or -1.
-  virtual std::int64_t FirstNonFinite() const;
+  // The first moving (non-boundary) particle whose position is not finite, else the first whose
+  // velocity is not; particle −1 when every one is finite. Checked after every step of a run:
+  // schemes that keep a list of their moving particles check only those.
+  struct NonFinite {
+    std::int64_t particle = -1;
+    const char* quantity = "";  // "position" or "velocity"
+  };
+  virtual NonFinite FirstNonFinite() const;
 
   // Per-phase wall time, for `owval bench engine`: once enabled, Step() adds each phase's
   // seconds (steady clock, two reads per phase) to phase_seconds(). Schemes without phases
