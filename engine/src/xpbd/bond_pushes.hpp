@@ -1,29 +1,52 @@
 #pragma once
-// The arithmetic of one Jacobi pass of the split scheme's one-sided bonds (Xpbd::
-// ProjectBondsOneSided), eight bonds at a time: per bond b of particle i with partner j, from
-// the positions the pass began with,
+// The split scheme's one-sided bond pass (Xpbd::ProjectBondsOneSided) for float, eight bonds per
+// instruction: per bond b of particle i with partner j, from the positions the pass began with,
 //   d = p_i − p_j, L = |d|, Δλ = (−(L − rest) − α̃·λ_b)/(1 + α̃), λ_b += Δλ, push_b = (Δλ/L)·d,
-// skipped (λ_b kept, push_b = +0) when α̃ < 0 (no stiffness) or !(L > 0) [MMC16 eqs. 17-18].
-// Each lane does the scalar loop's operations in its order (no fused multiply-add), so the
-// pushes are its floats bit for bit; the caller adds each row's pushes in bond order, as the
-// scalar loop does (+0 for a skipped bond leaves a sum that starts at +0 unchanged).
+// skipped (λ_b kept, push_b = +0) when α̃ < 0 (no stiffness) or !(L > 0) [MMC16 eqs. 17-18];
+// then p_i += Σ_b push_b over i's bonds in bond order.
+//
+// Layout: rows (a particle's bonds) are sorted by length and taken eight at a time, one row per
+// lane; slot k of a group holds each lane's k-th bond (or nothing: α̃ = −1, push +0). A group's
+// pushes are then summed slot by slot in its lanes, so each row's sum is formed in bond order
+// with the scalar loop's operations (no fused multiply-add), and +0 for an empty or skipped slot
+// leaves a sum that starts at +0 unchanged: the scalar pass's floats, bit for bit. The offsets d
+// are gathered by scalar loads (vector gathers were slower on this machine's CPU).
+//
+//   [MMC16] M. Macklin, M. Müller, N. Chentanez. XPBD: position-based simulation of compliant
+//           constrained dynamics. Motion in Games 2016.
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "xpbd/projections.hpp"
 
 namespace owval::engine::internal {
 
-struct BondArrays {
-  const float* rest_cu;
-  const float* alpha_tilde;  // α̃ = α/h², or −1 for a bond without stiffness
-  std::size_t count;         // a multiple of 8: bonds past the last have α̃ = −1
-};
+class BondLanes {
+ public:
+  struct Bond {
+    std::int32_t particle, partner;
+    float rest_cu;
+  };
+  // `bonds` grouped by particle (each particle's bonds contiguous), in bond order.
+  explicit BondLanes(const std::vector<Bond>& bonds);
 
-// From the offsets d = p_i − p_j (dx, dy, dz, each computed by the caller: gathers were slower
-// than scalar loads on this machine's CPU), updates lambda[0, count) and overwrites dx/dy/dz with
-// the pushes. Whole registers only (masked stores were slower still). Needs AVX2 and FMA
-// (UseAvx2() or UseAvx512()).
-void BondPushesAvx2(const BondArrays& bonds, float* lambda, float* dx, float* dy, float* dz);
+  // Each bond's α̃ = α/h² by bond index (−1: no stiffness), for the step's substeps.
+  void SetCompliance(const float* alpha_tilde);
+  // λ = 0 for every bond (each substep starts a new solve).
+  void ResetLambda();
+  // One Jacobi pass: `start` holds the positions the pass began with; each row's push is added
+  // to p[particle]. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
+  void Pass(const Vec3<float>* start, Vec3<float>* p);
+
+ private:
+  static constexpr int kLanes = 8;
+  std::vector<std::int32_t> slot_bond_;      // per slot: the bond, or −1
+  std::vector<std::int32_t> slot_partner_;   // per slot: the partner (the row's particle if none)
+  std::vector<std::int32_t> lane_particle_;  // per group lane: the row's particle, or −1
+  std::vector<std::size_t> group_slot_;      // group g's slots: [group_slot_[g], [g + 1])
+  std::vector<float> rest_cu_, alpha_tilde_, lambda_;
+  std::vector<float> dx_, dy_, dz_;  // offsets, then pushes
+};
 
 }  // namespace owval::engine::internal

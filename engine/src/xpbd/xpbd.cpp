@@ -109,14 +109,17 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       bonds_.push_back({std::int32_t(e), j, T(c[1]), T(k), static_cast<int>(c[2])});
     }
   }
-  const std::size_t padded = (bonds_.size() + 7) / 8 * 8;  // the vector pass's whole registers
-  bond_lambda_.assign(padded, 0);
+  bond_lambda_.assign(bonds_.size(), 0);
   for (std::size_t b = 0; b < bonds_.size(); ++b)  // rows: each particle's bonds, contiguous
     if (b == 0 || bonds_[b].particle != bonds_[b - 1].particle) bond_rows_.push_back(b);
   bond_rows_.push_back(bonds_.size());
-  bond_rest_cu_.assign(padded, 0.0f);
-  for (std::size_t b = 0; b < bonds_.size(); ++b) bond_rest_cu_[b] = float(bonds_[b].rest_cu);
-  bond_push_.assign(3 * padded, 0.0f);
+  if constexpr (std::is_same_v<T, float>) {
+    if (UseAvx2() || UseAvx512()) {
+      std::vector<BondLanes::Bond> lanes;
+      for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
+      bond_lanes_.emplace(lanes);
+    }
+  }
   grid_.Refresh(&state_, threads_);
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
@@ -206,7 +209,10 @@ void Xpbd<T>::BondSubstep(T h) {
       p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
     }
   }
-  std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+  if (bond_lanes_)
+    bond_lanes_->ResetLambda();
+  else
+    std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
   for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBondsOneSided();
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
@@ -350,12 +356,14 @@ void Xpbd<T>::ProjectBonds(T dt) {
 // or −1 for a bond without stiffness, as ProjectBonds computes them per bond and substep.
 template <typename T>
 void Xpbd<T>::BondComplianceOf(T dt) {
-  bond_alpha_tilde_.assign(bond_lambda_.size(), T(-1));  // padding: no stiffness
+  bond_alpha_tilde_.resize(bonds_.size());
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
     const Bond& bond = bonds_[b];
     const T k = StiffnessOf(bond);
     bond_alpha_tilde_[b] = k > 0 ? T(parameters_.bond_compliance_scale) / (k * dt * dt) : T(-1);
   }
+  if constexpr (std::is_same_v<T, float>)
+    if (bond_lanes_) bond_lanes_->SetCompliance(bond_alpha_tilde_.data());
 }
 
 // The split scheme's bond pass: ProjectBonds with the step's α̃, Jacobi. Every bond of a row
@@ -367,7 +375,9 @@ void Xpbd<T>::BondComplianceOf(T dt) {
 template <typename T>
 void Xpbd<T>::ProjectBondsOneSided() {
   for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];  // fixed entries never change
-  if (ProjectBondsOneSidedVector()) return;
+  if constexpr (std::is_same_v<T, float>) {
+    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data());
+  }
   for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
     const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
     const std::int32_t i = bonds_[first].particle;
@@ -387,40 +397,6 @@ void Xpbd<T>::ProjectBondsOneSided() {
       for (int a = 0; a < 3; ++a) sum[a] += step * d[a];
     }
     for (int a = 0; a < 3; ++a) p_[i][a] += sum[a];
-  }
-}
-
-// The same pass with each bond's arithmetic eight bonds at a time (bond_pushes.hpp), then each
-// row's pushes added in bond order: the scalar loop's floats. False when there is no vector path
-// (no AVX2, or the double solver).
-template <typename T>
-bool Xpbd<T>::ProjectBondsOneSidedVector() {
-  if constexpr (!std::is_same_v<T, float>) {
-    return false;
-  } else {
-    if (!UseAvx2() && !UseAvx512()) return false;
-    const std::size_t stride = bond_push_.size() / 3;
-    float *push_x = bond_push_.data(), *push_y = push_x + stride, *push_z = push_y + stride;
-    for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
-      const Vec3<T> pa = bond_start_[bonds_[bond_rows_[r]].particle];
-      for (std::size_t b = bond_rows_[r]; b < bond_rows_[r + 1]; ++b) {
-        const Vec3<T>& pb = bond_start_[bonds_[b].partner];
-        push_x[b] = pa[0] - pb[0], push_y[b] = pa[1] - pb[1], push_z[b] = pa[2] - pb[2];
-      }
-    }
-    BondPushesAvx2({bond_rest_cu_.data(), bond_alpha_tilde_.data(), bond_lambda_.size()},
-                   bond_lambda_.data(), push_x, push_y, push_z);
-    for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
-      Vec3<T> sum{0, 0, 0};
-      for (std::size_t b = bond_rows_[r]; b < bond_rows_[r + 1]; ++b) {
-        sum[0] += push_x[b];
-        sum[1] += push_y[b];
-        sum[2] += push_z[b];
-      }
-      Vec3<T>& p = p_[bonds_[bond_rows_[r]].particle];
-      for (int a = 0; a < 3; ++a) p[a] += sum[a];
-    }
-    return true;
   }
 }
 

@@ -24,6 +24,7 @@
 //   [M19]   M. Macklin, K. Storey, M. Lu, P. Terdiman, N. Chentanez, S. Jeschke, M. Müller.
 //           Small steps in physics simulation. SCA 2019.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@
 #include "owval/engine/solver.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
+#include "xpbd/bond_pushes.hpp"
 #include "xpbd/projections.hpp"
 
 namespace owval::engine::internal {
@@ -97,7 +99,6 @@ class Xpbd final : public Solver {
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
   void ProjectBondsOneSided();
-  bool ProjectBondsOneSidedVector();
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
@@ -119,10 +120,9 @@ class Xpbd final : public Solver {
   ElasticMatter matter_;
   std::vector<Bond> bonds_;
   std::vector<std::size_t> bond_rows_;  // bonds_[bond_rows_[r], bond_rows_[r + 1]): one row
-  // The float solver's vector bond pass (bond_pushes.hpp): the rest lengths as one array, and
-  // each bond's offset, then push, in the current pass (x, y, z blocks of bonds_.size() rounded
-  // up to 8).
-  std::vector<float> bond_rest_cu_, bond_push_;
+  // The float solver's bond pass in vector lanes (bond_pushes.hpp), when the CPU has them: it
+  // then holds the bonds' λ and α̃ in its own layout.
+  std::optional<BondLanes> bond_lanes_;
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
