@@ -92,13 +92,16 @@ void BondLanes::ResetLambda() { std::fill(lambda_.begin(), lambda_.end(), 0.0f);
 
 void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p) {
   for (std::size_t g = 0; g + 1 < group_slot_.size(); ++g) {
-    const std::int32_t* particle = &lane_particle_[g * kLanes];
-    for (std::size_t s = group_slot_[g]; s < group_slot_[g + 1]; ++s) {
-      const int l = int(s % kLanes);
-      const Vec3<float>& a = start[std::max(0, particle[l])];
-      const Vec3<float>& b = start[slot_partner_[s]];
-      dx_[s] = a[0] - b[0], dy_[s] = a[1] - b[1], dz_[s] = a[2] - b[2];
+    float ax[kLanes], ay[kLanes], az[kLanes];  // the lanes' own particles
+    for (int l = 0; l < kLanes; ++l) {
+      const Vec3<float>& a = start[std::max(0, lane_particle_[g * kLanes + std::size_t(l)])];
+      ax[l] = a[0], ay[l] = a[1], az[l] = a[2];
     }
+    for (std::size_t s = group_slot_[g]; s < group_slot_[g + 1]; s += kLanes)
+      for (int l = 0; l < kLanes; ++l) {
+        const Vec3<float>& b = start[slot_partner_[s + std::size_t(l)]];
+        dx_[s + l] = ax[l] - b[0], dy_[s + l] = ay[l] - b[1], dz_[s + l] = az[l] - b[2];
+      }
   }
   PushesAvx2(slot_bond_.size(), rest_cu_.data(), alpha_tilde_.data(), lambda_.data(), dx_.data(),
              dy_.data(), dz_.data());

@@ -161,6 +161,7 @@ void Xpbd<T>::Step() {
   ComputeDensity(k_, &state_, threads_);
   if (!first) {
     ComputeForces();  // at x(t), held over the substeps
+    HoldAcceleration();
     const int m = parameters_.density_passes;
     if (m <= 0) {
       const T h = T(k_.time_step_s) / T(substeps_);
@@ -201,11 +202,10 @@ void Xpbd<T>::Substep(T h) {
 template <typename T>
 void Xpbd<T>::BondSubstep(T h) {
   const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
-  for (std::int32_t i : state_.moving) {
-    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
-    const T acceleration[3] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
+  for (std::size_t n = 0; n < state_.moving.size(); ++n) {
+    const std::int32_t i = state_.moving[n];
     for (int d = 0; d < 3; ++d) {
-      v_[i][d] += h * acceleration[d];
+      v_[i][d] += h * held_acceleration_[n][d];
       p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
     }
   }
@@ -251,6 +251,18 @@ void Xpbd<T>::WriteFloatState(std::int32_t i) {
   v = {float(v_[i][0]), float(v_[i][1]), float(v_[i][2]), v.w};
 }
 
+// Each moving particle's acceleration over the step's substeps, a + a_pressure in T (moving
+// order), added once per step instead of once per substep.
+template <typename T>
+void Xpbd<T>::HoldAcceleration() {
+  held_acceleration_.resize(state_.moving.size());
+  for (std::size_t n = 0; n < state_.moving.size(); ++n) {
+    const std::int32_t i = state_.moving[n];
+    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
+    held_acceleration_[n] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
+  }
+}
+
 template <typename T>
 void Xpbd<T>::ComputeForces() {
   ComputeViscosityGravitySurfaceTension(k_forces_, &state_, threads_);
@@ -268,10 +280,8 @@ void Xpbd<T>::Predict(T dt) {
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < state_.moving.size(); ++n) {
     const std::int32_t i = state_.moving[n];
-    const Float4 &a = state_.acceleration[i], &ap = pressure_acceleration_[i];
-    const T acceleration[3] = {T(a.x) + T(ap.x), T(a.y) + T(ap.y), T(a.z) + T(ap.z)};
     for (int d = 0; d < 3; ++d) {
-      v_[i][d] += dt * acceleration[d];
+      v_[i][d] += dt * held_acceleration_[n][d];
       p_[i][d] = x_[i][d] + dt * v_[i][d] * to_cu;
     }
   }

@@ -90,6 +90,7 @@ class Xpbd final : public Solver {
   };
 
   void ComputeForces();
+  void HoldAcceleration();
   void Substep(T h);
   void BondSubstep(T h);
   void Correct(T h);
@@ -127,9 +128,10 @@ class Xpbd final : public Solver {
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
   std::vector<Vec3<T>> x_, v_, p_, dp_;
-  std::vector<Vec3<T>> bond_start_;   // the split's bond pass: positions as the pass began
-  std::vector<Vec3<T>> wall_normal_;  // a substep's last wall push direction, or zero
-  double wall_friction_ = 1;          // Sibernetic's 0.99 per step, per substep
+  std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
+  std::vector<Vec3<T>> bond_start_;         // the split's bond pass: positions as the pass began
+  std::vector<Vec3<T>> wall_normal_;        // a substep's last wall push direction, or zero
+  double wall_friction_ = 1;                // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::size_t step_ = 0;
