@@ -49,4 +49,13 @@ class BondLanes {
   std::vector<float> dx_, dy_, dz_;  // offsets, then pushes
 };
 
+// The bond substep's predict and velocity update (Xpbd::BondSubstep) over `values` contiguous
+// floats (three per particle, for moving particles that are one block of the configuration), in
+// the scalar loops' operations and order: v += h·a, p = x + (h·v)·to_cu; then v = ((p − x)·s)/h,
+// x = p. Need AVX2 and FMA.
+void PredictAvx2(std::size_t values, float h, float to_cu, const float* acceleration, float* v,
+                 const float* x, float* p);
+void UpdateVelocityAvx2(std::size_t values, float h, float scale, float* v, float* x,
+                        const float* p);
+
 }  // namespace owval::engine::internal

@@ -113,6 +113,9 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   for (std::size_t b = 0; b < bonds_.size(); ++b)  // rows: each particle's bonds, contiguous
     if (b == 0 || bonds_[b].particle != bonds_[b - 1].particle) bond_rows_.push_back(b);
   bond_rows_.push_back(bonds_.size());
+  moving_block_ =
+      !state_.moving.empty() &&
+      std::size_t(state_.moving.back() - state_.moving.front()) + 1 == state_.moving.size();
   if constexpr (std::is_same_v<T, float>) {
     if (UseAvx2() || UseAvx512()) {
       std::vector<BondLanes::Bond> lanes;
@@ -202,11 +205,13 @@ void Xpbd<T>::Substep(T h) {
 template <typename T>
 void Xpbd<T>::BondSubstep(T h) {
   const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
-  for (std::size_t n = 0; n < state_.moving.size(); ++n) {
-    const std::int32_t i = state_.moving[n];
-    for (int d = 0; d < 3; ++d) {
-      v_[i][d] += h * held_acceleration_[n][d];
-      p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
+  if (!BondSubstepInLanes(h, to_cu, scale, true)) {
+    for (std::size_t n = 0; n < state_.moving.size(); ++n) {
+      const std::int32_t i = state_.moving[n];
+      for (int d = 0; d < 3; ++d) {
+        v_[i][d] += h * held_acceleration_[n][d];
+        p_[i][d] = x_[i][d] + h * v_[i][d] * to_cu;
+      }
     }
   }
   if (bond_lanes_)
@@ -214,9 +219,29 @@ void Xpbd<T>::BondSubstep(T h) {
   else
     std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
   for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBondsOneSided();
+  if (BondSubstepInLanes(h, to_cu, scale, false)) return;
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
     x_[i] = p_[i];
+  }
+}
+
+// BondSubstep's predict (or velocity update) in vector lanes, when the float solver has them and
+// the moving particles are one block (bond_pushes.hpp); false otherwise.
+template <typename T>
+bool Xpbd<T>::BondSubstepInLanes(T h, T to_cu, T scale, bool predict) {
+  if constexpr (!std::is_same_v<T, float>) {
+    return false;
+  } else {
+    static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "Vec3 arrays are flat floats");
+    if (!bond_lanes_ || !moving_block_) return false;
+    const std::size_t first = std::size_t(state_.moving.front()), values = 3 * state_.moving.size();
+    float *v = v_[first].data(), *x = x_[first].data(), *p = p_[first].data();
+    if (predict)
+      PredictAvx2(values, h, to_cu, held_acceleration_.front().data(), v, x, p);
+    else
+      UpdateVelocityAvx2(values, h, scale, v, x, p);
+    return true;
   }
 }
 

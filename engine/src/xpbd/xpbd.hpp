@@ -93,6 +93,7 @@ class Xpbd final : public Solver {
   void HoldAcceleration();
   void Substep(T h);
   void BondSubstep(T h);
+  bool BondSubstepInLanes(T h, T to_cu, T scale, bool predict);
   void Correct(T h);
   void Predict(T h);
   void ProjectDensity(T h);
@@ -124,6 +125,7 @@ class Xpbd final : public Solver {
   // The float solver's bond pass in vector lanes (bond_pushes.hpp), when the CPU has them: it
   // then holds the bonds' λ and α̃ in its own layout.
   std::optional<BondLanes> bond_lanes_;
+  bool moving_block_ = false;  // the moving particles are rows [first, first + count)
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   std::vector<char> moving_;
