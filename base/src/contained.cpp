@@ -15,10 +15,19 @@ namespace {
 
 constexpr int kExitRefused = 2, kExitOtherError = 3;
 
+// Set by a sanitizer runtime (and libFuzzer registers its crash report through it); absent
+// otherwise.
+extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
 [[noreturn]] void RunChild(int pipe_out, const std::function<void()>& work, int timeout_s) {
   // Libraries' own diagnostics (and a sanitizer's report) stay out of owval's one-line output.
   const int null = ::open("/dev/null", O_WRONLY);
   if (null >= 0) ::dup2(null, STDERR_FILENO);
+  // A crash ends the child, and the parent reports it: the handlers inherited from the parent
+  // (a sanitizer's, libFuzzer's) would otherwise report it as the parent's own, and libFuzzer
+  // would save the input as a crash of the fuzz target that contained it.
+  for (const int deadly : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) std::signal(deadly, SIG_DFL);
+  if (__sanitizer_set_death_callback) __sanitizer_set_death_callback(nullptr);
   std::signal(SIGALRM, SIG_DFL);
   ::alarm(static_cast<unsigned>(timeout_s));
   int code = 0;
