@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <ranges>
 
 #include "owval/base/errors.hpp"
 #include "owval/engine/constants.hpp"
 #include "pcisph/pcisph.hpp"
+#include "state/non_finite.hpp"
 #include "state/particle_state.hpp"
 #include "wcsph/wcsph.hpp"
 #include "xpbd/xpbd.hpp"
@@ -89,17 +91,10 @@ int ThreadsFor(const SiberneticConfig& config, int requested) {
 }  // namespace
 
 Solver::NonFinite Solver::FirstNonFinite() const {
-  const std::span<const Float4> x = positions(), v = velocities();
-  const auto first_of = [&x](std::span<const Float4> values) -> std::int64_t {
-    for (std::size_t i = 0; i < values.size(); ++i)
-      if (!internal::IsBoundary(x[i].w) &&
-          !(std::isfinite(values[i].x) && std::isfinite(values[i].y) && std::isfinite(values[i].z)))
-        return std::int64_t(i);
-    return -1;
-  };
-  if (const std::int64_t bad = first_of(x); bad >= 0) return {bad, "position"};
-  if (const std::int64_t bad = first_of(v); bad >= 0) return {bad, "velocity"};
-  return {};
+  const std::span<const Float4> x = positions();
+  auto moving = std::views::iota(std::size_t{0}, x.size()) |
+                std::views::filter([x](std::size_t i) { return !internal::IsBoundary(x[i].w); });
+  return internal::FirstNonFiniteOf(x, velocities(), moving);
 }
 
 void Solver::SaveState(std::string*) const {

@@ -296,28 +296,24 @@ class Hdf5Writer : public TrajectoryWriter {
     s.buffer.insert(s.buffer.end(), values, values + s.values_per_frame);
   }
 
-  // Extends `set` to `frames` frames and writes the buffered ones at its end.
-  void Extend(hid_t set, std::size_t new_frames, const void* data, hid_t mem_type) {
-    Handle old_space(H5Dget_space(set), H5Sclose);
-    std::vector<hsize_t> dims(std::size_t(H5Sget_simple_extent_ndims(old_space)));
-    H5Sget_simple_extent_dims(old_space, dims.data(), nullptr);
-    std::vector<hsize_t> start(dims.size(), 0), count = dims;
-    start[0] = written_, count[0] = new_frames;
-    dims[0] = written_ + new_frames;
-    if (H5Dset_extent(set, dims.data()) < 0) Fail("extend a dataset");
-    Handle file_space(H5Dget_space(set), H5Sclose);
-    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
-    Handle memory(H5Screate_simple(int(count.size()), count.data(), nullptr), H5Sclose);
-    if (H5Dwrite(set, mem_type, memory, file_space, H5P_DEFAULT, data) < 0) Fail("write frames");
-  }
-
-  // Extends `set` to hold `frames` more frames.
-  void Grow(hid_t set, std::size_t frames) {
+  // Extends `set` to hold `frames` more frames; its new dimensions.
+  std::vector<hsize_t> Grow(hid_t set, std::size_t frames) {
     Handle space(H5Dget_space(set), H5Sclose);
     std::vector<hsize_t> dims(std::size_t(H5Sget_simple_extent_ndims(space)));
     H5Sget_simple_extent_dims(space, dims.data(), nullptr);
     dims[0] = written_ + frames;
     if (H5Dset_extent(set, dims.data()) < 0) Fail("extend a dataset");
+    return dims;
+  }
+
+  // Extends `set` by `new_frames` frames and writes the buffered ones at its end through HDF5.
+  void Extend(hid_t set, std::size_t new_frames, const void* data, hid_t mem_type) {
+    std::vector<hsize_t> count = Grow(set, new_frames), start(count.size(), 0);
+    start[0] = written_, count[0] = new_frames;
+    Handle file_space(H5Dget_space(set), H5Sclose);
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
+    Handle memory(H5Screate_simple(int(count.size()), count.data(), nullptr), H5Sclose);
+    if (H5Dwrite(set, mem_type, memory, file_space, H5P_DEFAULT, data) < 0) Fail("write frames");
   }
 
   // The buffered frames: the float datasets' chunks deflated on all cores (hdf5_chunk_writer),

@@ -48,12 +48,8 @@ __attribute__((target("avx2,fma"))) void SumSlotsAvx2(const float* values, std::
 
 }  // namespace
 
-BondLanes::BondLanes(const std::vector<Bond>& bonds) {
-  std::vector<std::size_t> row_first;  // rows: each particle's bonds, contiguous
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    if (b == 0 || bonds[b].particle != bonds[b - 1].particle) row_first.push_back(b);
-  row_first.push_back(bonds.size());
-  const std::size_t rows = row_first.size() - 1;
+BondLanes::BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first) {
+  const std::size_t rows = row_first.empty() ? 0 : row_first.size() - 1;
   std::vector<std::size_t> order(rows);
   std::iota(order.begin(), order.end(), 0);
   const auto length = [&](std::size_t r) { return row_first[r + 1] - row_first[r]; };

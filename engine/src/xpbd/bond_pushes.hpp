@@ -28,8 +28,9 @@ class BondLanes {
     std::int32_t particle, partner;
     float rest_cu;
   };
-  // `bonds` grouped by particle (each particle's bonds contiguous), in bond order.
-  explicit BondLanes(const std::vector<Bond>& bonds);
+  // `bonds` in rows (each particle's bonds contiguous, in bond order): row r is
+  // bonds[rows[r], rows[r + 1]), as Xpbd keeps them.
+  BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& rows);
 
   // Each bond's α̃ = α/h² by bond index (−1: no stiffness), for the step's substeps.
   void SetCompliance(const float* alpha_tilde);

@@ -120,7 +120,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
     if (UseAvx2() || UseAvx512()) {
       std::vector<BondLanes::Bond> lanes;
       for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
-      bond_lanes_.emplace(lanes);
+      bond_lanes_.emplace(lanes, bond_rows_);
     }
   }
   grid_.Refresh(&state_, threads_);
