@@ -14,7 +14,6 @@ namespace {
 struct ChunkJob {
   const FloatFrames* set;
   std::size_t first_particle;
-  std::vector<unsigned char> stored;  // the deflated chunk
 };
 
 // HDF5's shuffle filter for 4-byte elements (byte b of element e at b·n + e) over the chunk's n
@@ -39,33 +38,40 @@ void ShuffleChunk(const ChunkJob& job, std::size_t frames, std::size_t frames_pe
 
 }  // namespace
 
-bool WriteDeflatedChunks(const std::vector<FloatFrames>& sets, hsize_t first_frame,
-                         std::size_t frames, std::size_t frames_per_chunk,
-                         std::size_t particles_per_chunk, int level) {
+DeflatedChunkWriter::DeflatedChunkWriter(std::size_t frames_per_chunk,
+                                         std::size_t particles_per_chunk, int level)
+    : frames_per_chunk_(frames_per_chunk),
+      particles_per_chunk_(particles_per_chunk),
+      threads_(static_cast<std::size_t>(omp_get_max_threads())) {
+  for (Thread& t : threads_) t.encoder = std::make_unique<ZlibChunkEncoder>(level);
+}
+
+DeflatedChunkWriter::~DeflatedChunkWriter() = default;
+
+bool DeflatedChunkWriter::Write(const std::vector<FloatFrames>& sets, hsize_t first_frame,
+                                std::size_t frames) {
   std::vector<ChunkJob> jobs;
   for (const FloatFrames& s : sets)
-    for (std::size_t p = 0; p < s.particles; p += particles_per_chunk) jobs.push_back({&s, p, {}});
-  const std::size_t chunk_particles_max = particles_per_chunk;
-  // Allocated here: an exception must not leave a parallel region.
-  std::vector<std::unique_ptr<ZlibChunkEncoder>> encoders(
-      static_cast<std::size_t>(omp_get_max_threads()));
-  for (auto& e : encoders) e = std::make_unique<ZlibChunkEncoder>(level);
-#pragma omp parallel if (jobs.size() > 1)
-  {
-    std::vector<unsigned char> shuffled;
-    ZlibChunkEncoder& encoder = *encoders[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(dynamic)
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
-      const std::size_t chunk_particles = std::min(chunk_particles_max, jobs[j].set->particles);
-      ShuffleChunk(jobs[j], frames, frames_per_chunk, chunk_particles, &shuffled);
-      encoder.Encode(shuffled.data(), shuffled.size(), &jobs[j].stored);
+    for (std::size_t p = 0; p < s.particles; p += particles_per_chunk_) jobs.push_back({&s, p});
+  // Rounds of one chunk per thread: deflated in parallel, stored in order by this thread
+  // (libhdf5 is called from one thread only: its error reporting is not per thread).
+  const std::size_t round = threads_.size();
+  for (std::size_t first = 0; first < jobs.size(); first += round) {
+    const std::size_t n = std::min(round, jobs.size() - first);
+#pragma omp parallel for schedule(static, 1) num_threads(static_cast <int>(n)) if (n > 1)
+    for (std::size_t r = 0; r < n; ++r) {
+      const ChunkJob& job = jobs[first + r];
+      Thread& t = threads_[r];
+      ShuffleChunk(job, frames, frames_per_chunk_,
+                   std::min(particles_per_chunk_, job.set->particles), &t.shuffled);
+      t.encoder->Encode(t.shuffled.data(), t.shuffled.size(), &t.stored);
     }
-  }
-  for (const ChunkJob& job : jobs) {
-    const hsize_t offset[3] = {first_frame, hsize_t(job.first_particle), 0};
-    if (H5Dwrite_chunk(job.set->set, H5P_DEFAULT, 0, offset, job.stored.size(), job.stored.data()) <
-        0)
-      return false;
+    for (std::size_t r = 0; r < n; ++r) {
+      const hsize_t offset[3] = {first_frame, hsize_t(jobs[first + r].first_particle), 0};
+      if (H5Dwrite_chunk(jobs[first + r].set->set, H5P_DEFAULT, 0, offset,
+                         threads_[r].stored.size(), threads_[r].stored.data()) < 0)
+        return false;
+    }
   }
   return true;
 }

@@ -6,9 +6,12 @@
 #include <hdf5.h>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace owval::internal {
+
+class ZlibChunkEncoder;
 
 // One dataset [frames, particles(, components)] with chunks {frames_per_chunk,
 // particles_per_chunk(, components)}, and the frames to store in it, frame after frame.
@@ -18,11 +21,26 @@ struct FloatFrames {
   std::size_t particles, components;
 };
 
-// Stores `frames` frames (at most frames_per_chunk) at frame `first_frame` (a multiple of
-// frames_per_chunk) of each dataset, already extended to hold them; chunk cells past the
-// dataset's end are written as 0, the fill value. False when HDF5 refuses a chunk.
-bool WriteDeflatedChunks(const std::vector<FloatFrames>& sets, hsize_t first_frame,
-                         std::size_t frames, std::size_t frames_per_chunk,
-                         std::size_t particles_per_chunk, int level);
+class DeflatedChunkWriter {
+ public:
+  DeflatedChunkWriter(std::size_t frames_per_chunk, std::size_t particles_per_chunk, int level);
+  ~DeflatedChunkWriter();
+
+  // Stores `frames` frames (at most frames_per_chunk) at frame `first_frame` (a multiple of
+  // frames_per_chunk) of each dataset, already extended to hold them; chunk cells past the
+  // dataset's end are written as 0, the fill value. Chunks are stored in dataset and particle
+  // order by the calling thread (the file's bytes do not depend on the threads). Each thread's
+  // encoder and buffers are kept from call to call: a run's memory does not grow with its flushes.
+  // False when HDF5 refuses a chunk.
+  bool Write(const std::vector<FloatFrames>& sets, hsize_t first_frame, std::size_t frames);
+
+ private:
+  struct Thread {
+    std::unique_ptr<ZlibChunkEncoder> encoder;
+    std::vector<unsigned char> shuffled, stored;
+  };
+  std::size_t frames_per_chunk_, particles_per_chunk_;
+  std::vector<Thread> threads_;
+};
 
 }  // namespace owval::internal

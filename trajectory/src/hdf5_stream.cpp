@@ -33,8 +33,8 @@ class Hdf5Writer : public TrajectoryWriter {
         name_(destination.string()),
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
-        particles_per_chunk_(std::max<std::size_t>(1, options.particles_per_chunk)),
-        compression_level_(options.compression_level) {
+        chunks_(frames_per_chunk_, std::max<std::size_t>(1, options.particles_per_chunk),
+                options.compression_level) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
@@ -58,8 +58,8 @@ class Hdf5Writer : public TrajectoryWriter {
         name_(file.string()),
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
-        particles_per_chunk_(std::max<std::size_t>(1, options.particles_per_chunk)),
-        compression_level_(options.compression_level) {
+        chunks_(frames_per_chunk_, std::max<std::size_t>(1, options.particles_per_chunk),
+                options.compression_level) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     out_.Adopt(file);
@@ -327,9 +327,7 @@ class Hdf5Writer : public TrajectoryWriter {
       Grow(s->set, frames);
       sets.push_back({s->set, s->buffer.data(), particles_, s->values_per_frame / particles_});
     }
-    if (!WriteDeflatedChunks(sets, written_, frames, frames_per_chunk_, particles_per_chunk_,
-                             compression_level_))
-      Fail("write frames");
+    if (!chunks_.Write(sets, written_, frames)) Fail("write frames");
     for (Stream* s : Streams()) s->buffer.clear();
     Extend(time_, frames, times_.data(), H5T_NATIVE_DOUBLE);
     written_ += frames;
@@ -355,8 +353,8 @@ class Hdf5Writer : public TrajectoryWriter {
   AtomicOutput out_;
   std::string name_;
   hsize_t particles_;
-  std::size_t frames_per_chunk_, particles_per_chunk_, written_ = 0;
-  int compression_level_;
+  std::size_t frames_per_chunk_, written_ = 0;
+  DeflatedChunkWriter chunks_;
   hid_t file_ = -1, time_ = -1;
   Stream positions_, velocities_, density_, pressure_;
   std::vector<double> times_;
