@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <ranges>
 
 #include "owval/base/errors.hpp"
 #include "owval/engine/constants.hpp"
@@ -92,8 +91,11 @@ int ThreadsFor(const SiberneticConfig& config, int requested) {
 
 Solver::NonFinite Solver::FirstNonFinite() const {
   const std::span<const Float4> x = positions();
-  auto moving = std::views::iota(std::size_t{0}, x.size()) |
-                std::views::filter([x](std::size_t i) { return !internal::IsBoundary(x[i].w); });
+  // A plain index list, not a std::views::filter: clang 14 (the fuzz build's compiler) cannot
+  // instantiate libstdc++ 12's <ranges>.
+  std::vector<std::size_t> moving;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!internal::IsBoundary(x[i].w)) moving.push_back(i);
   return internal::FirstNonFiniteOf(x, velocities(), moving);
 }
 
