@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "owval/base/errors.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/gradient.hpp"
 #include "xpbd/xpbd.hpp"
@@ -109,6 +110,22 @@ TEST(GradientReverse, CheckpointedEqualsFullTapeToTheLastBit) {
   double norm = 0;
   for (double v : tape.parameter_gradient) norm += std::abs(v);
   EXPECT_GT(norm, 0);
+}
+
+// A frame the run never reaches would be left out of the loss without a word: bad input, in the
+// loss value and in the gradient alike.
+TEST(GradientReverse, AFrameOutsideTheStepsIsBadInput) {
+  const SiberneticConfig c = ReadSiberneticConfig(kDemo1);
+  const DifferentiableXpbd model(c, FourSubsteps());
+  const std::vector<LossTerm> loss = Demo1Loss(c, 20);
+  GradientOptions o;
+  o.steps = 10;
+  EXPECT_THROW(model.Gradient(model.DefaultParameters(), loss, o), InputError);
+  EXPECT_THROW(model.Loss(model.DefaultParameters(), loss, 10), InputError);
+  std::vector<LossTerm> at_zero = Demo1Loss(c, 10);
+  at_zero[0].frame_steps[0] = 0;
+  EXPECT_THROW(model.Loss(model.DefaultParameters(), at_zero, 10), InputError);
+  EXPECT_NO_THROW(model.Loss(model.DefaultParameters(), Demo1Loss(c, 10), 10));
 }
 
 TEST(GradientReverse, ClippingAndTruncationChangeOnlyWhatTheyShould) {

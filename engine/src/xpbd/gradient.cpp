@@ -73,7 +73,9 @@ double FrameLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms,
   return loss;
 }
 
-void CheckLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms) {
+// `steps`: the window the loss is evaluated over; a frame after a step outside 1..steps would
+// never be compared, and a loss that silently leaves out a frame is a wrong loss.
+void CheckLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms, std::size_t steps) {
   for (const LossTerm& t : terms) {
     if (t.reference.size() != t.frame_steps.size())
       throw InputError("loss: " + std::to_string(t.frame_steps.size()) + " frame steps but " +
@@ -88,6 +90,10 @@ void CheckLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms) {
         throw InputError("loss: particle " + std::to_string(i) + " does not exist");
     if (!std::is_sorted(t.frame_steps.begin(), t.frame_steps.end()))
       throw InputError("loss: frame steps must ascend");
+    for (std::size_t step : t.frame_steps)
+      if (step < 1 || step > steps)
+        throw InputError("loss: a frame at step " + std::to_string(step) + ", outside 1.." +
+                         std::to_string(steps));
     if (t.target != LossTerm::Target::kAllMoving && t.particles.empty())
       throw InputError("loss: a particle or centroid term names no particle");
   }
@@ -267,7 +273,7 @@ std::vector<std::vector<Vec3d>> DifferentiableXpbd::Trajectory(
 
 double DifferentiableXpbd::Loss(const std::vector<double>& parameters,
                                 const std::vector<LossTerm>& loss, std::size_t steps) const {
-  CheckLoss(impl_->setup, loss);
+  CheckLoss(impl_->setup, loss, steps);
   const Parameters<double> theta = ToParameters(parameters);
   Field<double> x(impl_->x0.begin(), impl_->x0.end()), v(impl_->v0.begin(), impl_->v0.end()), xn,
       vn;
@@ -283,8 +289,8 @@ double DifferentiableXpbd::Loss(const std::vector<double>& parameters,
 GradientSummary DifferentiableXpbd::Gradient(const std::vector<double>& parameters,
                                              const std::vector<LossTerm>& loss,
                                              const GradientOptions& options) const {
-  CheckLoss(impl_->setup, loss);
   if (options.steps == 0) throw InputError("gradient: steps must be at least 1");
+  CheckLoss(impl_->setup, loss, options.steps);
   const Parameters<double> theta = ToParameters(parameters);
   GradientSummary summary;
   Reverse reverse(impl_->setup, theta, loss, options, &summary);
