@@ -1,9 +1,12 @@
 #include "phases/membranes.hpp"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 
 #include "kernels/kernels.hpp"
+#include "kernels/simd.hpp"
 
 namespace owval::engine::internal {
 namespace {
@@ -60,93 +63,162 @@ bool UnitNormal(const ElasticMatter& matter, const ParticleState& s, int m, cons
   return true;
 }
 
-// One liquid particle's unit normals by triangle: a triangle is listed by each of its three
-// vertices, so the same normal is asked for up to three times; it is computed once (the same
+// The same, for `count` triangles at once, eight per lane group: each lane does UnitNormal's
+// operations in its order (fused where it calls Fma), so the floats are the scalar path's.
+__attribute__((target("avx2,fma"))) void UnitNormalsAvx2(const ElasticMatter& matter,
+                                                         const ParticleState& s, const int* tris,
+                                                         int count, const Float4& x, Vec3* unit,
+                                                         bool* ok) {
+  const __m256 sign = _mm256_set1_ps(-0.0f);
+  const auto neg = [&](__m256 v) { return _mm256_xor_ps(v, sign); };
+  const auto fma = [](__m256 a, __m256 b, __m256 c) { return _mm256_fmadd_ps(a, b, c); };
+  const auto mul = [](__m256 a, __m256 b) { return _mm256_mul_ps(a, b); };
+  const auto sub = [](__m256 a, __m256 b) { return _mm256_sub_ps(a, b); };
+  const auto det3 = [&](const __m256* c1, const __m256* c2, const __m256* c3) {
+    __m256 d = fma(mul(c1[0], c2[1]), c3[2], mul(mul(c1[1], c2[2]), c3[0]));
+    d = fma(mul(c1[2], c2[0]), c3[1], d);
+    d = fma(neg(mul(c1[2], c2[1])), c3[0], d);
+    d = fma(neg(mul(c1[0], c2[2])), c3[1], d);
+    return fma(neg(mul(c1[1], c2[0])), c3[2], d);
+  };
+  const auto dot3 = [&](const __m256* p, const __m256* e) {
+    return fma(p[2], e[2], fma(p[0], e[0], mul(p[1], e[1])));
+  };
+  for (int first = 0; first < count; first += 8) {
+    alignas(32) float v[3][3][8];  // vertex, axis, lane
+    for (int l = 0; l < 8; ++l) {
+      const auto& tri = matter.membranes[std::size_t(tris[std::min(first + l, count - 1)])];
+      for (int corner = 0; corner < 3; ++corner) {
+        const Float4& q = s.position[tri[std::size_t(corner)]];
+        v[corner][0][l] = q.x, v[corner][1][l] = q.y, v[corner][2][l] = q.z;
+      }
+    }
+    __m256 a[3], ab[3], ac[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      a[axis] = _mm256_load_ps(v[0][axis]);
+      ab[axis] = sub(_mm256_load_ps(v[1][axis]), a[axis]);
+      ac[axis] = sub(_mm256_load_ps(v[2][axis]), a[axis]);
+    }
+    const __m256 n[3] = {fma(ab[1], ac[2], neg(mul(ab[2], ac[1]))),
+                         fma(ab[2], ac[0], neg(mul(ab[0], ac[2]))),
+                         fma(ab[0], ac[1], neg(mul(ab[1], ac[0])))};
+    const __m256 p[3] = {_mm256_set1_ps(x.x), _mm256_set1_ps(x.y), _mm256_set1_ps(x.z)};
+    const __m256 col1[3] = {n[0], ab[0], ac[0]}, col2[3] = {n[1], ab[1], ac[1]},
+                 col3[3] = {n[2], ab[2], ac[2]};
+    const __m256 rhs[3] = {dot3(a, n), dot3(p, ab), dot3(p, ac)};
+    const __m256 det = det3(col1, col2, col3);
+    const __m256 normal[3] = {sub(p[0], _mm256_div_ps(det3(rhs, col2, col3), det)),
+                              sub(p[1], _mm256_div_ps(det3(col1, rhs, col3), det)),
+                              sub(p[2], _mm256_div_ps(det3(col1, col2, rhs), det))};
+    const __m256 length = _mm256_sqrt_ps(dot3(normal, normal));
+    const int good =
+        _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(det, _mm256_setzero_ps(), _CMP_NEQ_OQ),
+                                         _mm256_cmp_ps(length, _mm256_setzero_ps(), _CMP_GT_OQ)));
+    alignas(32) float u[3][8];
+    for (int axis = 0; axis < 3; ++axis)
+      _mm256_store_ps(u[axis], _mm256_div_ps(normal[axis], length));
+    for (int l = 0; l < 8 && first + l < count; ++l) {
+      unit[first + l] = {u[0][l], u[1][l], u[2][l]};
+      ok[first + l] = (good >> l) & 1;
+    }
+  }
+}
+
+// The triangles listed by liquid particle i's elastic neighbours, each listed once: a triangle is
+// listed by each of its three vertices, and its normal seen from x_i is computed once (the same
 // operations, so the same floats). Open addressing over a table larger than 32·7 entries.
-class UnitNormals {
+class NeighbourTriangles {
  public:
-  UnitNormals(const ElasticMatter& matter, const ParticleState& s, const Float4& x)
-      : matter_(matter), s_(s), x_(x) {}
-  bool Get(int m, Vec3* unit) {
-    if (!initialised_) {
-      std::fill(key_, key_ + kSize, -1);
-      initialised_ = true;
+  // Adds neighbour j's triangles; false when it lists none.
+  bool AddNeighbour(const ElasticMatter& matter, std::int32_t j) {
+    int listed = 0;
+    for (int t = 0; t < kMembraneSlots; ++t) {
+      const int m = matter.membrane_index[std::size_t(j) * kMembraneSlots + t];
+      if (m < 0) break;
+      uses_[used_ + listed++] = Unique(m);
     }
-    int h = (m * 2654435761u) >> 24;  // top 8 bits: kSize = 256
-    while (key_[h] >= 0 && key_[h] != m) h = (h + 1) & (kSize - 1);
-    if (key_[h] != m) {
-      key_[h] = m;
-      ok_[h] = UnitNormal(matter_, s_, m, x_, &unit_[h]);
+    if (listed == 0) return false;
+    listed_[neighbours_++] = listed;
+    used_ += listed;
+    return true;
+  }
+  // The unit normals of every unique triangle seen from x; false when one is degenerate or x lies
+  // on its plane (then the particle's whole correction is cancelled, as Sibernetic's early return).
+  bool ComputeNormals(const ElasticMatter& matter, const ParticleState& s, const Float4& x) {
+    bool ok[kSize];
+    if (unique_ >= 4 && (UseAvx2() || UseAvx512())) {
+      UnitNormalsAvx2(matter, s, triangle_, unique_, x, unit_, ok);
+    } else {
+      for (int u = 0; u < unique_; ++u) ok[u] = UnitNormal(matter, s, triangle_[u], x, &unit_[u]);
     }
-    *unit = unit_[h];
-    return ok_[h];
+    return std::all_of(ok, ok + unique_, [](bool b) { return b; });
+  }
+  // Neighbour n's (in the order added) unit normals averaged.
+  Vec3 AveragedNormal(int n) {
+    Vec3 sum{0, 0, 0};
+    const int listed = listed_[n];
+    for (int t = 0; t < listed; ++t) {
+      const Vec3& unit = unit_[uses_[next_use_ + t]];
+      sum = {sum.x + unit.x, sum.y + unit.y, sum.z + unit.z};
+    }
+    next_use_ += listed;
+    return {sum.x / float(listed), sum.y / float(listed), sum.z / float(listed)};
   }
 
  private:
   static constexpr int kSize = 256;
   static_assert(kSize > kSlots * kMembraneSlots);
-  const ElasticMatter& matter_;
-  const ParticleState& s_;
-  const Float4 x_;
-  bool initialised_ = false;
-  int key_[kSize];
-  bool ok_[kSize];
-  Vec3 unit_[kSize];
-};
-
-// The unit normals of the triangles listed for elastic particle j, seen from x, averaged; false
-// when a triangle is degenerate or x lies on its plane.
-bool AveragedNormal(const ElasticMatter& matter, std::int32_t j, UnitNormals* normals,
-                    Vec3* average, bool* any) {
-  Vec3 sum{0, 0, 0};
-  int triangles = 0;
-  for (int t = 0; t < kMembraneSlots; ++t) {
-    const int m = matter.membrane_index[std::size_t(j) * kMembraneSlots + t];
-    if (m < 0) break;
-    Vec3 unit;
-    if (!normals->Get(m, &unit)) return false;
-    sum = {sum.x + unit.x, sum.y + unit.y, sum.z + unit.z};
-    ++triangles;
+  int Unique(int m) {
+    if (unique_ == 0) std::fill(key_, key_ + kSize, -1);
+    int h = int((unsigned(m) * 2654435761u) >> 24);  // top 8 bits: kSize = 256
+    while (key_[h] >= 0 && key_[h] != m) h = (h + 1) & (kSize - 1);
+    if (key_[h] != m) {
+      key_[h] = m;
+      value_[h] = unique_;
+      triangle_[unique_++] = m;
+    }
+    return value_[h];
   }
-  *any = triangles > 0;
-  if (*any)
-    *average = {sum.x / float(triangles), sum.y / float(triangles), sum.z / float(triangles)};
-  return true;
-}
+  int key_[kSize], value_[kSize];
+  int triangle_[kSize];  // unique triangles, in first-listed order
+  Vec3 unit_[kSize];
+  int unique_ = 0;
+  int uses_[kSlots * kMembraneSlots];  // per neighbour, its triangles' unique indices
+  int listed_[kSlots];
+  int used_ = 0, neighbours_ = 0, next_use_ = 0;
+};
 
 // Liquid particle i's push out of the membranes near it, or zero.
 Float4 MembraneCorrection(const SphConstants& k, const ElasticMatter& matter,
                           const ParticleState& s, std::int32_t i) {
   const Float4 xi = s.position[i];
-  Vec3 normals[kSlots];
   float distances[kSlots];
   int found = 0;
-  UnitNormals unit_normals(matter, s, xi);
+  NeighbourTriangles triangles;
   const Neighbour* slots = s.slots(i);
   for (int n = 0; n < kSlots && slots[n].index >= 0; ++n) {
     const std::int32_t j = slots[n].index;
     const Float4 xj = s.position[j];
-    if (!IsElastic(xj.w)) continue;
-    bool any = false;
-    if (!AveragedNormal(matter, j, &unit_normals, &normals[found], &any)) return {};
-    if (!any) continue;
+    if (!IsElastic(xj.w) || !triangles.AddNeighbour(matter, j)) continue;
     // Distance with z dropped and the type codes' difference kept (a slip in Sibernetic's port,
     // commit 839ee75; gotcha 16).
     const float dx = xi.x - xj.x, dy = xi.y - xj.y, dw = xi.w - xj.w;
     distances[found++] = std::sqrt(dx * dx + dy * dy + dw * dw);
   }
+  if (found == 0 || !triangles.ComputeNormals(matter, s, xi)) return {};
   Vec3 normal{0, 0, 0};
   float weight_sum = 0, weighted_depth = 0;
   for (int m = 0; m < found; ++m) {
+    const Vec3 averaged = triangles.AveragedNormal(m);
     const float w = BoundaryWeight(k.r0_cu, distances[m]);
-    normal = {Fma(normals[m].x, w, normal.x), Fma(normals[m].y, w, normal.y),
-              Fma(normals[m].z, w, normal.z)};  // sphFluid.cl:1265-1267
+    normal = {Fma(averaged.x, w, normal.x), Fma(averaged.y, w, normal.y),
+              Fma(averaged.z, w, normal.z)};  // sphFluid.cl:1265-1267
     weight_sum += w;
     weighted_depth = Fma(w, k.r0_cu - distances[m], weighted_depth);
   }
   // OpenCL dot() with w = 0, unfused as PoCL's library computes it.
   float length = (normal.x * normal.x + normal.y * normal.y) + normal.z * normal.z;
-  if (found == 0 || length == 0.0f) return {};
+  if (length == 0.0f) return {};
   length = std::sqrt(length);
   return {normal.x / length * weighted_depth / weight_sum,
           normal.y / length * weighted_depth / weight_sum,
