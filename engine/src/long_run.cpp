@@ -102,13 +102,16 @@ class FileSink : public FrameSink {
   FileSink(const LongRunOptions& o, std::uint64_t fingerprint, const CheckpointFile* resume)
       : o_(o), fingerprint_(fingerprint), resume_(resume) {}
 
-  void Begin(const Trajectory& t) override {
+  void Begin(const Trajectory& t, int threads) override {
     TrajectoryHeader h{t.box, t.time_step_s, t.log_step, t.type, t.provenance};
     h.velocities = h.density = h.pressure = fields_;
+    TrajectoryWriterOptions options;
+    options.hdf5.threads = threads;
     const std::vector<fs::path> outputs = LongRunOutputs(o_.out);
     for (std::size_t i = 0; i < outputs.size(); ++i)
-      writers_.push_back(resume_ ? ResumeTrajectoryWriter(outputs[i], h, resume_->writers[i])
-                                 : OpenTrajectoryWriter(outputs[i], h));
+      writers_.push_back(resume_
+                             ? ResumeTrajectoryWriter(outputs[i], h, resume_->writers[i], options)
+                             : OpenTrajectoryWriter(outputs[i], h, options));
     if (o_.on_begin) o_.on_begin(t);
   }
 

@@ -87,7 +87,7 @@ FrameView Capture(const Solver& solver, bool fields, FrameBuffers* b) {
 class MemorySink : public FrameSink {
  public:
   MemorySink(Trajectory* t, std::vector<std::string>* step_logs) : t_(t), step_logs_(step_logs) {}
-  void Begin(const Trajectory& header) override { *t_ = header; }
+  void Begin(const Trajectory& header, int /*threads*/) override { *t_ = header; }
   void Frame(const FrameView& f) override {
     t_->AppendFrame(f.time_s, f.positions.data());
     t_->velocities.insert(t_->velocities.end(), f.velocities.begin(), f.velocities.end());
@@ -214,7 +214,7 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
   sum.muscles_driven = options.muscle_signal == MuscleSignal::kSwimmingWaves ||
                        (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
   const std::size_t log_step = std::size_t(std::max(1, options.log_step));
-  sink->Begin(Header(config, options, constants, solver, sum.muscles_driven));
+  sink->Begin(Header(config, options, constants, solver, sum.muscles_driven), solver.threads());
   sum.first_step = solver.steps_done();
   std::size_t frames = FramesBefore(sum.first_step, log_step);
   FrameBuffers buffers;

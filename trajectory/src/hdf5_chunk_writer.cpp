@@ -39,10 +39,10 @@ void ShuffleChunk(const ChunkJob& job, std::size_t frames, std::size_t frames_pe
 }  // namespace
 
 DeflatedChunkWriter::DeflatedChunkWriter(std::size_t frames_per_chunk,
-                                         std::size_t particles_per_chunk, int level)
+                                         std::size_t particles_per_chunk, int level, int threads)
     : frames_per_chunk_(frames_per_chunk),
       particles_per_chunk_(particles_per_chunk),
-      threads_(static_cast<std::size_t>(omp_get_max_threads())) {
+      threads_(static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads())) {
   for (Thread& t : threads_) t.encoder = std::make_unique<ZlibChunkEncoder>(level);
 }
 

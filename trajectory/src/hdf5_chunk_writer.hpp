@@ -23,7 +23,9 @@ struct FloatFrames {
 
 class DeflatedChunkWriter {
  public:
-  DeflatedChunkWriter(std::size_t frames_per_chunk, std::size_t particles_per_chunk, int level);
+  // threads: how many deflate chunks at once (0: OpenMP's maximum).
+  DeflatedChunkWriter(std::size_t frames_per_chunk, std::size_t particles_per_chunk, int level,
+                      int threads);
   ~DeflatedChunkWriter();
 
   // Stores `frames` frames (at most frames_per_chunk) at frame `first_frame` (a multiple of

@@ -34,7 +34,7 @@ class Hdf5Writer : public TrajectoryWriter {
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
         chunks_(frames_per_chunk_, std::max<std::size_t>(1, options.particles_per_chunk),
-                options.compression_level) {
+                options.compression_level, options.threads) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
@@ -59,7 +59,7 @@ class Hdf5Writer : public TrajectoryWriter {
         particles_(header.type.size()),
         frames_per_chunk_(std::max<std::size_t>(1, options.frames_per_chunk)),
         chunks_(frames_per_chunk_, std::max<std::size_t>(1, options.particles_per_chunk),
-                options.compression_level) {
+                options.compression_level, options.threads) {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     out_.Adopt(file);

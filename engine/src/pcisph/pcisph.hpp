@@ -44,6 +44,7 @@ class Pcisph final : public Solver {
   void Step() override;
   std::size_t steps_done() const override { return step_; }
   std::string name() const override { return "pcisph"; }
+  int threads() const override { return threads_; }
   // Sibernetic's defaults with its default (semi-implicit Euler) integrator.
   bool reference_equivalent() const override { return reference_equivalent_; }
   std::span<const Float4> positions() const override { return state_.position; }

@@ -64,6 +64,7 @@ class Wcsph final : public Solver {
   void Step() override;
   std::size_t steps_done() const override { return step_; }
   std::string name() const override { return "wcsph"; }
+  int threads() const override { return threads_; }
   bool reference_equivalent() const override { return false; }
   std::span<const Float4> positions() const override { return out_position_; }
   std::span<const Float4> velocities() const override { return out_velocity_; }

@@ -62,6 +62,7 @@ class Xpbd final : public Solver {
   void Step() override;
   std::size_t steps_done() const override { return step_; }
   std::string name() const override { return "xpbd"; }
+  int threads() const override { return threads_; }
   bool reference_equivalent() const override { return false; }
   std::span<const Float4> positions() const override { return state_.position; }
   std::span<const Float4> velocities() const override { return state_.velocity; }

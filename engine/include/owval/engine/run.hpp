@@ -69,8 +69,9 @@ class FrameSink {
  public:
   virtual ~FrameSink() = default;
   // Once, before the first step: the run's trajectory metadata (box, time step, log step, types,
-  // provenance) without frames.
-  virtual void Begin(const Trajectory& header) = 0;
+  // provenance) without frames, and the threads the solver steps on (a sink that works in
+  // parallel uses as many, leaving the cores a one-thread run does not use to others).
+  virtual void Begin(const Trajectory& header, int threads) = 0;
   virtual void Frame(const FrameView& frame) = 0;
   // Every RunOptions::checkpoint_every steps, and when a stop is requested: steps done, frames
   // recorded so far and Solver::SaveState's blob. Default: ignored.

@@ -27,6 +27,8 @@ class Solver {
   virtual std::size_t steps_done() const = 0;
   // The backend name that built this solver ("pcisph", ...).
   virtual std::string name() const = 0;
+  // The OpenMP threads a step runs on (MakeSolver's choice, or RunOptions::threads).
+  virtual int threads() const = 0;
   // True when the run reproduces Sibernetic's OpenCL output (same scheme, same constants).
   virtual bool reference_equivalent() const = 0;
 

@@ -52,6 +52,9 @@ struct Hdf5WriteOptions {
   int compression_level = 4;               // deflate level 0..9
   std::size_t frames_per_chunk = 16;       // chunking along the frame axis
   std::size_t particles_per_chunk = 1024;  // and along the particle axis
+  // Threads deflating chunks in parallel (0: OpenMP's maximum). A run passes its solver's: the
+  // pool's idle threads spin after each flush, on cores a one-thread run leaves to others.
+  int threads = 0;
 };
 void WriteHdf5(const Trajectory& trajectory, const std::filesystem::path& path,
                const Hdf5WriteOptions& options = {});
