@@ -7,10 +7,11 @@
 //
 // Layout: rows (a particle's bonds) are sorted by length and taken eight at a time, one row per
 // lane; slot k of a group holds each lane's k-th bond (or nothing: α̃ = −1, push +0). A group's
-// pushes are then summed slot by slot in its lanes, so each row's sum is formed in bond order
-// with the scalar loop's operations (no fused multiply-add), and +0 for an empty or skipped slot
-// leaves a sum that starts at +0 unchanged: the scalar pass's floats, bit for bit. The offsets d
-// are gathered by scalar loads (vector gathers were slower on this machine's CPU).
+// pushes are summed slot by slot in its lanes, so each row's sum is formed in bond order with
+// the scalar loop's operations (no fused multiply-add), and +0 for an empty or skipped slot
+// leaves a sum that starts at +0 unchanged: the scalar pass's floats, bit for bit. A group is
+// one pass through registers: the points are loaded 16 bytes each and transposed (vector
+// gathers and scalar loads through memory were slower on this machine's CPU).
 //
 //   [MMC16] M. Macklin, M. Müller, N. Chentanez. XPBD: position-based simulation of compliant
 //           constrained dynamics. Motion in Games 2016.
@@ -36,8 +37,9 @@ class BondLanes {
   void SetCompliance(const float* alpha_tilde);
   // λ = 0 for every bond (each substep starts a new solve).
   void ResetLambda();
-  // One Jacobi pass: `start` holds the positions the pass began with; each row's push is added
-  // to p[particle]. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
+  // One Jacobi pass: `start` holds the positions the pass began with, and one readable float
+  // after its last particle (points are loaded 16 bytes at a time); each row's push is added to
+  // p[particle]. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
   void Pass(const Vec3<float>* start, Vec3<float>* p);
 
  private:
@@ -45,9 +47,9 @@ class BondLanes {
   std::vector<std::int32_t> slot_bond_;      // per slot: the bond, or −1
   std::vector<std::int32_t> slot_partner_;   // per slot: the partner (the row's particle if none)
   std::vector<std::int32_t> lane_particle_;  // per group lane: the row's particle, or −1
+  std::vector<std::int32_t> lane_point_;     // the same with −1 as 0 (a point to load)
   std::vector<std::size_t> group_slot_;      // group g's slots: [group_slot_[g], [g + 1])
   std::vector<float> rest_cu_, alpha_tilde_, lambda_;
-  std::vector<float> dx_, dy_, dz_;  // offsets, then pushes
 };
 
 // The bond substep's predict and velocity update (Xpbd::BondSubstep) over `values` contiguous

@@ -92,6 +92,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   p_ = x_;
   dp_.assign(n, {0, 0, 0});
   bond_start_ = p_;
+  bond_start_.push_back({0, 0, 0});  // BondLanes::Pass loads 16 bytes per point
   wall_normal_.assign(n, {0, 0, 0});
   wall_friction_ = std::pow(
       0.99, 1.0 / (parameters_.density_passes > 0 ? parameters_.density_passes : substeps_));
@@ -314,15 +315,18 @@ void Xpbd<T>::Predict(T dt) {
 
 // Jacobi over the particles [MM13 eqs. 9-12] with XPBD's compliance: every Δλ_i from the same
 // positions, then Δp_i = Σ_j (Δλ_i + Δλ_j)·V0∇W(p_i − p_j), a fixed neighbour counting only its
-// own constraint's share.
+// own constraint's share. The second loop reuses the first's per-slot gradients (the positions
+// do not move between them), so each pair's square root and division are taken once.
 template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
   const std::vector<std::int32_t>& moving = state_.moving;
+  slot_gradient_.resize(moving.size() * kSlots);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
+    Vec3<T>* gradient = &slot_gradient_[n * kSlots];
     T w = kernel_.W(0);
     Vec3<T> gradient_i{0, 0, 0};
     T norm2 = 0;
@@ -331,6 +335,7 @@ void Xpbd<T>::ProjectDensity(T dt) {
       const Vec3<T> d{p_[i][0] - p_[j][0], p_[i][1] - p_[j][1], p_[i][2] - p_[j][2]};
       w += kernel_.W(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       const Vec3<T> g = kernel_.Gradient(d);
+      gradient[m] = g;
       for (int a = 0; a < 3; ++a) gradient_i[a] += g[a];
       if (moving_[j]) norm2 += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
     }
@@ -347,13 +352,12 @@ void Xpbd<T>::ProjectDensity(T dt) {
   for (std::size_t n = 0; n < moving.size(); ++n) {
     const std::int32_t i = moving[n];
     const Neighbour* slots = state_.slots(i);
+    const Vec3<T>* gradient = &slot_gradient_[n * kSlots];
     Vec3<T> dp{0, 0, 0};
     for (int m = 0; m < kSlots && slots[m].index >= 0; ++m) {
       const std::int32_t j = slots[m].index;
-      const Vec3<T> d{p_[i][0] - p_[j][0], p_[i][1] - p_[j][1], p_[i][2] - p_[j][2]};
-      const Vec3<T> g = kernel_.Gradient(d);
       const T lambda = density_dlambda_[i] + (moving_[j] ? density_dlambda_[j] : T(0));
-      for (int a = 0; a < 3; ++a) dp[a] += lambda * g[a];
+      for (int a = 0; a < 3; ++a) dp[a] += lambda * gradient[m][a];
     }
     dp_[i] = dp;
   }

@@ -133,6 +133,7 @@ class Xpbd final : public Solver {
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
   std::vector<Vec3<T>> bond_start_;         // the split's bond pass: positions as the pass began
+  std::vector<Vec3<T>> slot_gradient_;      // ProjectDensity: V0∇W per moving particle and slot
   std::vector<Vec3<T>> wall_normal_;        // a substep's last wall push direction, or zero
   double wall_friction_ = 1;                // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
