@@ -31,7 +31,7 @@ __attribute__((target("avx2,fma"))) inline void LoadPoints(const float* points,
 __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
     const float* start, const std::int32_t* lane_particle, const std::int32_t* partner,
     std::size_t first, std::size_t last, const float* rest_cu, const float* alpha_tilde,
-    float* lambda, float sum[3][8]) {
+    float* lambda, bool first_pass, float sum[3][8]) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
   const __m256 sign = _mm256_set1_ps(-0.0f);
   __m256 ax, ay, az;
@@ -46,7 +46,7 @@ __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
         _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz)));
     const __m256 alpha = _mm256_loadu_ps(alpha_tilde + s);
     const __m256 rest = _mm256_loadu_ps(rest_cu + s);
-    const __m256 old_lambda = _mm256_loadu_ps(lambda + s);
+    const __m256 old_lambda = first_pass ? zero : _mm256_loadu_ps(lambda + s);
     const __m256 taken = _mm256_and_ps(_mm256_cmp_ps(alpha, zero, _CMP_NLT_UQ),   // !(α̃ < 0)
                                        _mm256_cmp_ps(length, zero, _CMP_GT_OQ));  // L > 0
     const __m256 numerator = _mm256_sub_ps(_mm256_xor_ps(_mm256_sub_ps(length, rest), sign),
@@ -102,14 +102,13 @@ void BondLanes::SetCompliance(const float* alpha_tilde) {
     alpha_tilde_[s] = slot_bond_[s] >= 0 ? alpha_tilde[slot_bond_[s]] : -1.0f;
 }
 
-void BondLanes::ResetLambda() { std::fill(lambda_.begin(), lambda_.end(), 0.0f); }
-
-void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p) {
+void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, bool first) {
   static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "points are three packed floats");
   for (std::size_t g = 0; g + 1 < group_slot_.size(); ++g) {
     float sum[3][kLanes];
     GroupPushesAvx2(start[0].data(), &lane_point_[g * kLanes], slot_partner_.data(), group_slot_[g],
-                    group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(), lambda_.data(), sum);
+                    group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(), lambda_.data(), first,
+                    sum);
     for (int l = 0; l < kLanes; ++l) {
       const std::int32_t i = lane_particle_[g * kLanes + std::size_t(l)];
       if (i < 0) continue;
@@ -120,19 +119,21 @@ void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p) {
 
 __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h, float to_cu,
                                                      const float* acceleration, float* v,
-                                                     const float* x, float* p) {
+                                                     const float* x, float* p, float* p_copy) {
   const __m256 hv = _mm256_set1_ps(h), to_cu_v = _mm256_set1_ps(to_cu);
   std::size_t k = 0;
   for (; k + 8 <= values; k += 8) {
     const __m256 velocity =
         _mm256_add_ps(_mm256_loadu_ps(v + k), _mm256_mul_ps(hv, _mm256_loadu_ps(acceleration + k)));
     _mm256_storeu_ps(v + k, velocity);
-    _mm256_storeu_ps(p + k, _mm256_add_ps(_mm256_loadu_ps(x + k),
-                                          _mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v)));
+    const __m256 position =
+        _mm256_add_ps(_mm256_loadu_ps(x + k), _mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v));
+    _mm256_storeu_ps(p + k, position);
+    _mm256_storeu_ps(p_copy + k, position);
   }
   for (; k < values; ++k) {
     v[k] += h * acceleration[k];
-    p[k] = x[k] + h * v[k] * to_cu;
+    p[k] = p_copy[k] = x[k] + h * v[k] * to_cu;
   }
 }
 

@@ -35,12 +35,12 @@ class BondLanes {
 
   // Each bond's α̃ = α/h² by bond index (−1: no stiffness), for the step's substeps.
   void SetCompliance(const float* alpha_tilde);
-  // λ = 0 for every bond (each substep starts a new solve).
-  void ResetLambda();
   // One Jacobi pass: `start` holds the positions the pass began with, and one readable float
   // after its last particle (points are loaded 16 bytes at a time); each row's push is added to
-  // p[particle]. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
-  void Pass(const Vec3<float>* start, Vec3<float>* p);
+  // p[particle]. The first pass of a substep's solve reads λ = 0 for every bond (no reset
+  // needed); later passes read the λ the previous one left. Needs AVX2 and FMA (UseAvx2() or
+  // UseAvx512()).
+  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first);
 
  private:
   static constexpr int kLanes = 8;
@@ -54,10 +54,10 @@ class BondLanes {
 
 // The bond substep's predict and velocity update (Xpbd::BondSubstep) over `values` contiguous
 // floats (three per particle, for moving particles that are one block of the configuration), in
-// the scalar loops' operations and order: v += h·a, p = x + (h·v)·to_cu; then v = ((p − x)·s)/h,
-// x = p. Need AVX2 and FMA.
+// the scalar loops' operations and order: v += h·a, p = x + (h·v)·to_cu (also written to
+// `p_copy`, the bond pass's start); then v = ((p − x)·s)/h, x = p. Need AVX2 and FMA.
 void PredictAvx2(std::size_t values, float h, float to_cu, const float* acceleration, float* v,
-                 const float* x, float* p);
+                 const float* x, float* p, float* p_copy);
 void UpdateVelocityAvx2(std::size_t values, float h, float scale, float* v, float* x,
                         const float* p);
 

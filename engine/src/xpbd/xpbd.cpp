@@ -206,7 +206,8 @@ void Xpbd<T>::Substep(T h) {
 template <typename T>
 void Xpbd<T>::BondSubstep(T h) {
   const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
-  if (!BondSubstepInLanes(h, to_cu, scale, true)) {
+  const bool predicted_in_lanes = BondSubstepInLanes(h, to_cu, scale, true);
+  if (!predicted_in_lanes) {
     for (std::size_t n = 0; n < state_.moving.size(); ++n) {
       const std::int32_t i = state_.moving[n];
       for (int d = 0; d < 3; ++d) {
@@ -215,11 +216,9 @@ void Xpbd<T>::BondSubstep(T h) {
       }
     }
   }
-  if (bond_lanes_)
-    bond_lanes_->ResetLambda();
-  else
-    std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
-  for (int pass = 0; pass < parameters_.iterations; ++pass) ProjectBondsOneSided();
+  if (!bond_lanes_) std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
+  for (int pass = 0; pass < parameters_.iterations; ++pass)
+    ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes);
   if (BondSubstepInLanes(h, to_cu, scale, false)) return;
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
@@ -239,7 +238,8 @@ bool Xpbd<T>::BondSubstepInLanes(T h, T to_cu, T scale, bool predict) {
     const std::size_t first = std::size_t(state_.moving.front()), values = 3 * state_.moving.size();
     float *v = v_[first].data(), *x = x_[first].data(), *p = p_[first].data();
     if (predict)
-      PredictAvx2(values, h, to_cu, held_acceleration_.front().data(), v, x, p);
+      PredictAvx2(values, h, to_cu, held_acceleration_.front().data(), v, x, p,
+                  bond_start_[first].data());
     else
       UpdateVelocityAvx2(values, h, scale, v, x, p);
     return true;
@@ -412,10 +412,11 @@ void Xpbd<T>::BondComplianceOf(T dt) {
 // moves its particle by ~1/α̃ of its error and the sum cannot overshoot; Gauss-Seidel's serial
 // chain (a square root and a division per bond, through the particle's position) cost 5x more.
 template <typename T>
-void Xpbd<T>::ProjectBondsOneSided() {
-  for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];  // fixed entries never change
+void Xpbd<T>::ProjectBondsOneSided(bool first, bool start_written) {
+  if (!start_written)  // fixed entries never change
+    for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];
   if constexpr (std::is_same_v<T, float>) {
-    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data());
+    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data(), first);
   }
   for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
     const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
@@ -501,10 +502,13 @@ void Xpbd<T>::UpdateVelocities(T dt) {
 template <typename T>
 void Xpbd<T>::InteractWithMembranes() {
   if (matter_.membranes.empty()) return;
-  std::vector<Float4> before(state_.position);
+  const std::vector<std::int32_t>& moving = state_.moving;
+  membrane_before_.resize(moving.size());  // the pass moves only moving particles
+  for (std::size_t n = 0; n < moving.size(); ++n) membrane_before_[n] = state_.position[moving[n]];
   internal::InteractWithMembranes(k_, matter_, &state_, &membrane_scratch_, threads_);
-  for (std::int32_t i : state_.moving) {
-    const Float4 &a = before[i], &b = state_.position[i];
+  for (std::size_t n = 0; n < moving.size(); ++n) {
+    const std::int32_t i = moving[n];
+    const Float4 &a = membrane_before_[n], &b = state_.position[i];
     x_[i][0] += T(b.x) - T(a.x);
     x_[i][1] += T(b.y) - T(a.y);
     x_[i][2] += T(b.z) - T(a.z);

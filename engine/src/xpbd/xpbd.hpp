@@ -101,7 +101,8 @@ class Xpbd final : public Solver {
   T StiffnessOf(const Bond& bond) const;
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
-  void ProjectBondsOneSided();
+  // `first`: the substep's first pass (λ = 0); `start_written`: bond_start_ already holds p.
+  void ProjectBondsOneSided(bool first, bool start_written);
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
@@ -138,6 +139,7 @@ class Xpbd final : public Solver {
   double wall_friction_ = 1;                // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
+  std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
   std::size_t step_ = 0;
 };
 
