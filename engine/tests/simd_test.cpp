@@ -4,6 +4,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <tuple>
 
 #include "kernels/simd.hpp"
 #include "owval/engine/profile.hpp"
@@ -62,25 +63,32 @@ TEST(VectorPaths, EightLanePathsGiveTheScalarPathsBits) {
   if (!avx2) return;
   ExpectSameBits("demo1", 0.004, Path::kAvx2);
   ExpectSameBits("test_energy", 0.0004, Path::kAvx2);
-  ExpectSameBits("demo1", 0.004, Path::kAvx2, "xpbd");  // the bond pass
+  ExpectSameBits("demo1", 0.004, Path::kAvx2, "xpbd");  // the bond pass and density lanes
+  ExpectSameBits("test_energy", 0.0004, Path::kAvx2, "xpbd");
 }
 
-// XPBD's bond pass (bond_pushes.hpp) on demo1's 1,848 bonds.
+// XPBD's bond pass (bond_pushes.hpp) on demo1's 1,848 bonds, and its density projection in lanes
+// (density_lanes.hpp) on demo1 and on a dense block (lists of 32, more than 4,096 movers).
 TEST(VectorPaths, GiveTheScalarPathsBitsOnDemo1UnderXpbd) {
   ExpectSameBits("demo1", 0.004, Path::kCpuChoice, "xpbd");
+}
+TEST(VectorPaths, GiveTheScalarPathsBitsOnADenseLiquidBlockUnderXpbd) {
+  ExpectSameBits("test_energy", 0.0004, Path::kCpuChoice, "xpbd");
 }
 
 // The default thread count follows the machine's idle cores, so the output must not depend on it:
 // each particle's arithmetic is done by one thread, in the same order, whatever the count.
 TEST(ThreadCount, GivesTheSameBitsOnOneThreadAsOnTwo) {
-  for (const auto& [name, duration_s] : {std::pair{"demo1", 0.004}, {"test_energy", 0.0004}}) {
-    const Trajectory one = RunWith(Path::kCpuChoice, name, duration_s, 1);
-    const Trajectory two = RunWith(Path::kCpuChoice, name, duration_s, 2);
+  for (const auto& [name, duration_s, backend] : {std::tuple{"demo1", 0.004, "pcisph"},
+                                                  {"test_energy", 0.0004, "pcisph"},
+                                                  {"test_energy", 0.0004, "xpbd"}}) {
+    const Trajectory one = RunWith(Path::kCpuChoice, name, duration_s, 1, backend);
+    const Trajectory two = RunWith(Path::kCpuChoice, name, duration_s, 2, backend);
     ASSERT_GT(one.frame_count(), 1u);
-    EXPECT_TRUE(SameBits(one.positions, two.positions)) << name;
-    EXPECT_TRUE(SameBits(one.velocities, two.velocities)) << name;
-    EXPECT_TRUE(SameBits(one.density, two.density)) << name;
-    EXPECT_TRUE(SameBits(one.pressure, two.pressure)) << name;
+    EXPECT_TRUE(SameBits(one.positions, two.positions)) << name << " " << backend;
+    EXPECT_TRUE(SameBits(one.velocities, two.velocities)) << name << " " << backend;
+    EXPECT_TRUE(SameBits(one.density, two.density)) << name << " " << backend;
+    EXPECT_TRUE(SameBits(one.pressure, two.pressure)) << name << " " << backend;
   }
 }
 

@@ -5,27 +5,10 @@
 #include <algorithm>
 #include <numeric>
 
+#include "xpbd/point_lanes.hpp"
+
 namespace owval::engine::internal {
 namespace {
-
-// Eight points' x, y and z from an array of three-float points, by one 16-byte load per point
-// (its x, y, z and the next point's x) and a 4 × 4 transpose in each half: cheaper on this CPU
-// than scalar loads or vector gathers. The array must have one readable float after its last
-// point.
-__attribute__((target("avx2,fma"))) inline void LoadPoints(const float* points,
-                                                           const std::int32_t* index, __m256* x,
-                                                           __m256* y, __m256* z) {
-  const auto pair = [&](int low, int high) {
-    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(points + 3 * index[low])),
-                                _mm_loadu_ps(points + 3 * index[high]), 1);
-  };
-  const __m256 r04 = pair(0, 4), r15 = pair(1, 5), r26 = pair(2, 6), r37 = pair(3, 7);
-  const __m256 xy01 = _mm256_unpacklo_ps(r04, r15), zw01 = _mm256_unpackhi_ps(r04, r15);
-  const __m256 xy23 = _mm256_unpacklo_ps(r26, r37), zw23 = _mm256_unpackhi_ps(r26, r37);
-  *x = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0));
-  *y = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2));
-  *z = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0));
-}
 
 // One group's rows, one per lane: each slot's push (λ updated), summed slot by slot from +0.
 __attribute__((target("avx2,fma"))) void GroupPushesAvx2(

@@ -17,6 +17,7 @@
 #include "state/non_finite.hpp"
 #include "state/state_io.hpp"
 #include "xpbd/bond_pushes.hpp"
+#include "xpbd/density_lanes.hpp"
 
 namespace owval::engine::internal {
 namespace {
@@ -122,6 +123,8 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       std::vector<BondLanes::Bond> lanes;
       for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
       bond_lanes_.emplace(lanes, bond_rows_);
+      density_lanes_ = true;
+      for (char m : moving_) moving_mask_.push_back(m ? -1 : 0);
     }
   }
   grid_.Refresh(&state_, threads_);
@@ -320,6 +323,9 @@ void Xpbd<T>::Predict(T dt) {
 template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
+  if constexpr (std::is_same_v<T, float>) {
+    if (density_lanes_) return ProjectDensityInLanes(alpha_tilde);
+  }
   const std::vector<std::int32_t>& moving = state_.moving;
   slot_gradient_.resize(moving.size() * kSlots);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
@@ -341,12 +347,7 @@ void Xpbd<T>::ProjectDensity(T dt) {
     }
     norm2 += gradient_i[0] * gradient_i[0] + gradient_i[1] * gradient_i[1] +
              gradient_i[2] * gradient_i[2];
-    const T c = kernel_.rest_volume * w - 1;  // both directions: C < 0 pulls neighbours in
-    const T denominator = norm2 + alpha_tilde;
-    const T dlambda =
-        denominator > 0 ? (-c - alpha_tilde * density_lambda_[i]) / denominator : T(0);
-    density_dlambda_[i] = dlambda;
-    density_lambda_[i] += dlambda;
+    UpdateDensityLambda(i, w, norm2, alpha_tilde);
   }
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
@@ -363,6 +364,58 @@ void Xpbd<T>::ProjectDensity(T dt) {
   }
   for (std::int32_t i : moving)
     for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
+}
+
+// Δλ_i from the constraint's sum w = W(0) + Σ_j W and norm2 = Σ_k |∇_k C_i|².
+template <typename T>
+void Xpbd<T>::UpdateDensityLambda(std::int32_t i, T w, T norm2, T alpha_tilde) {
+  const T c = kernel_.rest_volume * w - 1;  // both directions: C < 0 pulls neighbours in
+  const T denominator = norm2 + alpha_tilde;
+  const T dlambda = denominator > 0 ? (-c - alpha_tilde * density_lambda_[i]) / denominator : T(0);
+  density_dlambda_[i] = dlambda;
+  density_lambda_[i] += dlambda;
+}
+
+// ProjectDensity for the float solver in 8-lane groups of moving particles (density_lanes.hpp):
+// the same floats. A short last group repeats its last particle in the spare lanes and drops
+// their results.
+template <typename T>
+void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
+  if constexpr (std::is_same_v<T, float>) {
+    const std::vector<std::int32_t>& moving = state_.moving;
+    const std::size_t groups = (moving.size() + 7) / 8, per_group = std::size_t(kSlots) * kRecord;
+    lane_record_.resize(groups * per_group);
+    lane_slots_.resize(groups);
+    const std::int32_t last = std::int32_t(p_.size()) - 1;
+    const float last_point[4] = {p_[last][0], p_[last][1], p_[last][2], 0.0f};
+    const DensityLanes in{p_[0].data(),        last,   last_point, state_.neighbours.data(),
+                          moving_mask_.data(), kernel_};
+    const auto lanes_of = [&](std::size_t g, std::int32_t particle[8]) {
+      const std::size_t lanes = std::min<std::size_t>(8, moving.size() - 8 * g);
+      for (std::size_t l = 0; l < 8; ++l) particle[l] = moving[8 * g + std::min(l, lanes - 1)];
+      return lanes;
+    };
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+    for (std::size_t g = 0; g < groups; ++g) {
+      std::int32_t particle[8];
+      const std::size_t lanes = lanes_of(g, particle);
+      float w[8], norm2[8];
+      lane_slots_[g] = DensityConstraintAvx2(in, particle, w, norm2, &lane_record_[g * per_group]);
+      for (std::size_t l = 0; l < lanes; ++l)
+        UpdateDensityLambda(particle[l], w[l], norm2[l], alpha_tilde);
+    }
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+    for (std::size_t g = 0; g < groups; ++g) {
+      std::int32_t particle[8];
+      const std::size_t lanes = lanes_of(g, particle);
+      float dp[3][8];
+      DensityDisplacementAvx2(particle, density_dlambda_.data(), &lane_record_[g * per_group],
+                              lane_slots_[g], dp);
+      for (std::size_t l = 0; l < lanes; ++l) dp_[particle[l]] = {dp[0][l], dp[1][l], dp[2][l]};
+    }
+    for (std::int32_t i : moving)
+      for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
+  }
 }
 
 // A bond's stiffness now: a muscle's is k·(1 + activation·strength).

@@ -1,0 +1,38 @@
+#pragma once
+// The density projection's two neighbour loops (Xpbd<float>::ProjectDensity) for eight moving
+// particles at a time, one per lane, slot by slot: each lane does the scalar loops' operations
+// in their order (no fused multiply-add; a slot past a lane's list or a term the scalar code
+// skips leaves the lane's sums untouched), so the floats are the scalar loops' bit for bit.
+// Need AVX2 and FMA (UseAvx2() or UseAvx512()). [MM13 eqs. 1-12], kernels as projections.hpp.
+#include <cstdint>
+
+#include "state/particle_state.hpp"
+#include "xpbd/projections.hpp"
+
+namespace owval::engine::internal {
+
+struct DensityLanes {
+  const float* points;          // p: x, y, z per particle
+  std::int32_t last;            // the last particle: its point is read from last_point
+  const float* last_point;      // its x, y, z and a fourth float (16-byte loads)
+  const Neighbour* neighbours;  // kSlots per particle, empty slots (−1) at the end
+  const std::int32_t* moving;   // per particle: −1 moving, 0 fixed
+  DensityKernel<float> kernel;
+};
+
+// A group's record per slot, kRecord floats: the lanes' neighbours (ints), the masks "listed"
+// and "listed and moving", and V0∇W(p_i − p_j) by axis, eight lanes each.
+constexpr int kRecord = 48;
+
+// Particles `particle[0..8)`: per lane w = W(0) + Σ_j W(|p_i − p_j|) and norm2 = Σ_{j moving}
+// |∇_j C_i|² + |∇_i C_i|², and each slot's record into `record` (kSlots × kRecord floats).
+// Returns the slots used (the longest lane's list).
+int DensityConstraintAvx2(const DensityLanes& in, const std::int32_t particle[8], float w[8],
+                          float norm2[8], float* record);
+
+// Per lane Δp_i = Σ_j (Δλ_i + [j moving]·Δλ_j)·V0∇W(p_i − p_j), from DensityConstraintAvx2's
+// record of the same particles and its slot count.
+void DensityDisplacementAvx2(const std::int32_t particle[8], const float* dlambda,
+                             const float* record, int slots, float dp[3][8]);
+
+}  // namespace owval::engine::internal
