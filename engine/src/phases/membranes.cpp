@@ -138,6 +138,7 @@ class NeighbourTriangles {
       uses_[used_ + listed++] = Unique(m);
     }
     if (listed == 0) return false;
+    first_use_[neighbours_] = used_;
     listed_[neighbours_++] = listed;
     used_ += listed;
     return true;
@@ -153,15 +154,14 @@ class NeighbourTriangles {
     }
     return std::all_of(ok, ok + unique_, [](bool b) { return b; });
   }
-  // Neighbour n's (in the order added) unit normals averaged.
-  Vec3 AveragedNormal(int n) {
+  // Neighbour n's (in the order added) unit normals averaged, after ComputeNormals.
+  Vec3 AveragedNormal(int n) const {
     Vec3 sum{0, 0, 0};
     const int listed = listed_[n];
     for (int t = 0; t < listed; ++t) {
-      const Vec3& unit = unit_[uses_[next_use_ + t]];
+      const Vec3& unit = unit_[uses_[first_use_[n] + t]];
       sum = {sum.x + unit.x, sum.y + unit.y, sum.z + unit.z};
     }
-    next_use_ += listed;
     return {sum.x / float(listed), sum.y / float(listed), sum.z / float(listed)};
   }
 
@@ -183,9 +183,9 @@ class NeighbourTriangles {
   int triangle_[kSize];  // unique triangles, in first-listed order
   Vec3 unit_[kSize];
   int unique_ = 0;
-  int uses_[kSlots * kMembraneSlots];  // per neighbour, its triangles' unique indices
-  int listed_[kSlots];
-  int used_ = 0, neighbours_ = 0, next_use_ = 0;
+  int uses_[kSlots * kMembraneSlots];       // per neighbour, its triangles' unique indices
+  int listed_[kSlots], first_use_[kSlots];  // per neighbour: its triangles' count and first use
+  int used_ = 0, neighbours_ = 0;
 };
 
 // Liquid particle i's push out of the membranes near it, or zero.
