@@ -58,7 +58,8 @@ bool DeflatedChunkWriter::Write(const std::vector<FloatFrames>& sets, hsize_t fi
   const std::size_t round = threads_.size();
   for (std::size_t first = 0; first < jobs.size(); first += round) {
     const std::size_t n = std::min(round, jobs.size() - first);
-#pragma omp parallel for schedule(static, 1) num_threads(static_cast <int>(n)) if (n > 1)
+    const int team = static_cast<int>(n);
+#pragma omp parallel for schedule(static, 1) num_threads(team) if (n > 1)
     for (std::size_t r = 0; r < n; ++r) {
       const ChunkJob& job = jobs[first + r];
       Thread& t = threads_[r];
