@@ -3,7 +3,6 @@
 #include <immintrin.h>
 
 #include <cstddef>
-#include <cstring>
 
 #include "xpbd/point_lanes.hpp"
 
@@ -76,9 +75,12 @@ __attribute__((target("avx2,fma"))) int DensityConstraintAvx2(const DensityLanes
     Slot(in, slot_index, m, &neighbour, &listed, &moving);
     if (_mm256_testz_ps(listed, listed)) break;  // no lane has a slot m
     float* slot = record + std::size_t(m) * kRecord;
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(slot), neighbour);
-    _mm256_storeu_ps(slot + 8, listed);
-    _mm256_storeu_ps(slot + 16, moving);
+    // The moving neighbour, −1 for a fixed one, −2 for an empty slot.
+    const __m256i code =
+        _mm256_blendv_epi8(_mm256_blendv_epi8(_mm256_set1_epi32(-2), _mm256_set1_epi32(-1),
+                                              _mm256_castps_si256(listed)),
+                           neighbour, _mm256_castps_si256(moving));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(slot), code);
     std::int32_t j[8];
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(j), neighbour);
     __m256 xj, yj, zj;
@@ -97,9 +99,9 @@ __attribute__((target("avx2,fma"))) int DensityConstraintAvx2(const DensityLanes
     const __m256 gxj = _mm256_and_ps(inside, _mm256_mul_ps(f, dx));
     const __m256 gyj = _mm256_and_ps(inside, _mm256_mul_ps(f, dy));
     const __m256 gzj = _mm256_and_ps(inside, _mm256_mul_ps(f, dz));
-    _mm256_storeu_ps(slot + 24, gxj);
-    _mm256_storeu_ps(slot + 32, gyj);
-    _mm256_storeu_ps(slot + 40, gzj);
+    _mm256_storeu_ps(slot + 8, gxj);
+    _mm256_storeu_ps(slot + 16, gyj);
+    _mm256_storeu_ps(slot + 24, gzj);
     gx = Add(gx, gxj, listed), gy = Add(gy, gyj, listed), gz = Add(gz, gzj, listed);
     norm2 = Add(norm2, Squares(gxj, gyj, gzj), moving);
   }
@@ -116,14 +118,17 @@ __attribute__((target("avx2,fma"))) void DensityDisplacementAvx2(const std::int3
   __m256 dx = _mm256_setzero_ps(), dy = dx, dz = dx;
   for (int m = 0; m < slots; ++m) {
     const float* slot = record + std::size_t(m) * kRecord;
+    const __m256i code = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(slot));
+    const __m256i moving = _mm256_cmpgt_epi32(code, _mm256_set1_epi32(-1));
+    const __m256 listed = _mm256_castsi256_ps(_mm256_cmpgt_epi32(code, _mm256_set1_epi32(-2)));
     std::int32_t j[8];
-    std::memcpy(j, slot, sizeof j);
-    const __m256 listed = _mm256_loadu_ps(slot + 8), moving = _mm256_loadu_ps(slot + 16);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(j), _mm256_and_si256(code, moving));
     // Δλ_i + (moving ? Δλ_j : 0)
-    const __m256 lambda = _mm256_add_ps(own, _mm256_and_ps(moving, Gather(dlambda, j)));
-    dx = Add(dx, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 24)), listed);
-    dy = Add(dy, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 32)), listed);
-    dz = Add(dz, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 40)), listed);
+    const __m256 lambda =
+        _mm256_add_ps(own, _mm256_and_ps(_mm256_castsi256_ps(moving), Gather(dlambda, j)));
+    dx = Add(dx, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 8)), listed);
+    dy = Add(dy, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 16)), listed);
+    dz = Add(dz, _mm256_mul_ps(lambda, _mm256_loadu_ps(slot + 24)), listed);
   }
   _mm256_storeu_ps(dp[0], dx);
   _mm256_storeu_ps(dp[1], dy);

@@ -20,9 +20,10 @@ struct DensityLanes {
   DensityKernel<float> kernel;
 };
 
-// A group's record per slot, kRecord floats: the lanes' neighbours (ints), the masks "listed"
-// and "listed and moving", and V0∇W(p_i − p_j) by axis, eight lanes each.
-constexpr int kRecord = 48;
+// A group's record per slot, kRecord floats: the lanes' neighbours as ints (the index of a
+// moving one, −1 for a fixed one, −2 for an empty slot), then V0∇W(p_i − p_j) by axis, eight
+// lanes each.
+constexpr int kRecord = 32;
 
 // Particles `particle[0..8)`: per lane w = W(0) + Σ_j W(|p_i − p_j|) and norm2 = Σ_{j moving}
 // |∇_j C_i|² + |∇_i C_i|², and each slot's record into `record` (kSlots × kRecord floats).
