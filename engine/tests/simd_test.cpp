@@ -19,10 +19,11 @@ const fs::path kShared = OWVAL_SHARED_DIR;
 enum class Path { kCpuChoice, kScalar, kAvx2 };
 
 Trajectory RunWith(Path path, const std::string& name, double duration_s, int threads = 1,
-                   const std::string& backend = "pcisph") {
+                   const std::string& backend = "pcisph", int xpbd_iterations = 1) {
   internal::ForceScalarPaths(path == Path::kScalar);
   if (path == Path::kAvx2) internal::ForceAvx2Paths();
   RunOptions o;
+  o.constants.xpbd.iterations = xpbd_iterations;
   o.duration_s = duration_s;
   o.log_step = 10;
   o.threads = threads;
@@ -37,9 +38,9 @@ bool SameBits(const std::vector<float>& a, const std::vector<float>& b) {
 }
 
 void ExpectSameBits(const std::string& name, double duration_s, Path vector_path,
-                    const std::string& backend = "pcisph") {
-  const Trajectory vector = RunWith(vector_path, name, duration_s, 1, backend);
-  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s, 1, backend);
+                    const std::string& backend = "pcisph", int xpbd_iterations = 1) {
+  const Trajectory vector = RunWith(vector_path, name, duration_s, 1, backend, xpbd_iterations);
+  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s, 1, backend, xpbd_iterations);
   ASSERT_GT(vector.frame_count(), 1u);
   EXPECT_TRUE(SameBits(vector.positions, scalar.positions)) << name;
   EXPECT_TRUE(SameBits(vector.velocities, scalar.velocities)) << name;
@@ -71,6 +72,11 @@ TEST(VectorPaths, EightLanePathsGiveTheScalarPathsBits) {
 // (density_lanes.hpp) on demo1 and on a dense block (lists of 32, more than 4,096 movers).
 TEST(VectorPaths, GiveTheScalarPathsBitsOnDemo1UnderXpbd) {
   ExpectSameBits("demo1", 0.004, Path::kCpuChoice, "xpbd");
+}
+// Two passes per substep: the second reads the λ the first left (each substep's solve starts at
+// λ = 0 on both paths).
+TEST(VectorPaths, GiveTheScalarPathsBitsOnDemo1UnderXpbdWithTwoPasses) {
+  ExpectSameBits("demo1", 0.002, Path::kCpuChoice, "xpbd", 2);
 }
 TEST(VectorPaths, GiveTheScalarPathsBitsOnADenseLiquidBlockUnderXpbd) {
   ExpectSameBits("test_energy", 0.0004, Path::kCpuChoice, "xpbd");

@@ -138,9 +138,8 @@ class NeighbourTriangles {
       uses_[used_ + listed++] = Unique(m);
     }
     if (listed == 0) return false;
-    first_use_[neighbours_] = used_;
-    listed_[neighbours_++] = listed;
     used_ += listed;
+    first_use_[++neighbours_] = used_;
     return true;
   }
   // The unit normals of every unique triangle seen from x; false when one is degenerate or x lies
@@ -157,7 +156,7 @@ class NeighbourTriangles {
   // Neighbour n's (in the order added) unit normals averaged, after ComputeNormals.
   Vec3 AveragedNormal(int n) const {
     Vec3 sum{0, 0, 0};
-    const int listed = listed_[n];
+    const int listed = first_use_[n + 1] - first_use_[n];
     for (int t = 0; t < listed; ++t) {
       const Vec3& unit = unit_[uses_[first_use_[n] + t]];
       sum = {sum.x + unit.x, sum.y + unit.y, sum.z + unit.z};
@@ -183,8 +182,8 @@ class NeighbourTriangles {
   int triangle_[kSize];  // unique triangles, in first-listed order
   Vec3 unit_[kSize];
   int unique_ = 0;
-  int uses_[kSlots * kMembraneSlots];       // per neighbour, its triangles' unique indices
-  int listed_[kSlots], first_use_[kSlots];  // per neighbour: its triangles' count and first use
+  int uses_[kSlots * kMembraneSlots];  // per neighbour, its triangles' unique indices
+  int first_use_[kSlots + 1] = {0};    // neighbour n's uses are [first_use_[n], first_use_[n + 1])
   int used_ = 0, neighbours_ = 0;
 };
 

@@ -81,7 +81,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   grid_.SetStatic(state_);
   const std::size_t n = state_.size();
   moving_.assign(n, 0);
-  for (std::int32_t i : state_.moving) moving_[i] = 1;
+  for (std::int32_t i : state_.moving) moving_[i] = -1;
   parallel_ = threads_ > 1 && state_.moving.size() >= kParallelMovers;
   x_.resize(n);
   v_.resize(n);
@@ -123,8 +123,6 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       std::vector<BondLanes::Bond> lanes;
       for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
       bond_lanes_.emplace(lanes, bond_rows_);
-      density_lanes_ = true;
-      for (char m : moving_) moving_mask_.push_back(m ? -1 : 0);
     }
   }
   grid_.Refresh(&state_, threads_);
@@ -219,7 +217,6 @@ void Xpbd<T>::BondSubstep(T h) {
       }
     }
   }
-  if (!bond_lanes_) std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
   for (int pass = 0; pass < parameters_.iterations; ++pass)
     ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes);
   if (BondSubstepInLanes(h, to_cu, scale, false)) return;
@@ -324,7 +321,7 @@ template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
   if constexpr (std::is_same_v<T, float>) {
-    if (density_lanes_) return ProjectDensityInLanes(alpha_tilde);
+    if (bond_lanes_) return ProjectDensityInLanes(alpha_tilde);  // the CPU has the 8 lanes
   }
   const std::vector<std::int32_t>& moving = state_.moving;
   slot_gradient_.resize(moving.size() * kSlots);
@@ -388,8 +385,8 @@ void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
     lane_slots_.resize(groups);
     const std::int32_t last = std::int32_t(p_.size()) - 1;
     const float last_point[4] = {p_[last][0], p_[last][1], p_[last][2], 0.0f};
-    const DensityLanes in{p_[0].data(),        last,   last_point, state_.neighbours.data(),
-                          moving_mask_.data(), kernel_};
+    const DensityLanes in{p_[0].data(),   last,   last_point, state_.neighbours.data(),
+                          moving_.data(), kernel_};
     const auto lanes_of = [&](std::size_t g, std::int32_t particle[8]) {
       const std::size_t lanes = std::min<std::size_t>(8, moving.size() - 8 * g);
       for (std::size_t l = 0; l < 8; ++l) particle[l] = moving[8 * g + std::min(l, lanes - 1)];
@@ -465,11 +462,11 @@ void Xpbd<T>::BondComplianceOf(T dt) {
 // moves its particle by ~1/α̃ of its error and the sum cannot overshoot; Gauss-Seidel's serial
 // chain (a square root and a division per bond, through the particle's position) cost 5x more.
 template <typename T>
-void Xpbd<T>::ProjectBondsOneSided(bool first, bool start_written) {
+void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written) {
   if (!start_written)  // fixed entries never change
     for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];
   if constexpr (std::is_same_v<T, float>) {
-    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data(), first);
+    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data(), first_pass);
   }
   for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
     const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
@@ -477,6 +474,7 @@ void Xpbd<T>::ProjectBondsOneSided(bool first, bool start_written) {
     const Vec3<T> pa = bond_start_[i];
     Vec3<T> sum{0, 0, 0};
     for (std::size_t b = first; b < last; ++b) {
+      if (first_pass) bond_lambda_[b] = 0;  // a substep's solve starts at λ = 0
       const T alpha_tilde = bond_alpha_tilde_[b];
       if (alpha_tilde < 0) continue;
       const Vec3<T>& pb = bond_start_[bonds_[b].partner];

@@ -103,8 +103,9 @@ class Xpbd final : public Solver {
   T StiffnessOf(const Bond& bond) const;
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
-  // `first`: the substep's first pass (λ = 0); `start_written`: bond_start_ already holds p.
-  void ProjectBondsOneSided(bool first, bool start_written);
+  // `first_pass`: the substep's first pass (λ starts at 0); `start_written`: bond_start_ already
+  // holds p.
+  void ProjectBondsOneSided(bool first_pass, bool start_written);
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
@@ -127,20 +128,19 @@ class Xpbd final : public Solver {
   std::vector<Bond> bonds_;
   std::vector<std::size_t> bond_rows_;  // bonds_[bond_rows_[r], bond_rows_[r + 1]): one row
   // The float solver's bond pass in vector lanes (bond_pushes.hpp), when the CPU has them: it
-  // then holds the bonds' λ and α̃ in its own layout.
+  // then holds the bonds' λ and α̃ in its own layout, and the density projection takes its
+  // lanes too (density_lanes.hpp).
   std::optional<BondLanes> bond_lanes_;
-  bool density_lanes_ = false;  // the float solver's density projection in 8 lanes
-  bool moving_block_ = false;   // the moving particles are rows [first, first + count)
+  bool moving_block_ = false;  // the moving particles are rows [first, first + count)
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
-  std::vector<char> moving_;
+  std::vector<std::int32_t> moving_;  // per particle: −1 moving, 0 fixed (a lane mask)
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
   std::vector<Vec3<T>> bond_start_;         // the split's bond pass: positions as the pass began
   std::vector<Vec3<T>> slot_gradient_;      // ProjectDensity: V0∇W per moving particle and slot
   std::vector<float> lane_record_;          // the same in lanes, with the lists (density_lanes.hpp)
   std::vector<int> lane_slots_;             // per lane group: the slots its record holds
-  std::vector<std::int32_t> moving_mask_;   // per particle: −1 moving, 0 fixed (for the lanes)
   std::vector<Vec3<T>> wall_normal_;        // a substep's last wall push direction, or zero
   double wall_friction_ = 1;                // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
