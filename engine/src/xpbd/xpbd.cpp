@@ -590,7 +590,7 @@ void Xpbd<T>::RestoreState(const std::string& state, const std::string& source) 
 
 template <typename T>
 std::vector<float> Xpbd<T>::Density() const {
-  return internal::DensityOfAll(k_, grid_, state_);
+  return internal::DensityOfAll(k_, grid_, state_, &boundary_only_density_);
 }
 
 template <typename T>

@@ -146,6 +146,8 @@ class Xpbd final : public Solver {
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
+  // Densities of boundary particles with only boundary particles around, for Density().
+  mutable std::vector<float> boundary_only_density_;
   std::size_t step_ = 0;
 };
 
