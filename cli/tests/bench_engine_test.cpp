@@ -22,6 +22,18 @@ TEST(BenchEngine, PhasesReportEveryPhaseOfTheStepAndTheFrames) {
   EXPECT_LE(p.at("step_s").get<double>(), p.at("wall_s").get<double>());
 }
 
+TEST(BenchEngine, XpbdReportsItsOwnPhases) {
+  const auto r = Owval("bench engine one_sprig --backend xpbd --phases --steps 40 --log-step 10");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json p = nlohmann::json::parse(r.out).at("profile");
+  const nlohmann::json& phases = p.at("step_phases_s");
+  EXPECT_EQ(phases.size(), 7u);
+  // one_sprig's bond needs its 28 substeps; the split scheme (the default) has no unsplit ones.
+  EXPECT_GT(phases.at("bond_substeps").get<double>(), 0);
+  EXPECT_EQ(phases.at("substeps").get<double>(), 0);
+  EXPECT_LE(p.at("step_s").get<double>(), p.at("wall_s").get<double>());
+}
+
 TEST(BenchEngine, WholeRunNeedsAReferenceFolder) {
   // A configuration file, not a folder of ../shared/reference with its meta.json.
   const std::string config = std::string(OWVAL_SHARED_DIR) + "/reference/one_sprig/configuration";

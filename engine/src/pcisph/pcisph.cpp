@@ -34,7 +34,7 @@ Pcisph::Pcisph(const SiberneticConfig& config, const PhysicsConstants& constants
 
 void Pcisph::Step() {
   const bool first = step_ == 0;
-  if (timing_) mark_ = std::chrono::steady_clock::now();
+  clock_.Start();
   grid_.Refresh(&state_, threads_);
   if (integrator_ == Integrator::kLeapfrog && !first) MovePositionsLeapfrog(k_, &state_, threads_);
   Mark(kNeighbours);
@@ -67,23 +67,6 @@ void Pcisph::Step() {
     InteractWithMembranes(k_, matter_, &state_, &membrane_scratch_, threads_);
   Mark(kMembranes);
   ++step_;
-}
-
-void Pcisph::Mark(Phase p) {
-  if (!timing_) return;
-  const auto now = std::chrono::steady_clock::now();
-  phase_s_[p] += std::chrono::duration<double>(now - mark_).count();
-  mark_ = now;
-}
-
-std::vector<Solver::PhaseTime> Pcisph::phase_seconds() const {
-  static constexpr const char* kNames[kPhaseCount] = {
-      "neighbours",        "density",         "forces",           "springs",
-      "predict_positions", "predict_density", "correct_pressure", "pressure_acceleration",
-      "integrate",         "membranes"};
-  std::vector<PhaseTime> out;
-  for (int p = 0; p < kPhaseCount; ++p) out.push_back({kNames[p], phase_s_[p]});
-  return out;
 }
 
 std::vector<float> Pcisph::Density() const {

@@ -18,7 +18,6 @@
 // Only moving particles and the boundary particles in their neighbour lists are computed;
 // boundary particles elsewhere influence nobody, so the result is the same as computing all.
 #include <array>
-#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +28,7 @@
 #include "owval/engine/run.hpp"
 #include "owval/engine/solver.hpp"
 #include "pcisph/pcisph_constants.hpp"
+#include "phase_clock.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
 
@@ -55,8 +55,8 @@ class Pcisph final : public Solver {
   // Muscle activations (96 values, Sibernetic's signal vector), used by the next step.
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   NonFinite FirstNonFinite() const override;
-  void EnablePhaseTiming() override { timing_ = true; }
-  std::vector<PhaseTime> phase_seconds() const override;
+  void EnablePhaseTiming() override { clock_.Enable(); }
+  std::vector<PhaseTime> phase_seconds() const override { return clock_.seconds(); }
   // Everything Step() reads: the particle state (x, v, a, last a, ρ, p, neighbour lists, active
   // set), x*, ρ*, a_p, the muscle activations and the step counter. The neighbour grid is not
   // saved: Refresh rebuilds it from the positions at the start of every step.
@@ -89,8 +89,7 @@ class Pcisph final : public Solver {
     kMembranes,
     kPhaseCount
   };
-  // Ends the current phase p: adds the time since the last mark to it (when timing).
-  void Mark(Phase p);
+  void Mark(Phase p) { clock_.Mark(p); }
 
   SphConstants k_;
   PcisphConstants pcisph_;
@@ -109,9 +108,9 @@ class Pcisph final : public Solver {
   // Densities of boundary particles with only boundary particles around, for Density().
   mutable std::vector<float> boundary_only_density_;
   std::size_t step_ = 0;
-  bool timing_ = false;
-  std::chrono::steady_clock::time_point mark_;
-  std::array<double, kPhaseCount> phase_s_{};
+  PhaseClock<kPhaseCount> clock_{{"neighbours", "density", "forces", "springs", "predict_positions",
+                                  "predict_density", "correct_pressure", "pressure_acceleration",
+                                  "integrate", "membranes"}};
 };
 
 }  // namespace owval::engine::internal

@@ -351,21 +351,6 @@ void Wcsph::Substep(double dt) {
   s_.time_s += dt;
 }
 
-void Wcsph::Mark(Phase p) {
-  if (!timing_) return;
-  const auto now = std::chrono::steady_clock::now();
-  phase_s_[p] += std::chrono::duration<double>(now - mark_).count();
-  mark_ = now;
-}
-
-std::vector<Solver::PhaseTime> Wcsph::phase_seconds() const {
-  static constexpr const char* kNames[kPhaseCount] = {
-      "kick", "density_xsph", "drift", "reorder", "neighbours", "forces", "dt_control"};
-  std::vector<PhaseTime> out;
-  for (int p = 0; p < kPhaseCount; ++p) out.push_back({kNames[p], phase_s_[p]});
-  return out;
-}
-
 double Wcsph::SafeDt() const {
   float v2 = 0, a2 = 0;
   const std::size_t n = s_.x.size();
@@ -401,7 +386,7 @@ void Wcsph::Restore() {
 // One nominal step: adaptive sub-steps up to step_ × time_step_s (step 0 only evaluates).
 void Wcsph::Step() {
   const double target = double(step_) * nominal_dt_;
-  if (timing_) mark_ = std::chrono::steady_clock::now();
+  clock_.Start();
   while (step_ > 0 && s_.time_s < target) {
     const double remaining = target - s_.time_s;
     const double safe = SafeDt();

@@ -34,7 +34,6 @@
 //   [CGD07] A. J. C. Crespo, M. Gómez-Gesteira, R. A. Dalrymple. Boundary conditions generated
 //           by dynamic particles in SPH methods. CMC 5(3) (2007) 173-184.
 #include <array>
-#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +41,7 @@
 #include "kernels/wendland_c2.hpp"
 #include "neighbours/cell_list.hpp"
 #include "owval/engine/solver.hpp"
+#include "phase_clock.hpp"
 
 namespace owval::engine::internal {
 
@@ -74,8 +74,8 @@ class Wcsph final : public Solver {
   std::string parameters() const override;
   // The adaptive stepping since the last call, as one JSON object (see docs/wcsph.md).
   std::string TakeStepLog() override;
-  void EnablePhaseTiming() override { timing_ = true; }
-  std::vector<PhaseTime> phase_seconds() const override;
+  void EnablePhaseTiming() override { clock_.Enable(); }
+  std::vector<PhaseTime> phase_seconds() const override { return clock_.seconds(); }
 
   // ---- For tests and measurements ----
   struct Stats {
@@ -136,7 +136,7 @@ class Wcsph final : public Solver {
   // lanes then added in order: the AVX-512 twins compute the same floats.
   void Accelerate(std::size_t i);
   void AccelerateAvx512(std::size_t i);
-  void Mark(Phase p);
+  void Mark(Phase p) { clock_.Mark(p); }
   void Reorder();
   double SafeDt() const;
   double MaxDensityVariation() const;
@@ -171,9 +171,8 @@ class Wcsph final : public Solver {
   // Since the last TakeStepLog.
   std::size_t log_substeps_ = 0, log_rollbacks_ = 0;
   double log_dt_min_ = 0, log_dt_max_ = 0, log_variation_max_ = 0;
-  bool timing_ = false;
-  std::chrono::steady_clock::time_point mark_;
-  std::array<double, kPhaseCount> phase_s_{};
+  PhaseClock<kPhaseCount> clock_{
+      {"kick", "density_xsph", "drift", "reorder", "neighbours", "forces", "dt_control"}};
 };
 
 }  // namespace owval::engine::internal

@@ -162,26 +162,34 @@ double Xpbd<T>::DerivedRestDensity() const {
 template <typename T>
 void Xpbd<T>::Step() {
   const bool first = step_ == 0;
+  clock_.Start();
   grid_.Refresh(&state_, threads_);
+  clock_.Mark(kNeighbours);
   ComputeDensity(k_, &state_, threads_);
+  clock_.Mark(kDensity);
   if (!first) {
     ComputeForces();  // at x(t), held over the substeps
     HoldAcceleration();
+    clock_.Mark(kForces);
     const int m = parameters_.density_passes;
     if (m <= 0) {
       const T h = T(k_.time_step_s) / T(substeps_);
       for (int substep = 0; substep < substeps_; ++substep) Substep(h);
+      clock_.Mark(kSubsteps);
     } else {
       const int inner = (substeps_ + m - 1) / m;  // at least the derived n bond substeps
       const T H = T(k_.time_step_s) / T(m), h = H / T(inner);
       BondComplianceOf(h);
       for (int pass = 0; pass < m; ++pass) {
         for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+        clock_.Mark(kBondSubsteps);
         Correct(H);
+        clock_.Mark(kCorrections);
       }
     }
   }
   InteractWithMembranes();
+  clock_.Mark(kMembranes);
   ++step_;
 }
 

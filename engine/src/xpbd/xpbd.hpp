@@ -31,6 +31,7 @@
 #include "kernels/sph_constants.hpp"
 #include "neighbours/neighbour_grid.hpp"
 #include "owval/engine/solver.hpp"
+#include "phase_clock.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
 #include "xpbd/bond_pushes.hpp"
@@ -71,6 +72,8 @@ class Xpbd final : public Solver {
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::string parameters() const override;
   NonFinite FirstNonFinite() const override;
+  void EnablePhaseTiming() override { clock_.Enable(); }
+  std::vector<PhaseTime> phase_seconds() const override { return clock_.seconds(); }
   // Checkpoints: the float state the phases share, the solver's positions and velocities in T
   // and the muscle activations; everything else is rebuilt within a step.
   void SaveState(std::string* out) const override;
@@ -88,6 +91,19 @@ class Xpbd final : public Solver {
     std::int32_t particle, partner;
     T rest_cu, stiffness;  // k_eff in s⁻² (Sibernetic's k, or k·factor off the worm body)
     int muscle;            // 1..96, or 0
+  };
+
+  // The phases of a step, for the per-phase profile: "substeps" is the unsplit scheme's
+  // (density_passes = 0), "bond_substeps" and "corrections" the split scheme's.
+  enum Phase {
+    kNeighbours,
+    kDensity,
+    kForces,
+    kSubsteps,
+    kBondSubsteps,
+    kCorrections,
+    kMembranes,
+    kPhaseCount
   };
 
   void ComputeForces();
@@ -149,6 +165,8 @@ class Xpbd final : public Solver {
   // Densities of boundary particles with only boundary particles around, for Density().
   mutable std::vector<float> boundary_only_density_;
   std::size_t step_ = 0;
+  PhaseClock<kPhaseCount> clock_{
+      {"neighbours", "density", "forces", "substeps", "bond_substeps", "corrections", "membranes"}};
 };
 
 extern template class Xpbd<float>;
