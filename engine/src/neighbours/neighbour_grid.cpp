@@ -86,7 +86,10 @@ void NeighbourGrid::SetStatic(const ParticleState& s) {
   }
   boundary_.assign(s.size(), 0);
   for (std::int32_t b : boundary) boundary_[std::size_t(b)] = 1;
-  listed_.assign(s.size(), 0);
+  static_rank_.assign(s.size(), -1);
+  for (std::size_t r = 0; r < static_items_.size(); ++r)
+    static_rank_[std::size_t(static_items_[r])] = std::int32_t(r);
+  listed_.assign((static_items_.size() + 7) / 8 * 8, 0);  // whole 8-byte words for ListActive
   merged_start_.assign(std::size_t(nx_) * ny_ * nz_, -1);
   merged_count_.assign(std::size_t(nx_) * ny_ * nz_, 0);
 }
@@ -217,11 +220,15 @@ void NeighbourGrid::ListSlots(ParticleState* state, std::int32_t i) {
   FindNeighbours(s, i, slots);
   const std::uint32_t mask = BoundarySlots(slots);
   s.boundary_slots[std::size_t(i)] = mask;
-  // Marks the boundary particles a moving particle lists, for ListActive (every write stores 1).
+  // Marks the boundary particles a moving particle lists, by their place in the boundary cell
+  // lists, for ListActive (every write stores 1).
   if (!boundary_[std::size_t(i)])
-    for (std::uint32_t bits = mask; bits != 0; bits &= bits - 1)
-      std::atomic_ref<std::uint8_t>(listed_[std::size_t(slots[__builtin_ctz(bits)].index)])
-          .store(1, std::memory_order_relaxed);
+    for (std::uint32_t bits = mask; bits != 0; bits &= bits - 1) {
+      const std::int32_t rank = static_rank_[std::size_t(slots[__builtin_ctz(bits)].index)];
+      if (rank >= 0)
+        std::atomic_ref<std::uint8_t>(listed_[std::size_t(rank)])
+            .store(1, std::memory_order_relaxed);
+    }
 }
 
 void NeighbourGrid::ListActive(ParticleState* state) {
@@ -232,11 +239,18 @@ void NeighbourGrid::ListActive(ParticleState* state) {
   // The boundary particles some moving particle lists (marked by ListSlots), in the order of the
   // boundary cell lists. Their order in `active` changes no result: each active particle's
   // quantities come from its own list alone.
-  for (std::int32_t b : static_items_) {
-    if (!listed_[std::size_t(b)]) continue;
-    listed_[std::size_t(b)] = 0;
-    is_active_[b] = 1;
-    s.active.push_back(b);
+  // The marks are read eight at a time: a step marks a few hundred of demo1's 17,498 boundary
+  // particles, and visiting each one's mark was 5% of a step.
+  for (std::size_t first = 0; first < listed_.size(); first += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, &listed_[first], sizeof word);
+    if (word == 0) continue;
+    std::memset(&listed_[first], 0, sizeof word);
+    for (; word != 0; word &= word - 1) {
+      const std::int32_t b = static_items_[first + std::size_t(__builtin_ctzll(word)) / 8];
+      is_active_[b] = 1;
+      s.active.push_back(b);
+    }
   }
 }
 

@@ -75,8 +75,12 @@ class NeighbourGrid {
   std::vector<int> merged_cells_;  // the cells merged in the last step
   std::vector<char> is_active_;    // per particle, for Refresh
   // Per particle: 1 for boundary particles (their type never changes), read instead of the
-  // type code in the position's w; and ListActive's marks.
-  std::vector<std::uint8_t> boundary_, listed_;
+  // type code in the position's w.
+  std::vector<std::uint8_t> boundary_;
+  // Per particle: its place in static_items_ (−1: not a binned boundary particle). ListActive's
+  // marks are kept by that place, so that reading them in order gives the cell lists' order.
+  std::vector<std::int32_t> static_rank_;
+  std::vector<std::uint8_t> listed_;
 };
 
 }  // namespace owval::engine::internal
