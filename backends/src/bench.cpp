@@ -24,41 +24,40 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-BackendTiming TimeBackend(const Backend& b, const BenchOptions& o, std::size_t steps,
-                          std::size_t particles) {
-  BackendTiming t;
-  t.backend = b.name;
-  for (int i = 0; i < o.repeat; ++i) {
-    const fs::path dir = fs::temp_directory_path() / ("owval-bench-" + std::to_string(::getpid()) +
-                                                      "-" + b.name + "-" + std::to_string(i));
+// Run `run` (0-based) of backend b, its wall time and peak memory added to t.
+void TimeOneRun(const Backend& b, const BenchOptions& o, int run, BackendTiming* t) {
+  const fs::path dir = fs::temp_directory_path() / ("owval-bench-" + std::to_string(::getpid()) +
+                                                    "-" + b.name + "-" + std::to_string(run));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "out");
+  ProcessOptions p;
+  p.command = BenchCommand(b, o, dir / "out");
+  p.working_directory = b.working_directory;
+  p.stderr_path = dir / "stderr.txt";
+  t->backend = b.name;
+  t->command = p.command;
+  if (o.on_progress)
+    o.on_progress(b.name + ": run " + std::to_string(run + 1) + " of " + std::to_string(o.repeat));
+  const ProcessResult r = RunShellCommand(p);
+  if (!r.ok()) {
+    const std::string tail = LogTail(p.stderr_path, 5, 150);
     fs::remove_all(dir);
-    fs::create_directories(dir / "out");
-    ProcessOptions p;
-    p.command = BenchCommand(b, o, dir / "out");
-    p.working_directory = b.working_directory;
-    p.stderr_path = dir / "stderr.txt";
-    t.command = p.command;
-    if (o.on_progress)
-      o.on_progress(b.name + ": run " + std::to_string(i + 1) + " of " + std::to_string(o.repeat));
-    const ProcessResult r = RunShellCommand(p);
-    if (!r.ok()) {
-      const std::string tail = LogTail(p.stderr_path, 5, 150);
-      fs::remove_all(dir);
-      throw InputError("backend " + b.name + ": command failed, " + r.Describe() +
-                       (tail.empty() ? "" : " (stderr: " + tail + ")"));
-    }
-    fs::remove_all(dir);
-    t.wall_s.push_back(r.wall_s);
-    t.peak_rss_kib.push_back(r.peak_rss_kib);
+    throw InputError("backend " + b.name + ": command failed, " + r.Describe() +
+                     (tail.empty() ? "" : " (stderr: " + tail + ")"));
   }
-  t.median_wall_s = Median(t.wall_s);
-  t.spread_wall_s = *std::max_element(t.wall_s.begin(), t.wall_s.end()) -
-                    *std::min_element(t.wall_s.begin(), t.wall_s.end());
-  t.steps_per_s = steps / t.median_wall_s;
-  t.particle_steps_per_s = t.steps_per_s * particles;
-  t.simulated_s_per_wall_s = o.scenario.time_s / t.median_wall_s;
-  t.peak_rss_mib = *std::max_element(t.peak_rss_kib.begin(), t.peak_rss_kib.end()) / 1024.0;
-  return t;
+  fs::remove_all(dir);
+  t->wall_s.push_back(r.wall_s);
+  t->peak_rss_kib.push_back(r.peak_rss_kib);
+}
+
+void Summarise(const BenchOptions& o, std::size_t steps, std::size_t particles, BackendTiming* t) {
+  t->median_wall_s = Median(t->wall_s);
+  t->spread_wall_s = *std::max_element(t->wall_s.begin(), t->wall_s.end()) -
+                     *std::min_element(t->wall_s.begin(), t->wall_s.end());
+  t->steps_per_s = steps / t->median_wall_s;
+  t->particle_steps_per_s = t->steps_per_s * particles;
+  t->simulated_s_per_wall_s = o.scenario.time_s / t->median_wall_s;
+  t->peak_rss_mib = *std::max_element(t->peak_rss_kib.begin(), t->peak_rss_kib.end()) / 1024.0;
 }
 
 }  // namespace
@@ -91,8 +90,14 @@ BenchReport BenchBackends(const std::vector<Backend>& backends, const BenchOptio
                                           static_cast<float>(o.scenario.time_step_s));
   report.particles = config.particle_count();
   for (const Backend& b : backends) BenchCommand(b, o, "/tmp");  // refuse stores before any work
-  for (const Backend& b : backends)
-    report.backends.push_back(TimeBackend(b, o, report.steps, report.particles));
+  // Round by round, each backend once per round: a machine whose speed drifts (other work on
+  // it) then slows every backend alike, where timing one backend's runs after another's would
+  // put the drift into their ratio.
+  report.backends.resize(backends.size());
+  for (int run = 0; run < o.repeat; ++run)
+    for (std::size_t b = 0; b < backends.size(); ++b)
+      TimeOneRun(backends[b], o, run, &report.backends[b]);
+  for (BackendTiming& t : report.backends) Summarise(o, report.steps, report.particles, &t);
   for (BackendTiming& t : report.backends)
     t.ratio_to_first = t.median_wall_s / report.backends.front().median_wall_s;
   return report;

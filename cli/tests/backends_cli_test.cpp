@@ -176,5 +176,25 @@ TEST(BackendsCli, BenchTimesEachBackendAsAProcess) {
       Owval("bench backends opencl --scenario one_sprig --backends " + file.string()).exit_code, 2);
 }
 
+TEST(BackendsCli, BenchRunsTheBackendsRoundByRound) {
+  // Two command backends that log their runs: with --repeat 2 the order must be a b a b, so that
+  // a drift in the machine's speed falls on both alike.
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const fs::path log = Scratch() / "bench_order.log";
+  fs::remove(log);
+  const std::string copy = "cp " + (kReference / "one_sprig" / "position_buffer.txt").string();
+  const auto entry = [&](const std::string& name) {
+    return ", \"" + name + "\": {\"command\": \"echo " + name + " >> " + log.string() + " && " +
+           copy + " {out}/\"}";
+  };
+  const fs::path file = BackendsFile("bench_order", entry("a") + entry("b"));
+  const Result r = Owval(
+      "bench backends a b --scenario one_sprig --time 0.002 --repeat 2 "
+      "--backends " +
+      file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Slurp(log), "a\nb\na\nb\n");
+}
+
 }  // namespace
 }  // namespace owval::testing

@@ -2,7 +2,9 @@
 // The same work on each backend, measured as whole processes (owval bench backends): wall time,
 // steps/s, particle-steps/s, simulated seconds per wall second and peak resident memory (wait4's
 // rusage), median and spread (max - min) over N runs, and the ratio of median wall times to the
-// first backend's. Built-in backends run the owval executable itself (`owval run ...`).
+// first backend's. Built-in backends run the owval executable itself (`owval run ...`). The runs
+// go round by round (run 1 of every backend, then run 2, ...), so that a drift in the machine's
+// speed falls on every backend alike.
 #include <filesystem>
 #include <functional>
 #include <map>
