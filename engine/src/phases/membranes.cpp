@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "kernels/kernels.hpp"
+#include "kernels/point_lanes.hpp"
 #include "kernels/simd.hpp"
 
 namespace owval::engine::internal {
@@ -85,19 +86,22 @@ __attribute__((target("avx2,fma"))) void UnitNormalsAvx2(const ElasticMatter& ma
     return fma(p[2], e[2], fma(p[0], e[0], mul(p[1], e[1])));
   };
   for (int first = 0; first < count; first += 8) {
-    alignas(32) float v[3][3][8];  // vertex, axis, lane
+    // Each corner's eight points by one 16-byte load per Float4 and a transpose: filling a stack
+    // array lane by lane and reading it back as vectors stalled on store forwarding.
+    const float* at[3][8];  // corner, lane
     for (int l = 0; l < 8; ++l) {
       const auto& tri = matter.membranes[std::size_t(tris[std::min(first + l, count - 1)])];
-      for (int corner = 0; corner < 3; ++corner) {
-        const Float4& q = s.position[tri[std::size_t(corner)]];
-        v[corner][0][l] = q.x, v[corner][1][l] = q.y, v[corner][2][l] = q.z;
-      }
+      for (int corner = 0; corner < 3; ++corner)
+        at[corner][l] = &s.position[tri[std::size_t(corner)]].x;
     }
+    __m256 v[3][3];  // corner, axis
+    for (int corner = 0; corner < 3; ++corner)
+      LoadPoints(at[corner], &v[corner][0], &v[corner][1], &v[corner][2]);
     __m256 a[3], ab[3], ac[3];
     for (int axis = 0; axis < 3; ++axis) {
-      a[axis] = _mm256_load_ps(v[0][axis]);
-      ab[axis] = sub(_mm256_load_ps(v[1][axis]), a[axis]);
-      ac[axis] = sub(_mm256_load_ps(v[2][axis]), a[axis]);
+      a[axis] = v[0][axis];
+      ab[axis] = sub(v[1][axis], a[axis]);
+      ac[axis] = sub(v[2][axis], a[axis]);
     }
     const __m256 n[3] = {fma(ab[1], ac[2], neg(mul(ab[2], ac[1]))),
                          fma(ab[2], ac[0], neg(mul(ab[0], ac[2]))),

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "xpbd/point_lanes.hpp"
+#include "kernels/point_lanes.hpp"
 
 namespace owval::engine::internal {
 namespace {

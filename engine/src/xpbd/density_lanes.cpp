@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-#include "xpbd/point_lanes.hpp"
+#include "kernels/point_lanes.hpp"
 
 namespace owval::engine::internal {
 namespace {

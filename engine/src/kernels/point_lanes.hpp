@@ -1,6 +1,6 @@
 #pragma once
 // Loading eight three-float points into three vectors of x, y and z, for the float solver's
-// 8-lane paths (bond_pushes.cpp, density_lanes.cpp).
+// 8-lane paths (xpbd/bond_pushes.cpp, xpbd/density_lanes.cpp, phases/membranes.cpp).
 #include <immintrin.h>
 
 #include <cstdint>
