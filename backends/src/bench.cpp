@@ -34,8 +34,7 @@ void TimeOneRun(const Backend& b, const BenchOptions& o, int run, BackendTiming*
   p.command = BenchCommand(b, o, dir / "out");
   p.working_directory = b.working_directory;
   p.stderr_path = dir / "stderr.txt";
-  t->backend = b.name;
-  t->command = p.command;
+  if (run == 0) t->command = p.command;  // later runs differ only in {out}
   if (o.on_progress)
     o.on_progress(b.name + ": run " + std::to_string(run + 1) + " of " + std::to_string(o.repeat));
   const ProcessResult r = RunShellCommand(p);
@@ -89,11 +88,14 @@ BenchReport BenchBackends(const std::vector<Backend>& backends, const BenchOptio
   report.steps = static_cast<std::size_t>(static_cast<float>(o.scenario.time_s) /
                                           static_cast<float>(o.scenario.time_step_s));
   report.particles = config.particle_count();
-  for (const Backend& b : backends) BenchCommand(b, o, "/tmp");  // refuse stores before any work
+  report.backends.resize(backends.size());
+  for (std::size_t b = 0; b < backends.size(); ++b) {
+    BenchCommand(backends[b], o, "/tmp");  // refuses stores before any work
+    report.backends[b].backend = backends[b].name;
+  }
   // Round by round, each backend once per round: a machine whose speed drifts (other work on
   // it) then slows every backend alike, where timing one backend's runs after another's would
   // put the drift into their ratio.
-  report.backends.resize(backends.size());
   for (int run = 0; run < o.repeat; ++run)
     for (std::size_t b = 0; b < backends.size(); ++b)
       TimeOneRun(backends[b], o, run, &report.backends[b]);

@@ -221,13 +221,11 @@ void NeighbourGrid::ListSlots(ParticleState* state, std::int32_t i) {
   const std::uint32_t mask = BoundarySlots(slots);
   s.boundary_slots[std::size_t(i)] = mask;
   // Marks the boundary particles a moving particle lists, by their place in the boundary cell
-  // lists, for ListActive (every write stores 1).
+  // lists, for ListActive (every write stores 1). Bin placed every boundary particle in them.
   if (!boundary_[std::size_t(i)])
     for (std::uint32_t bits = mask; bits != 0; bits &= bits - 1) {
       const std::int32_t rank = static_rank_[std::size_t(slots[__builtin_ctz(bits)].index)];
-      if (rank >= 0)
-        std::atomic_ref<std::uint8_t>(listed_[std::size_t(rank)])
-            .store(1, std::memory_order_relaxed);
+      std::atomic_ref<std::uint8_t>(listed_[std::size_t(rank)]).store(1, std::memory_order_relaxed);
     }
 }
 

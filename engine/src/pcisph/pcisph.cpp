@@ -37,40 +37,40 @@ void Pcisph::Step() {
   clock_.Start();
   grid_.Refresh(&state_, threads_);
   if (integrator_ == Integrator::kLeapfrog && !first) MovePositionsLeapfrog(k_, &state_, threads_);
-  Mark(kNeighbours);
+  clock_.Mark(kNeighbours);
   ComputeDensity(k_, &state_, threads_);
-  Mark(kDensity);
+  clock_.Mark(kDensity);
   ComputeViscosityGravitySurfaceTension(k_, &state_, threads_);
-  Mark(kForces);
+  clock_.Mark(kForces);
   ResetPressure();
   AddSpringForces(k_, matter_, &state_, threads_);
-  Mark(kSprings);
+  clock_.Mark(kSprings);
   const float short_range_pressure = k_.rest_density * pcisph_.delta;
   for (int iteration = 0; iteration < pcisph_.iterations; ++iteration) {
     PredictPositions();
-    Mark(kPredictPositions);
+    clock_.Mark(kPredictPositions);
     PredictDensity();
-    Mark(kPredictDensity);
+    clock_.Mark(kPredictDensity);
     CorrectPressure();
-    Mark(kCorrectPressure);
+    clock_.Mark(kCorrectPressure);
     ComputePressureAcceleration(k_, state_, predicted_density_, short_range_pressure,
                                 &pressure_acceleration_, threads_);
-    Mark(kPressureAcceleration);
+    clock_.Mark(kPressureAcceleration);
   }
   if (integrator_ == Integrator::kLeapfrog) {
     IntegrateLeapfrogVelocities(k_, pressure_acceleration_, &state_, first, threads_);
   } else {
     IntegrateSemiImplicitEuler(k_, pressure_acceleration_, &state_, first, threads_);
   }
-  Mark(kIntegrate);
+  clock_.Mark(kIntegrate);
   if (!matter_.membranes.empty())
     InteractWithMembranes(k_, matter_, &state_, &membrane_scratch_, threads_);
-  Mark(kMembranes);
+  clock_.Mark(kMembranes);
   ++step_;
 }
 
 std::vector<float> Pcisph::Density() const {
-  return internal::DensityOfAll(k_, grid_, state_, &boundary_only_density_);
+  return output_density_.Of(k_, grid_, state_);
 }
 
 void Pcisph::ResetPressure() {

@@ -28,6 +28,7 @@
 #include "owval/engine/run.hpp"
 #include "owval/engine/solver.hpp"
 #include "pcisph/pcisph_constants.hpp"
+#include "phases/density.hpp"
 #include "phase_clock.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
@@ -89,7 +90,6 @@ class Pcisph final : public Solver {
     kMembranes,
     kPhaseCount
   };
-  void Mark(Phase p) { clock_.Mark(p); }
 
   SphConstants k_;
   PcisphConstants pcisph_;
@@ -105,8 +105,7 @@ class Pcisph final : public Solver {
   std::vector<float> predicted_density_;
   std::vector<Float4> pressure_acceleration_;
   std::vector<Float4> membrane_scratch_;
-  // Densities of boundary particles with only boundary particles around, for Density().
-  mutable std::vector<float> boundary_only_density_;
+  mutable internal::OutputDensity output_density_;  // for Density()
   std::size_t step_ = 0;
   PhaseClock<kPhaseCount> clock_{{"neighbours", "density", "forces", "springs", "predict_positions",
                                   "predict_density", "correct_pressure", "pressure_acceleration",

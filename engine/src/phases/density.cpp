@@ -19,27 +19,25 @@ void ComputeDensity(const SphConstants& k, ParticleState* state, int threads) {
   }
 }
 
-std::vector<float> DensityOfAll(const SphConstants& k, const NeighbourGrid& grid,
-                                const ParticleState& state, std::vector<float>* boundary_only) {
+std::vector<float> OutputDensity::Of(const SphConstants& k, const NeighbourGrid& grid,
+                                     const ParticleState& state) {
   std::vector<float> density(state.size());
-  if (boundary_only) boundary_only->resize(state.size(), -1.0f);  // −1: not computed yet
+  boundary_only_.resize(state.size(), -1.0f);
   Neighbour slots[kSlots];
   for (std::size_t i = 0; i < state.size(); ++i) {
     if (grid.IsActive(std::int32_t(i))) {
       density[i] = state.density[i];
       continue;
     }
-    // A boundary particle whose search cells hold no moving particle has the list, and so the
-    // density, it had the last time that was true: computed once, then reused.
-    const bool fixed = boundary_only && IsBoundary(state.position[i].w) &&
-                       grid.SearchesOnlyBoundary(state, std::int32_t(i));
-    if (fixed && (*boundary_only)[i] > 0) {  // densities are > 0
-      density[i] = (*boundary_only)[i];
+    const bool fixed =
+        IsBoundary(state.position[i].w) && grid.SearchesOnlyBoundary(state, std::int32_t(i));
+    if (fixed && boundary_only_[i] > 0) {  // densities are > 0
+      density[i] = boundary_only_[i];
       continue;
     }
     grid.FindNeighbours(state, std::int32_t(i), slots);
     density[i] = Wpoly6Density(k, DensitySum(k, slots));
-    if (fixed) (*boundary_only)[i] = density[i];
+    if (fixed) boundary_only_[i] = density[i];
   }
   return density;
 }

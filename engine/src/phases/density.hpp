@@ -33,12 +33,17 @@ float DensitySum(const SphConstants& k, const Neighbour* slots);
 // ρ of every active particle (moving ones and the boundary particles next to them).
 void ComputeDensity(const SphConstants& k, ParticleState* state, int threads);
 
-// ρ of every particle at the current positions: the step's value where it computed one, a fresh
-// sum for boundary particles far from the action. For output. boundary_only caches, per row, the
-// density of a boundary particle with no moving particle in its search cells (the caller keeps
-// it between calls; it starts empty); without it every such density is summed afresh.
-std::vector<float> DensityOfAll(const SphConstants& k, const NeighbourGrid& grid,
-                                const ParticleState& state,
-                                std::vector<float>* boundary_only = nullptr);
+// ρ of every particle at the current positions, for output: the step's value where it computed
+// one, a fresh sum for boundary particles far from the action. A boundary particle whose search
+// cells hold no moving particle has the density it had the last time that was true, so Of() sums
+// it once and keeps it; a solver holds one OutputDensity for the run.
+class OutputDensity {
+ public:
+  std::vector<float> Of(const SphConstants& k, const NeighbourGrid& grid,
+                        const ParticleState& state);
+
+ private:
+  std::vector<float> boundary_only_;  // per row; −1 where not computed yet
+};
 
 }  // namespace owval::engine::internal

@@ -331,23 +331,23 @@ void Wcsph::Drift(double dt) {
 // of the first kick are those of the last evaluation.
 void Wcsph::Substep(double dt) {
   Kick(0.5 * dt);
-  Mark(kKick);
+  clock_.Mark(kKick);
   DensityRates();
   AdvanceDensity(dt);
-  Mark(kDensity);
+  clock_.Mark(kDensity);
   Drift(dt);
-  Mark(kDrift);
+  clock_.Mark(kDrift);
   if (p_.morton_reorder && ++s_.since_reorder >= std::size_t(p_.reorder_interval)) {
     Reorder();
     s_.since_reorder = 0;
   }
-  Mark(kReorder);
+  clock_.Mark(kReorder);
   BuildNeighbours();
-  Mark(kNeighbours);
+  clock_.Mark(kNeighbours);
   Evaluate();
-  Mark(kForces);
+  clock_.Mark(kForces);
   Kick(0.5 * dt);
-  Mark(kKick);
+  clock_.Mark(kKick);
   s_.time_s += dt;
 }
 
@@ -399,19 +399,19 @@ void Wcsph::Step() {
     const bool last = parts == 1;
     const bool optimistic = try_optimistic && dt > safe;
     if (optimistic) Checkpoint();
-    Mark(kControl);
+    clock_.Mark(kControl);
     Substep(dt);
     if (last) s_.time_s = target;
     const double variation = MaxDensityVariation();
     if (optimistic && variation > p_.rollback_threshold) {
       Restore();
-      Mark(kControl);
+      clock_.Mark(kControl);
       ++stats_.rollbacks;
       ++log_rollbacks_;
       cooldown_ = std::size_t(p_.cooldown_steps);
       continue;
     }
-    Mark(kControl);
+    clock_.Mark(kControl);
     if (!optimistic && cooldown_ > 0) --cooldown_;
     ++stats_.substeps;
     stats_.last_dt_s = dt;

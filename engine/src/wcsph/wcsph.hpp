@@ -136,7 +136,6 @@ class Wcsph final : public Solver {
   // lanes then added in order: the AVX-512 twins compute the same floats.
   void Accelerate(std::size_t i);
   void AccelerateAvx512(std::size_t i);
-  void Mark(Phase p) { clock_.Mark(p); }
   void Reorder();
   double SafeDt() const;
   double MaxDensityVariation() const;

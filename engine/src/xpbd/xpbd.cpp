@@ -598,7 +598,7 @@ void Xpbd<T>::RestoreState(const std::string& state, const std::string& source) 
 
 template <typename T>
 std::vector<float> Xpbd<T>::Density() const {
-  return internal::DensityOfAll(k_, grid_, state_, &boundary_only_density_);
+  return output_density_.Of(k_, grid_, state_);
 }
 
 template <typename T>

@@ -32,6 +32,7 @@
 #include "neighbours/neighbour_grid.hpp"
 #include "owval/engine/solver.hpp"
 #include "phase_clock.hpp"
+#include "phases/density.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
 #include "xpbd/bond_pushes.hpp"
@@ -162,8 +163,7 @@ class Xpbd final : public Solver {
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
-  // Densities of boundary particles with only boundary particles around, for Density().
-  mutable std::vector<float> boundary_only_density_;
+  mutable internal::OutputDensity output_density_;  // for Density()
   std::size_t step_ = 0;
   PhaseClock<kPhaseCount> clock_{
       {"neighbours", "density", "forces", "substeps", "bond_substeps", "corrections", "membranes"}};
