@@ -69,9 +69,7 @@ void Pcisph::Step() {
   ++step_;
 }
 
-std::vector<float> Pcisph::Density() const {
-  return output_density_.Of(k_, grid_, state_);
-}
+std::vector<float> Pcisph::Density() const { return output_density_.Of(k_, grid_, state_); }
 
 void Pcisph::ResetPressure() {
   ParticleState& s = state_;

@@ -28,8 +28,8 @@
 #include "owval/engine/run.hpp"
 #include "owval/engine/solver.hpp"
 #include "pcisph/pcisph_constants.hpp"
-#include "phases/density.hpp"
 #include "phase_clock.hpp"
+#include "phases/density.hpp"
 #include "state/elastic_matter.hpp"
 #include "state/particle_state.hpp"
 
