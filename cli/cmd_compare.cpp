@@ -33,22 +33,15 @@ struct CompareArgs {
 
 const char* kGatesHelp =
     "Gates (each printed with value, threshold and source; flags override a --manifest's "
-    "\"gates\", which override the defaults): frames: |cand-ref|/reference range of the tracked "
-    "scalar at each gated frame < 0.05; period and half_amplitude: relative gaps < 0.02 and "
-    "< 0.05, applied only when both signals have >= 4 upward mean crossings (else n/a); per "
+    "\"gates\", which override the defaults given with each flag): frames: |cand-ref|/reference "
+    "range of the tracked scalar at each gated frame; period and half_amplitude: relative gaps, "
+    "applied only when both signals have --min-crossings upward mean crossings (else n/a); per "
     "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
-    "per axis), final_distance (last frame), each < 0.05 of the box; particle_distance.initial/"
-    "mean/final of moving particles < 0.05 of the box. Worms (both runs): worm.centre_of_mass "
-    "< 0.05 of the box, worm.span and worm.cross_section_diameter < 0.05 relative. Liquid over "
-    "an elastic sheet (demo2): liquid.fraction_above_membrane difference < 0.05. Both runs are "
-    "measured over their common "
-    "time window only.";
-
-void AddGateFlag(CLI::App* cmd, CompareArgs* a, const std::string& flag,
-                 compare::Threshold compare::ParityGates::*member, const std::string& help) {
-  a->gates.emplace_back(member, std::nullopt);
-  cmd->add_option(flag, a->gates.back().second, help)->check(CLI::PositiveNumber);
-}
+    "per axis), final_distance (last frame), fractions of the box; particle_distance.initial/"
+    "mean/final of moving particles. Worms (both runs): worm.centre_of_mass (of the box), "
+    "worm.span and worm.cross_section_diameter (relative). Liquid over an elastic sheet (demo2): "
+    "liquid.fraction_above_membrane difference. Both runs are measured over their common time "
+    "window only.";
 
 compare::ParityOptions Options(const CompareArgs& a) {
   compare::ParityOptions o;
@@ -107,7 +100,7 @@ void RunCompare(const CompareArgs& a) {
 
 void SetUp(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
-  args->gates.reserve(16);
+  args->gates.reserve(compare::kGateThresholdFields.size());  // options keep pointers into it
   CLI::App* cmd = app.add_subcommand(
       "compare", "Phase 7: frame-by-frame parity of a candidate against a reference");
   cmd->footer(kGatesHelp);
@@ -134,25 +127,11 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--scale", args->scale,
                   "Scale for the frame gate in cu (default: reference range)")
       ->check(CLI::PositiveNumber);
-  using G = compare::ParityGates;
-  AddGateFlag(cmd, args.get(), "--threshold", &G::frame, "frames gate (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--period-gap", &G::period_gap, "period gate (default 0.02)");
-  AddGateFlag(cmd, args.get(), "--amplitude-gap", &G::amplitude_gap,
-              "half_amplitude gate (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--min-crossings", &G::min_crossings,
-              "Upward crossings both signals need for the oscillation gates (default 4)");
-  AddGateFlag(cmd, args.get(), "--centroid-threshold", &G::centroid_distance,
-              "centroid_distance gates, fraction of the box (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--extent-threshold", &G::extent,
-              "extent gates, fraction of the box extent (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--final-threshold", &G::final_distance,
-              "final_distance gates, fraction of the box (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--particle-threshold", &G::particle_distance,
-              "particle_distance gates, fraction of the box (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--body-threshold", &G::body_shape,
-              "worm.span and worm.cross_section_diameter gates, relative (default 0.05)");
-  AddGateFlag(cmd, args.get(), "--membrane-threshold", &G::membrane_liquid_fraction,
-              "liquid.fraction_above_membrane gate (default 0.05)");
+  for (const compare::GateThresholdField& field : compare::kGateThresholdFields) {
+    args->gates.emplace_back(field.member, std::nullopt);
+    cmd->add_option(field.flag, args->gates.back().second, compare::GateThresholdHelp(field))
+        ->check(CLI::PositiveNumber);
+  }
   cmd->add_option("--manifest", args->manifest, "Scenario manifest JSON (its track and gates)");
   cmd->add_option("--markdown", args->markdown, "Also write the report as Markdown (for a PR)");
   cmd->add_flag("--json", args->json, "Machine-readable output");

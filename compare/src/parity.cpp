@@ -9,6 +9,7 @@
 
 #include "body_gates.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/compare/metrics_json.hpp"
 
@@ -455,6 +456,31 @@ std::string ParityReport::ToTable() const {
   s << "  particle distance (cu): initial " << l2_initial_cu << ", mean " << l2_mean_cu
     << ", final " << l2_final_cu << "\n";
   return s.str();
+}
+
+using G = ParityGates;
+const std::vector<GateThresholdField> kGateThresholdFields = {
+    {"frame_threshold", "--threshold", &G::frame, "frames gate"},
+    {"period_gap_threshold", "--period-gap", &G::period_gap, "period gate"},
+    {"amplitude_gap_threshold", "--amplitude-gap", &G::amplitude_gap, "half_amplitude gate"},
+    {"min_crossings", "--min-crossings", &G::min_crossings,
+     "Upward crossings both signals need for the oscillation gates"},
+    {"centroid_distance_threshold", "--centroid-threshold", &G::centroid_distance,
+     "centroid_distance gates, fraction of the box"},
+    {"extent_threshold", "--extent-threshold", &G::extent,
+     "extent gates, fraction of the box extent"},
+    {"final_distance_threshold", "--final-threshold", &G::final_distance,
+     "final_distance gates, fraction of the box"},
+    {"particle_distance_threshold", "--particle-threshold", &G::particle_distance,
+     "particle_distance gates, fraction of the box"},
+    {"body_shape_threshold", "--body-threshold", &G::body_shape,
+     "worm.span and worm.cross_section_diameter gates, relative"},
+    {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
+     "liquid.fraction_above_membrane gate"}};
+
+std::string GateThresholdHelp(const GateThresholdField& field) {
+  return std::string(field.help) + " (default " +
+         FormatNumber((ParityGates{}.*field.member).value) + ")";
 }
 
 }  // namespace owval::compare

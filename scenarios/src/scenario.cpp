@@ -61,24 +61,16 @@ Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
 
 void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
                         compare::ParityGates* out) {
-  const std::map<std::string, compare::Threshold*> keys = {
-      {"frame_threshold", &out->frame},
-      {"period_gap_threshold", &out->period_gap},
-      {"amplitude_gap_threshold", &out->amplitude_gap},
-      {"min_crossings", &out->min_crossings},
-      {"centroid_distance_threshold", &out->centroid_distance},
-      {"extent_threshold", &out->extent},
-      {"final_distance_threshold", &out->final_distance},
-      {"particle_distance_threshold", &out->particle_distance},
-      {"body_shape_threshold", &out->body_shape},
-      {"membrane_liquid_fraction_threshold", &out->membrane_liquid_fraction}};
   if (!gates.is_object()) throw InputError(where, 0, "\"gates\": expected an object");
   for (const auto& [key, value] : gates.items()) {
-    const auto it = keys.find(key);
-    if (it == keys.end()) throw InputError(where, 0, "\"gates." + key + "\": unknown gate");
+    const auto field = std::find_if(
+        compare::kGateThresholdFields.begin(), compare::kGateThresholdFields.end(),
+        [&key](const compare::GateThresholdField& f) { return key == f.manifest_key; });
+    if (field == compare::kGateThresholdFields.end())
+      throw InputError(where, 0, "\"gates." + key + "\": unknown gate");
     if (!value.is_number() || !(value.get<double>() > 0) || !std::isfinite(value.get<double>()))
       throw InputError(where, 0, "\"gates." + key + "\": expected a positive number");
-    *it->second = {value.get<double>(), compare::ThresholdSource::kManifest};
+    out->*field->member = {value.get<double>(), compare::ThresholdSource::kManifest};
   }
 }
 

@@ -179,6 +179,24 @@ TEST(Manifests, EveryBuiltInScenarioLoadsAndGenerates) {
   EXPECT_THROW(LoadScenario("no_such_scenario", kSource), InputError);
 }
 
+TEST(Manifests, EveryGateKeySetsItsOwnThresholdAndNoOther) {
+  const auto& fields = compare::kGateThresholdFields;
+  for (const compare::GateThresholdField& field : fields) {
+    compare::ParityGates gates;
+    ApplyManifestGates({{field.manifest_key, 0.123}}, "m.json", &gates);
+    for (const compare::GateThresholdField& other : fields) {
+      const compare::Threshold& t = gates.*other.member;
+      const bool own = other.member == field.member;
+      EXPECT_EQ(t.value == 0.123, own) << field.manifest_key << " vs " << other.manifest_key;
+      EXPECT_EQ(t.source == compare::ThresholdSource::kManifest, own) << other.manifest_key;
+    }
+  }
+  // One row per ParityGates member: ParityGates holds nothing but Thresholds.
+  EXPECT_EQ(fields.size(), sizeof(compare::ParityGates) / sizeof(compare::Threshold));
+  compare::ParityGates gates;
+  EXPECT_THROW(ApplyManifestGates({{"frames_threshold", 0.1}}, "m.json", &gates), InputError);
+}
+
 TEST(Manifests, ResolveTakesANameOrAConfigurationFile) {
   const engine::SiberneticConfig by_name = ResolveConfig("one_sprig", kSource);
   const fs::path path = fs::path(testing::TempDir()) / "owval_resolve.config";

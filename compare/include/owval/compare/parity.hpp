@@ -49,6 +49,19 @@ struct ParityGates {
   Threshold membrane_liquid_fraction{0.05};  // |difference| of the liquid fraction above a sheet
 };
 
+// Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
+// `owval compare` flag. The one list both readers use (scenarios::ApplyManifestGates, the CLI).
+struct GateThresholdField {
+  const char* manifest_key;  // "frame_threshold"
+  const char* flag;          // "--threshold"
+  Threshold ParityGates::*member;
+  const char* help;  // what the threshold bounds
+};
+extern const std::vector<GateThresholdField> kGateThresholdFields;
+
+// `field`'s help with its default: "frames gate (default 0.05)".
+std::string GateThresholdHelp(const GateThresholdField& field);
+
 struct ParityOptions {
   Track track;  // the tracked scalar of the frame gate
   // Reference frame indices to gate; empty means every reference frame that has a partner.

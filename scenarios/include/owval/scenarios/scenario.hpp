@@ -31,10 +31,9 @@ struct Scenario {
   nlohmann::json manifest;     // the manifest as read
 };
 
-// The manifest's "gates" object onto `gates` (source: manifest). Keys: frame_threshold,
-// period_gap_threshold, amplitude_gap_threshold, min_crossings, centroid_distance_threshold,
-// extent_threshold, final_distance_threshold, particle_distance_threshold; each a positive
-// number. InputError naming `where` and the key for anything else.
+// The manifest's "gates" object onto `gates` (source: manifest). Keys: the manifest_key of
+// compare::kGateThresholdFields, each a positive number. InputError naming `where` and the key
+// for anything else.
 void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
                         compare::ParityGates* out);
 
