@@ -458,6 +458,12 @@ std::string ParityReport::ToTable() const {
   return s.str();
 }
 
+std::vector<Gate> SampledFrameGates(FrameSource& reference, FrameSource& candidate,
+                                    const ParityOptions& options) {
+  const ParityReport r = CompareFrameSources(reference, candidate, options);
+  return {*r.gate("frames"), *r.gate("frames.group_centroids")};
+}
+
 using G = ParityGates;
 const std::vector<GateThresholdField> kGateThresholdFields = {
     {"frame_threshold", "--threshold", &G::frame, "frames gate"},

@@ -126,4 +126,9 @@ ParityReport CompareFrameSources(FrameSource& reference, FrameSource& candidate,
 ParityReport CompareTrajectories(const Trajectory& reference, const Trajectory& candidate,
                                  const ParityOptions& options);
 
+// Phase 7's frame gates at options.sample_frames (owval frames; owval compare --frames computes
+// the same): the tracked scalar's "frames" gate and the moving groups' "frames.group_centroids".
+std::vector<Gate> SampledFrameGates(FrameSource& reference, FrameSource& candidate,
+                                    const ParityOptions& options);
+
 }  // namespace owval::compare
