@@ -62,7 +62,9 @@ Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
 void ApplyManifestGates(const nlohmann::json& gates, const std::string& where,
                         compare::ParityGates* out) {
   if (!gates.is_object()) throw InputError(where, 0, "\"gates\": expected an object");
-  for (const auto& [key, value] : gates.items()) {
+  for (const auto& item : gates.items()) {
+    const std::string& key = item.key();
+    const nlohmann::json& value = item.value();
     const auto field = std::find_if(
         compare::kGateThresholdFields.begin(), compare::kGateThresholdFields.end(),
         [&key](const compare::GateThresholdField& f) { return key == f.manifest_key; });
