@@ -5,7 +5,10 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
+
+#include <Eigen/Dense>
 
 #include "body_gates.hpp"
 #include "owval/base/errors.hpp"
@@ -55,14 +58,56 @@ double BoxScale(const Box& box) {
   return s > 0 ? s : 1.0;
 }
 
+// The group's particles' offsets from their centroid (cu).
+std::vector<Eigen::Vector3d> Offsets(const FrameRef& f, const std::vector<std::size_t>& group,
+                                     const std::array<double, 3>& centroid) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(group.size());
+  for (std::size_t p : group) {
+    const float* x = f.trajectory.position(f.frame, p);
+    out.push_back({x[0] - centroid[0], x[1] - centroid[1], x[2] - centroid[2]});
+  }
+  return out;
+}
+
+// The rotation R that best maps the offsets `from` onto `to` (least squares, a proper rotation:
+// Kabsch, Acta Cryst. A32, 922, 1976), its angle in degrees, and the extents of `to` with R
+// undone, per axis of `from`'s frame.
+struct BodyPose {
+  double angle_deg = 0;
+  std::array<double, 3> extent{};
+};
+BodyPose BestFitPose(const std::vector<Eigen::Vector3d>& from,
+                     const std::vector<Eigen::Vector3d>& to) {
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (std::size_t p = 0; p < from.size(); ++p) covariance += from[p] * to[p].transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d sign = Eigen::Matrix3d::Identity();
+  sign(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
+  const Eigen::Matrix3d rotation = svd.matrixV() * sign * svd.matrixU().transpose();  // to ≈ R from
+  BodyPose pose;
+  pose.angle_deg =
+      std::acos(std::clamp((rotation.trace() - 1) / 2, -1.0, 1.0)) * 180 / std::numbers::pi;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (const Eigen::Vector3d& x : to) {
+    const Eigen::Vector3d body = rotation.transpose() * x;
+    lo = lo.cwiseMin(body), hi = hi.cwiseMax(body);
+  }
+  for (int a = 0; a < 3; ++a) pose.extent[a] = to.empty() ? 0 : hi[a] - lo[a];
+  return pose;
+}
+
 // One group's drift, accumulated pair by pair in time order.
 struct DriftAccumulator {
   std::vector<std::size_t> members;
   GroupDrift d;
+  std::vector<Eigen::Vector3d> first_ref, first_cand;  // offsets at the first paired frame
 
   void Observe(const FrameRef& ref, const FrameRef& cand, const Box& box) {
     const auto a = Centroid(ref.trajectory, ref.frame, members),
                b = Centroid(cand.trajectory, cand.frame, members);
+    ObservePose(ref, cand, a, b);
     const double dist = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     d.max_centroid_distance_cu = std::max(d.max_centroid_distance_cu, dist);
     d.final_centroid_distance_cu = dist;
@@ -74,6 +119,20 @@ struct DriftAccumulator {
           std::max(d.max_extent_difference_fraction, std::abs(ec[ax] - er[ax]) / extent);
       d.final_extent_ratio[ax] = er[ax] > 0 ? ec[ax] / er[ax] : (ec[ax] > 0 ? INFINITY : 1);
     }
+  }
+
+  void ObservePose(const FrameRef& ref, const FrameRef& cand, const std::array<double, 3>& a,
+                   const std::array<double, 3>& b) {
+    if (first_ref.empty()) {
+      first_ref = Offsets(ref, members, a), first_cand = Offsets(cand, members, b);
+      return;
+    }
+    const BodyPose r = BestFitPose(first_ref, Offsets(ref, members, a));
+    const BodyPose c = BestFitPose(first_cand, Offsets(cand, members, b));
+    d.final_rotation_deg[0] = r.angle_deg, d.final_rotation_deg[1] = c.angle_deg;
+    for (int ax = 0; ax < 3; ++ax)
+      d.final_body_extent_ratio[ax] =
+          r.extent[ax] > 0 ? c.extent[ax] / r.extent[ax] : (c.extent[ax] > 0 ? INFINITY : 1);
   }
 };
 
@@ -260,6 +319,15 @@ void GateGroups(const ParityOptions& o, ParityReport* r) {
     std::snprintf(offset, sizeof offset, "last-frame offset (x, y, z) = (%+.3g, %+.3g, %+.3g) cu",
                   d.final_offset_cu[0], d.final_offset_cu[1], d.final_offset_cu[2]);
     f.detail = offset;
+    if (d.group == "elastic") {
+      char turned[200];
+      std::snprintf(turned, sizeof turned,
+                    "last frame: turned %.1f deg (reference) and %.1f deg (candidate) since the "
+                    "first; extents in each run's own axes cand/ref (x, y, z) = (%.3f, %.3f, %.3f)",
+                    d.final_rotation_deg[0], d.final_rotation_deg[1], d.final_body_extent_ratio[0],
+                    d.final_body_extent_ratio[1], d.final_body_extent_ratio[2]);
+      e.detail = turned;
+    }
     for (Gate* g : {&c, &e, &f}) {
       Decide(g);
       r->gates.push_back(*g);
@@ -394,7 +462,12 @@ nlohmann::json ParityReport::ToJson() const {
          {"max_centroid_distance_cu", d.max_centroid_distance_cu},
          {"max_extent_difference_of_box", d.max_extent_difference_fraction},
          {"final_extent_ratio_xyz",
-          {d.final_extent_ratio[0], d.final_extent_ratio[1], d.final_extent_ratio[2]}}});
+          {d.final_extent_ratio[0], d.final_extent_ratio[1], d.final_extent_ratio[2]}},
+         {"final_rotation_deg",
+          {{"reference", d.final_rotation_deg[0]}, {"candidate", d.final_rotation_deg[1]}}},
+         {"final_body_extent_ratio_xyz",
+          {d.final_body_extent_ratio[0], d.final_body_extent_ratio[1],
+           d.final_body_extent_ratio[2]}}});
   nlohmann::json gates_json = nlohmann::json::array();
   for (const Gate& g : gates) gates_json.push_back(compare::ToJson(g));
   return {{"subject", subject},

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
@@ -157,6 +159,54 @@ TEST(Parity, ThresholdsCarryTheirSource) {
   EXPECT_EQ(ToJson(*r.gate("frames"))["threshold_source"], "flag");
   EXPECT_EQ(r.gate("extent"), nullptr);
   EXPECT_EQ(r.gate("elastic.extent")->threshold.source, ThresholdSource::kDefault);
+}
+
+// A 3 × 3 × 3 elastic lattice (spacing 2 cu) in a 20 cu box, at its first frame and then
+// turned about the vertical by `turn_deg` and stretched along its own x by `stretch`.
+Trajectory TurnedLattice(double turn_deg, double stretch) {
+  Trajectory t;
+  t.box = {0, 20, 0, 20, 0, 20};
+  t.time_step_s = 1e-3;
+  std::vector<float> first, last;
+  const double c = std::cos(turn_deg * std::numbers::pi / 180),
+               s = std::sin(turn_deg * std::numbers::pi / 180);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        t.type.push_back(2.1f);
+        const double x = 2.0 * (i - 1), y = 2.0 * (j - 1), z = 2.0 * (k - 1);
+        first.insert(first.end(), {float(10 + x), float(10 + y), float(10 + z)});
+        const double xs = stretch * x;  // body frame: stretched along x, then turned about y
+        last.insert(last.end(),
+                    {float(10 + c * xs + s * z), float(10 + y), float(10 - s * xs + c * z)});
+      }
+  t.AppendFrame(0, first.data());
+  t.AppendFrame(1e-3, last.data());
+  return t;
+}
+
+TEST(Parity, ExtentGateSaysHowFarEachBodyTurnedAndItsOwnExtents) {
+  // The candidate's cube turns 30° about y where the reference's holds still: its bounding box
+  // grows in x and z (the gate fails) but its shape in its own axes is the reference's.
+  const ParityReport turned = CompareTrajectories(TurnedLattice(0, 1), TurnedLattice(30, 1), {});
+  ASSERT_EQ(turned.drift.size(), 1u);
+  const GroupDrift& d = turned.drift[0];
+  EXPECT_NEAR(d.final_rotation_deg[0], 0.0, 1e-3);
+  EXPECT_NEAR(d.final_rotation_deg[1], 30.0, 1e-3);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(d.final_body_extent_ratio[a], 1.0, 1e-5);
+  EXPECT_NEAR(d.final_extent_ratio[0],
+              std::cos(std::numbers::pi / 6) + std::sin(std::numbers::pi / 6), 1e-5);
+  EXPECT_EQ(turned.gate("elastic.extent")->status, GateStatus::kFail);
+  EXPECT_NE(turned.gate("elastic.extent")->detail.find("turned 0.0 deg (reference) and 30.0 deg"),
+            std::string::npos);
+  // Stretched 20% along its own x as well: the body extents say so.
+  const ParityReport stretched =
+      CompareTrajectories(TurnedLattice(0, 1), TurnedLattice(30, 1.2), {});
+  EXPECT_NEAR(stretched.drift[0].final_body_extent_ratio[0], 1.2, 1e-5);
+  EXPECT_NEAR(stretched.drift[0].final_body_extent_ratio[1], 1.0, 1e-5);
+  EXPECT_NEAR(stretched.drift[0].final_body_extent_ratio[2], 1.0, 1e-5);
+  EXPECT_EQ(stretched.ToJson()["group_drift"][0]["final_rotation_deg"]["candidate"].get<double>(),
+            stretched.drift[0].final_rotation_deg[1]);
 }
 
 TEST(Parity, RefusesATrackThatNamesNothing) {

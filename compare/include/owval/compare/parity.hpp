@@ -87,6 +87,14 @@ struct GroupDrift {
   double max_centroid_distance_cu = 0;
   double max_extent_difference_fraction = 0;  // max over frames, axes of |e_c - e_r| / box extent
   double final_extent_ratio[3] = {1, 1, 1};   // bounding-box extent cand/ref per axis, last frame
+  // Not gates: what tells a turned body from a changed shape. A body that spins about the
+  // vertical changes its bounding-box extents with its shape unchanged (demo1's reference cube
+  // turns 37° about y on the floor). At the last paired frame: each run's rotation of the group
+  // since the first paired frame (the angle of the best-fit rotation of its particles' offsets
+  // from their centroid [Kabsch 1976]), and the extents in each run's own best-fit axes (that
+  // rotation undone), cand/ref per axis.
+  double final_rotation_deg[2] = {0, 0};  // reference, candidate
+  double final_body_extent_ratio[3] = {1, 1, 1};
 };
 
 struct ParityReport {
