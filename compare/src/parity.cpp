@@ -81,6 +81,8 @@ BodyPose BestFitPose(const std::vector<Eigen::Vector3d>& from,
                      const std::vector<Eigen::Vector3d>& to) {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   for (std::size_t p = 0; p < from.size(); ++p) covariance += from[p] * to[p].transpose();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!covariance.allFinite()) return {kNaN, {kNaN, kNaN, kNaN}};  // a blown-up run has no pose
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
                                               Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d sign = Eigen::Matrix3d::Identity();

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 #include "owval/base/errors.hpp"
@@ -207,6 +208,16 @@ TEST(Parity, ExtentGateSaysHowFarEachBodyTurnedAndItsOwnExtents) {
   EXPECT_NEAR(stretched.drift[0].final_body_extent_ratio[2], 1.0, 1e-5);
   EXPECT_EQ(stretched.ToJson()["group_drift"][0]["final_rotation_deg"]["candidate"].get<double>(),
             stretched.drift[0].final_rotation_deg[1]);
+}
+
+TEST(Parity, ABlownUpBodyHasNoTurn) {
+  Trajectory blown = TurnedLattice(30, 1);
+  blown.position(1, 4)[0] = std::numeric_limits<float>::quiet_NaN();
+  const ParityReport r = CompareTrajectories(TurnedLattice(0, 1), blown, {});
+  EXPECT_TRUE(std::isnan(r.drift[0].final_rotation_deg[1]));
+  EXPECT_TRUE(std::isnan(r.drift[0].final_body_extent_ratio[0]));
+  EXPECT_EQ(r.drift[0].final_rotation_deg[0], 0.0);
+  EXPECT_FALSE(r.pass());
 }
 
 TEST(Parity, RefusesATrackThatNamesNothing) {
