@@ -125,12 +125,14 @@ struct DriftAccumulator {
 
   void ObservePose(const FrameRef& ref, const FrameRef& cand, const std::array<double, 3>& a,
                    const std::array<double, 3>& b) {
+    if (members.size() < 3) return;  // one or two points have no orientation to speak of
     if (first_ref.empty()) {
       first_ref = Offsets(ref, members, a), first_cand = Offsets(cand, members, b);
       return;
     }
     const BodyPose r = BestFitPose(first_ref, Offsets(ref, members, a));
     const BodyPose c = BestFitPose(first_cand, Offsets(cand, members, b));
+    d.has_pose = true;
     d.final_rotation_deg[0] = r.angle_deg, d.final_rotation_deg[1] = c.angle_deg;
     for (int ax = 0; ax < 3; ++ax)
       d.final_body_extent_ratio[ax] =
@@ -321,7 +323,7 @@ void GateGroups(const ParityOptions& o, ParityReport* r) {
     std::snprintf(offset, sizeof offset, "last-frame offset (x, y, z) = (%+.3g, %+.3g, %+.3g) cu",
                   d.final_offset_cu[0], d.final_offset_cu[1], d.final_offset_cu[2]);
     f.detail = offset;
-    if (d.group == "elastic") {
+    if (d.group == "elastic" && d.has_pose) {
       char turned[200];
       std::snprintf(turned, sizeof turned,
                     "last frame: turned %.1f deg (reference) and %.1f deg (candidate) since the "
@@ -465,11 +467,13 @@ nlohmann::json ParityReport::ToJson() const {
          {"max_extent_difference_of_box", d.max_extent_difference_fraction},
          {"final_extent_ratio_xyz",
           {d.final_extent_ratio[0], d.final_extent_ratio[1], d.final_extent_ratio[2]}},
-         {"final_rotation_deg",
-          {{"reference", d.final_rotation_deg[0]}, {"candidate", d.final_rotation_deg[1]}}},
+         {"final_rotation_deg", d.has_pose ? nlohmann::json{{"reference", d.final_rotation_deg[0]},
+                                                            {"candidate", d.final_rotation_deg[1]}}
+                                           : nlohmann::json()},
          {"final_body_extent_ratio_xyz",
-          {d.final_body_extent_ratio[0], d.final_body_extent_ratio[1],
-           d.final_body_extent_ratio[2]}}});
+          d.has_pose ? nlohmann::json{d.final_body_extent_ratio[0], d.final_body_extent_ratio[1],
+                                      d.final_body_extent_ratio[2]}
+                     : nlohmann::json()}});
   nlohmann::json gates_json = nlohmann::json::array();
   for (const Gate& g : gates) gates_json.push_back(compare::ToJson(g));
   return {{"subject", subject},

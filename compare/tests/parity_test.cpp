@@ -192,6 +192,7 @@ TEST(Parity, ExtentGateSaysHowFarEachBodyTurnedAndItsOwnExtents) {
   const ParityReport turned = CompareTrajectories(TurnedLattice(0, 1), TurnedLattice(30, 1), {});
   ASSERT_EQ(turned.drift.size(), 1u);
   const GroupDrift& d = turned.drift[0];
+  EXPECT_TRUE(d.has_pose);
   EXPECT_NEAR(d.final_rotation_deg[0], 0.0, 1e-3);
   EXPECT_NEAR(d.final_rotation_deg[1], 30.0, 1e-3);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(d.final_body_extent_ratio[a], 1.0, 1e-5);
@@ -218,6 +219,13 @@ TEST(Parity, ABlownUpBodyHasNoTurn) {
   EXPECT_TRUE(std::isnan(r.drift[0].final_body_extent_ratio[0]));
   EXPECT_EQ(r.drift[0].final_rotation_deg[0], 0.0);
   EXPECT_FALSE(r.pass());
+}
+
+TEST(Parity, AOneParticleBodyHasNoTurn) {
+  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  EXPECT_FALSE(r.drift[0].has_pose);
+  EXPECT_EQ(r.gate("elastic.extent")->detail.find("turned"), std::string::npos);
+  EXPECT_TRUE(r.ToJson()["group_drift"][0]["final_rotation_deg"].is_null());
 }
 
 TEST(Parity, RefusesATrackThatNamesNothing) {

@@ -92,7 +92,8 @@ struct GroupDrift {
   // turns 37° about y on the floor). At the last paired frame: each run's rotation of the group
   // since the first paired frame (the angle of the best-fit rotation of its particles' offsets
   // from their centroid [Kabsch 1976]), and the extents in each run's own best-fit axes (that
-  // rotation undone), cand/ref per axis.
+  // rotation undone), cand/ref per axis. Only for a group of three particles or more.
+  bool has_pose = false;
   double final_rotation_deg[2] = {0, 0};  // reference, candidate
   double final_body_extent_ratio[3] = {1, 1, 1};
 };
