@@ -19,7 +19,7 @@ struct BenchArgs {
   std::vector<std::string> names, sets;
   std::string scenario, reference_dir, json, markdown;
   double time_s = 0;
-  int repeat = 3;
+  int repeat = 3, threads = 0;
   BackendFlags backends;
 };
 
@@ -35,6 +35,7 @@ void RunBench(const BenchArgs& a) {
   options.scenario = backends::FindScenarios(root, {a.scenario}).front();
   if (a.time_s > 0) options.scenario.time_s = a.time_s;
   options.repeat = a.repeat;
+  options.threads = a.threads;
   options.owval_executable = fs::read_symlink("/proc/self/exe");
   options.sets = ParseSets(a.sets);
   if (!Flags().quiet && isatty(2))
@@ -61,6 +62,9 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--time", a->time_s, "Simulated seconds instead of the scenario's")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--repeat", a->repeat, "Runs per backend (median and spread)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", a->threads,
+                  "Built-in backends' threads, every run (default: all cores)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--set", a->sets, "NAME=VALUE for {set:NAME}");
   cmd->add_option("--json", a->json, "Also write the JSON here");

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <cstdio>
+#include <thread>
 
 #include "owval/backends/process.hpp"
 #include "owval/backends/runner.hpp"
@@ -46,6 +47,7 @@ void TimeOneRun(const Backend& b, const BenchOptions& o, int run, BackendTiming*
   }
   fs::remove_all(dir);
   t->wall_s.push_back(r.wall_s);
+  t->cpu_s.push_back(r.cpu_s);
   t->peak_rss_kib.push_back(r.peak_rss_kib);
 }
 
@@ -53,10 +55,15 @@ void Summarise(const BenchOptions& o, std::size_t steps, std::size_t particles, 
   t->median_wall_s = Median(t->wall_s);
   t->spread_wall_s = *std::max_element(t->wall_s.begin(), t->wall_s.end()) -
                      *std::min_element(t->wall_s.begin(), t->wall_s.end());
+  t->median_cpu_s = Median(t->cpu_s);
   t->steps_per_s = steps / t->median_wall_s;
   t->particle_steps_per_s = t->steps_per_s * particles;
   t->simulated_s_per_wall_s = o.scenario.time_s / t->median_wall_s;
   t->peak_rss_mib = *std::max_element(t->peak_rss_kib.begin(), t->peak_rss_kib.end()) / 1024.0;
+}
+
+int ThreadsOf(const BenchOptions& o) {
+  return o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
 }
 
 }  // namespace
@@ -69,7 +76,7 @@ std::string BenchCommand(const Backend& b, const BenchOptions& o, const fs::path
            ShellQuote(fs::absolute(o.scenario.configuration).string()) + " --time " +
            FormatNumber(o.scenario.time_s, 17) + " --log-step " +
            std::to_string(o.scenario.log_step) + " --out " + ShellQuote(out_dir.string()) +
-           " --backend " + b.engine_backend;
+           " --backend " + b.engine_backend + " --threads " + std::to_string(ThreadsOf(o));
   RunRequest request;
   request.scenario = o.scenario;
   request.sets = o.sets;
@@ -100,8 +107,11 @@ BenchReport BenchBackends(const std::vector<Backend>& backends, const BenchOptio
     for (std::size_t b = 0; b < backends.size(); ++b)
       TimeOneRun(backends[b], o, run, &report.backends[b]);
   for (BackendTiming& t : report.backends) Summarise(o, report.steps, report.particles, &t);
-  for (BackendTiming& t : report.backends)
+  for (BackendTiming& t : report.backends) {
     t.ratio_to_first = t.median_wall_s / report.backends.front().median_wall_s;
+    const double first_cpu_s = report.backends.front().median_cpu_s;  // 0 for a trivial command
+    t.cpu_ratio_to_first = first_cpu_s > 0 ? t.median_cpu_s / first_cpu_s : std::nan("");
+  }
   return report;
 }
 
@@ -123,7 +133,10 @@ nlohmann::json BenchReport::ToJson() const {
                              {"particle_steps_per_s", t.particle_steps_per_s},
                              {"simulated_s_per_wall_s", t.simulated_s_per_wall_s},
                              {"peak_rss_mib", t.peak_rss_mib},
-                             {"ratio_to_first", t.ratio_to_first}});
+                             {"ratio_to_first", t.ratio_to_first},
+                             {"cpu_s", t.cpu_s},
+                             {"median_cpu_s", t.median_cpu_s},
+                             {"cpu_ratio_to_first", t.cpu_ratio_to_first}});
   return j;
 }
 
@@ -134,12 +147,14 @@ std::string BenchReport::ToMarkdown() const {
                 scenario.c_str(), steps, particles, time_s, repeat);
   std::string m = line;
   m += "| backend | median wall s | spread s | steps/s | particle-steps/s | sim s / wall s | "
-       "peak RSS MiB | wall / first |\n|---|---|---|---|---|---|---|---|\n";
+       "peak RSS MiB | wall / first | median CPU s | CPU / first |\n"
+       "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const BackendTiming& t : backends) {
-    std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.1f | %.3g | %.4f | %.1f | %.2f |\n",
+    std::snprintf(line, sizeof line,
+                  "| %s | %.3f | %.3f | %.1f | %.3g | %.4f | %.1f | %.2f | %.3f | %.2f |\n",
                   t.backend.c_str(), t.median_wall_s, t.spread_wall_s, t.steps_per_s,
                   t.particle_steps_per_s, t.simulated_s_per_wall_s, t.peak_rss_mib,
-                  t.ratio_to_first);
+                  t.ratio_to_first, t.median_cpu_s, t.cpu_ratio_to_first);
     m += line;
   }
   return m;

@@ -49,6 +49,8 @@ ProcessResult RunShellCommand(const ProcessOptions& options) {
     if (errno != EINTR) throw std::runtime_error("wait4 failed");
   ProcessResult r;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.cpu_s = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+            double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
   r.peak_rss_kib = usage.ru_maxrss;
   if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
+#include "owval/backends/bench.hpp"
 #include "owval/backends/cache.hpp"
 #include "owval/backends/process.hpp"
 #include "owval/backends/registry.hpp"
@@ -54,6 +56,33 @@ TEST(Template, QuotesEachValueForTheShell) {
   p.stdout_path = dir / "out.txt";
   ASSERT_TRUE(RunShellCommand(p).ok());
   EXPECT_EQ(Read(dir / "out.txt"), v.values["config"] + "\n");  // one argument, unexpanded
+}
+
+TEST(Process, MeasuresTheChildsCpuTimeApartFromItsWallTime) {
+  ProcessOptions busy;  // about 0.2 s of work in the shell itself
+  busy.command = "i=0; while [ $i -lt 300000 ]; do i=$((i+1)); done";
+  const ProcessResult b = RunShellCommand(busy);
+  ASSERT_TRUE(b.ok());
+  EXPECT_GT(b.cpu_s, 0.02);
+  EXPECT_LT(b.cpu_s, b.wall_s * 1.5);  // one thread: no more CPU than wall time, give or take
+  ProcessOptions idle;                 // waits without working
+  idle.command = "sleep 0.3";
+  const ProcessResult s = RunShellCommand(idle);
+  ASSERT_TRUE(s.ok());
+  EXPECT_GE(s.wall_s, 0.3);
+  EXPECT_LT(s.cpu_s, 0.1);
+}
+
+TEST(Bench, BuiltInRunsTakeOneThreadCountWhateverTheLoad) {
+  Backend owval;
+  owval.name = "xpbd", owval.engine_backend = "xpbd";
+  BenchOptions o;
+  o.scenario.configuration = "/c", o.scenario.time_s = 0.1, o.scenario.log_step = 20;
+  o.owval_executable = "/bin/owval";
+  const std::string all = " --threads " + std::to_string(std::thread::hardware_concurrency());
+  EXPECT_NE(BenchCommand(owval, o, "/o").find(all), std::string::npos);
+  o.threads = 3;
+  EXPECT_NE(BenchCommand(owval, o, "/o").find(" --threads 3"), std::string::npos);
 }
 
 TEST(Template, ExpandsSetsAndRejectsUnknownPlaceholders) {

@@ -170,6 +170,9 @@ TEST(BackendsCli, BenchTimesEachBackendAsAProcess) {
   EXPECT_EQ(j["steps"], 100);
   EXPECT_EQ(j["backends"][0]["ratio_to_first"], 1.0);
   EXPECT_EQ(j["backends"][0]["wall_s"].size(), 2u);
+  EXPECT_EQ(j["backends"][0]["cpu_s"].size(), 2u);
+  EXPECT_GT(j["backends"][0]["median_cpu_s"].get<double>(), 0.0);  // owval ran 100 steps
+  EXPECT_EQ(j["backends"][0]["cpu_ratio_to_first"], 1.0);
   EXPECT_GT(j["backends"][0]["peak_rss_kib"][0].get<long>(), 1000);
   EXPECT_NE(Slurp(file.parent_path() / "bench.md").find("| copy |"), std::string::npos);
   EXPECT_EQ(

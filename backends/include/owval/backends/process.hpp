@@ -1,6 +1,7 @@
 #pragma once
 // Runs one shell command as a child process and measures it as a whole: exit status, wall time,
-// and peak resident memory from wait4's rusage (the child and the descendants it waited for).
+// and CPU time and peak resident memory from wait4's rusage (the child and the descendants it
+// waited for).
 #include <filesystem>
 #include <string>
 
@@ -17,6 +18,7 @@ struct ProcessResult {
   int exit_code = -1;  // -1 when killed by a signal
   int signal = 0;
   double wall_s = 0;
+  double cpu_s = 0;  // user + system time, every thread of the child and its waited descendants
   long peak_rss_kib = 0;
   bool ok() const { return exit_code == 0; }
   std::string Describe() const;  // "exit status 3" | "killed by signal 11"
