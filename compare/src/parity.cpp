@@ -58,16 +58,14 @@ double BoxScale(const Box& box) {
   return s > 0 ? s : 1.0;
 }
 
-// The group's particles' offsets from their centroid (cu).
-std::vector<Eigen::Vector3d> Offsets(const FrameRef& f, const std::vector<std::size_t>& group,
-                                     const std::array<double, 3>& centroid) {
-  std::vector<Eigen::Vector3d> out;
-  out.reserve(group.size());
-  for (std::size_t p : group) {
-    const float* x = f.trajectory.position(f.frame, p);
-    out.push_back({x[0] - centroid[0], x[1] - centroid[1], x[2] - centroid[2]});
+// The group's particles' offsets from their centroid (cu), into `out` (its storage reused).
+void Offsets(const FrameRef& f, const std::vector<std::size_t>& group,
+             const std::array<double, 3>& centroid, std::vector<Eigen::Vector3d>* out) {
+  out->resize(group.size());
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    const float* x = f.trajectory.position(f.frame, group[k]);
+    (*out)[k] = {x[0] - centroid[0], x[1] - centroid[1], x[2] - centroid[2]};
   }
-  return out;
 }
 
 // The rotation R that best maps the offsets `from` onto `to` (least squares, a proper rotation:
@@ -104,7 +102,8 @@ BodyPose BestFitPose(const std::vector<Eigen::Vector3d>& from,
 struct DriftAccumulator {
   std::vector<std::size_t> members;
   GroupDrift d;
-  std::vector<Eigen::Vector3d> first_ref, first_cand;  // offsets at the first paired frame
+  // Offsets at the first paired frame and at the latest one; the pose is fitted once, at the end.
+  std::vector<Eigen::Vector3d> first_ref, first_cand, last_ref, last_cand;
 
   void Observe(const FrameRef& ref, const FrameRef& cand, const Box& box) {
     const auto a = Centroid(ref.trajectory, ref.frame, members),
@@ -126,12 +125,16 @@ struct DriftAccumulator {
   void ObservePose(const FrameRef& ref, const FrameRef& cand, const std::array<double, 3>& a,
                    const std::array<double, 3>& b) {
     if (members.size() < 3) return;  // one or two points have no orientation to speak of
-    if (first_ref.empty()) {
-      first_ref = Offsets(ref, members, a), first_cand = Offsets(cand, members, b);
-      return;
-    }
-    const BodyPose r = BestFitPose(first_ref, Offsets(ref, members, a));
-    const BodyPose c = BestFitPose(first_cand, Offsets(cand, members, b));
+    const bool first = first_ref.empty();
+    Offsets(ref, members, a, first ? &first_ref : &last_ref);
+    Offsets(cand, members, b, first ? &first_cand : &last_cand);
+  }
+
+  // After the last pair: the pose at the last paired frame, when there is one after the first.
+  void FinishPose() {
+    if (last_ref.empty()) return;
+    const BodyPose r = BestFitPose(first_ref, last_ref);
+    const BodyPose c = BestFitPose(first_cand, last_cand);
     d.has_pose = true;
     d.final_rotation_deg[0] = r.angle_deg, d.final_rotation_deg[1] = c.angle_deg;
     for (int ax = 0; ax < 3; ++ax)
@@ -220,7 +223,10 @@ class PairReducer {
   // After the last pair.
   void Finish() {
     r_->l2_mean_cu = l2_sum_ / double(pairs_.size());
-    for (DriftAccumulator& g : drift_) r_->drift.push_back(g.d);
+    for (DriftAccumulator& g : drift_) {
+      g.FinishPose();
+      r_->drift.push_back(g.d);
+    }
   }
   const std::vector<double>& candidate_time() const { return cand_time_; }
   // The 3-D centroid distance of group g (0 elastic, 1 liquid) at sampled pair k, of the box.
