@@ -82,7 +82,9 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   const std::size_t n = state_.size();
   moving_.assign(n, 0);
   for (std::int32_t i : state_.moving) moving_[i] = -1;
-  parallel_ = threads_ > 1 && state_.moving.size() >= kParallelMovers;
+  parallel_ = threads_ > 1 &&
+              state_.moving.size() >= (parameters_.density_passes > 0 ? kParallelMoversPerStep
+                                                                      : kParallelMoversPerSubstep);
   x_.resize(n);
   v_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
