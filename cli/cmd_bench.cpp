@@ -52,9 +52,8 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
                 "With a reference folder: profile its whole run (meta.json's time and log step)");
   cmd->add_option("--threads", o.threads, "Threads for --phases (default: the engine's rule)");
   cmd->add_option("--time", o.time_s, "Simulated seconds for --phases instead of --steps")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
+  cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")->check(Positive());
   cmd->callback([a] {
     Emit(backends::BenchEngineNamed(a->config, fs::path(OWVAL_SHARED_DIR) / "reference", DataDir(),
                                     a->whole_run, a->engine),

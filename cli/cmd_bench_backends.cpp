@@ -60,12 +60,11 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--reference-dir", a->reference_dir,
                   "Where the scenario folders are (default ../shared/reference)");
   cmd->add_option("--time", a->time_s, "Simulated seconds instead of the scenario's")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--repeat", a->repeat, "Runs per backend (median and spread)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
+  cmd->add_option("--repeat", a->repeat, "Runs per backend (median and spread)")->check(Positive());
   cmd->add_option("--threads", a->threads,
                   "Built-in backends' threads, every run (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--set", a->sets, "NAME=VALUE for {set:NAME}");
   cmd->add_option("--json", a->json, "Also write the JSON here");
   cmd->add_option("--markdown", a->markdown, "Write the Markdown table here");

@@ -62,7 +62,7 @@ void SetUp(CLI::App& app) {
       "--scenario", stability->scenario,
       "With --stability: scenario name or configuration (default: the reference demo1)");
   validate->add_option("--log-step", stability->log_step, "With --stability: steps between frames")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   validate->add_option("--out", stability->out,
                        "With --stability: where the run's trajectory goes");
   validate->callback([dir, stability] {

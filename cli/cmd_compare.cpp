@@ -126,11 +126,11 @@ void SetUp(CLI::App& app) {
                   "Reference frames to gate, e.g. 0,15,100,200 (default: all paired)");
   cmd->add_option("--scale", args->scale,
                   "Scale for the frame gate in cu (default: reference range)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   for (const compare::GateThresholdField& field : compare::kGateThresholdFields) {
     args->gates.emplace_back(field.member, std::nullopt);
     cmd->add_option(field.flag, args->gates.back().second, compare::GateThresholdHelp(field))
-        ->check(CLI::PositiveNumber);
+        ->check(Positive());
   }
   cmd->add_option("--manifest", args->manifest, "Scenario manifest JSON (its track and gates)");
   cmd->add_option("--markdown", args->markdown, "Also write the report as Markdown (for a PR)");

@@ -73,7 +73,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--patience", a->request.patience,
                   "--solver adam: stop after this many iterations without a 0.1% lower best loss "
                   "(0: never); the result is the best iterate")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_option("-o,--out", a->request.out,
                   "Output directory (history.json, parameters.json, convergence.svg)")
       ->required();
@@ -91,7 +91,7 @@ void SetUp(CLI::App& app) {
                   "analytic: group centroids (all axes) in the loss instead of the tracked "
                   "coordinate; repeatable");
   cmd->add_option("--loss-scale", a->request.loss_scale, "analytic: length scale of the loss (cu)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--checkpoint-every", a->request.checkpoint_every,
                   "analytic: states kept every k steps (0: full tape)");
   cmd->add_option("--window", a->request.window,

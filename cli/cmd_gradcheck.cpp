@@ -59,7 +59,7 @@ void SetUp(CLI::App& app) {
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--seed", a->options.seed, "Random seed");
   cmd->add_option("--tolerance", a->options.tolerance, "Relative error a kernel test must reach")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--config", a->options.end_to_end_config,
                   "Configuration of the end-to-end (reverse) test (default: the shared demo1)")
       ->check(CLI::ExistingFile);
@@ -76,7 +76,7 @@ void SetUp(CLI::App& app) {
       ->check(CLI::Range(0, 1000));
   cmd->add_option("--alpha-density", a->options.end_to_end_alpha_density,
                   "Density compliance of the end-to-end test (s^2/cu^2; default: the model's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_option("-o,--output", a->output, "Write fd_tests.json here");
   cmd->add_flag("--json", a->json, "Machine-readable output on stdout");
   cmd->callback([a] { RunGradCheckCommand(*a); });

@@ -141,7 +141,7 @@ void SetUp(CLI::App& app) {
       ->add_option("--threshold", a->threshold,
                    "Frame gate: |delta| / reference range must stay below (default " +
                        FormatNumber(compare::ParityGates{}.frame.value) + ")")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   frames->footer(
       "Gates at the sampled frames (as owval compare --frames): frames: |delta| of the tracked "
       "value / the reference's range (--threshold); frames.group_centroids: each moving group's "

@@ -22,6 +22,10 @@ CLI::App& Bench(CLI::App& app);
 
 // A particle index: digits only, at most 18 of them ("--particle -1" is refused, not wrapped).
 const CLI::Validator& ParticleIndex();
+// A number > 0 and a number >= 0. Their messages say what was expected and what was found
+// ("expected a number > 0, found '0'"); CLI11's own print the bounds as 300-digit doubles.
+const CLI::Validator& Positive();
+const CLI::Validator& NonNegative();
 
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
 // --PREFIXaxis): only what was given, laid over a command's default track (a manifest's, or

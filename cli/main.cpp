@@ -46,6 +46,32 @@ const CLI::Validator& ParticleIndex() {
       "INDEX");
   return index;
 }
+namespace {
+// A validator accepting a whole decimal number (as strtod reads it) for which `holds` is true.
+CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
+                          const std::string& name) {
+  return CLI::Validator(
+      [holds, expected](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        const bool number = !text.empty() && end == text.c_str() + text.size();
+        if (number && holds(value)) return std::string();
+        return "expected " + expected + ", found '" + OneLine(text, 40) + "'";
+      },
+      name);
+}
+}  // namespace
+
+const CLI::Validator& Positive() {
+  static const CLI::Validator v =
+      NumberThat([](double x) { return x > 0; }, "a number > 0", "POSITIVE");
+  return v;
+}
+const CLI::Validator& NonNegative() {
+  static const CLI::Validator v =
+      NumberThat([](double x) { return x >= 0; }, "a number >= 0", "NON-NEGATIVE");
+  return v;
+}
 const GlobalFlags& Flags() { return g_flags; }
 
 Track TrackFlags::Over(Track base) const {

@@ -248,4 +248,20 @@ TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {
   EXPECT_EQ(Owval("--max-memory 256M inspect " + traj).exit_code, 0);  // needs 115 MB
 }
 
+// A number out of its range is named with what was expected and what was found, in one short
+// line (CLI11's own checks printed their bounds as 300-digit doubles, and "abc" as out of range).
+TEST(Cli, NumbersOutOfRangeSayWhatWasExpected) {
+  const Result zero = Owval("run demo1 --out x --log-step 0");
+  EXPECT_EQ(zero.exit_code, 2);
+  EXPECT_EQ(zero.err, "owval: usage: --log-step: expected a number > 0, found '0' (see --help)\n");
+  const Result word = Owval("bench backends owval --scenario demo1 --repeat abc");
+  EXPECT_EQ(word.exit_code, 2);
+  EXPECT_EQ(word.err, "owval: usage: --repeat: expected a number > 0, found 'abc' (see --help)\n");
+  const Result negative = Owval("fit one_sprig --param a=1 -o x --patience -1");
+  EXPECT_EQ(negative.exit_code, 2);
+  EXPECT_EQ(negative.err,
+            "owval: usage: --patience: expected a number >= 0, found '-1' (see --help)\n");
+  EXPECT_EQ(Owval("fit one_sprig --param a=1 -o x --patience 0 --help").exit_code, 0);
+}
+
 }  // namespace
