@@ -49,10 +49,34 @@ __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
 
 }  // namespace
 
-BondLanes::BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first) {
+BondLanes::BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first,
+                     std::size_t parts) {
   const std::size_t rows = row_first.empty() ? 0 : row_first.size() - 1;
-  std::vector<std::size_t> order(rows);
-  std::iota(order.begin(), order.end(), 0);
+  const std::size_t bond_count = rows == 0 ? 0 : row_first[rows] - row_first[0];
+  parts = std::max<std::size_t>(1, parts);
+  std::size_t r = 0;
+  for (std::size_t t = 0; t < parts; ++t) {  // rows in order, cut at equal shares of the bonds
+    part_group_.push_back(group_slot_.size());
+    const std::size_t first = r;
+    while (r < rows &&
+           (t + 1 == parts || row_first[r] - row_first[0] < bond_count * (t + 1) / parts))
+      ++r;
+    std::vector<std::size_t> order(r - first);
+    std::iota(order.begin(), order.end(), first);
+    AddGroups(bonds, row_first, &order);
+  }
+  part_group_.push_back(group_slot_.size());
+  group_slot_.push_back(slot_bond_.size());
+  alpha_tilde_.assign(slot_bond_.size(), -1.0f);
+  lambda_.assign(slot_bond_.size(), 0.0f);
+  for (std::int32_t i : lane_particle_) lane_point_.push_back(std::max(0, i));
+}
+
+// Rows `order` (indices into row_first) as groups of eight, longest rows first.
+void BondLanes::AddGroups(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first,
+                          std::vector<std::size_t>* rows_in) {
+  std::vector<std::size_t>& order = *rows_in;
+  const std::size_t rows = order.size();
   const auto length = [&](std::size_t r) { return row_first[r + 1] - row_first[r]; };
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return length(a) > length(b); });
@@ -74,10 +98,6 @@ BondLanes::BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size
         rest_cu_.push_back(used ? bonds[b].rest_cu : 0.0f);
       }
   }
-  group_slot_.push_back(slot_bond_.size());
-  alpha_tilde_.assign(slot_bond_.size(), -1.0f);
-  lambda_.assign(slot_bond_.size(), 0.0f);
-  for (std::int32_t i : lane_particle_) lane_point_.push_back(std::max(0, i));
 }
 
 void BondLanes::SetCompliance(const float* alpha_tilde) {
@@ -85,9 +105,10 @@ void BondLanes::SetCompliance(const float* alpha_tilde) {
     alpha_tilde_[s] = slot_bond_[s] >= 0 ? alpha_tilde[slot_bond_[s]] : -1.0f;
 }
 
-void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, bool first) {
+void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, bool first, std::size_t first_group,
+                     std::size_t last_group) {
   static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "points are three packed floats");
-  for (std::size_t g = 0; g + 1 < group_slot_.size(); ++g) {
+  for (std::size_t g = first_group; g < last_group; ++g) {
     float sum[3][kLanes];
     GroupPushesAvx2(start[0].data(), &lane_point_[g * kLanes], slot_partner_.data(), group_slot_[g],
                     group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(), lambda_.data(), first,

@@ -30,8 +30,13 @@ class BondLanes {
     float rest_cu;
   };
   // `bonds` in rows (each particle's bonds contiguous, in bond order): row r is
-  // bonds[rows[r], rows[r + 1]), as Xpbd keeps them.
-  BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& rows);
+  // bonds[rows[r], rows[r + 1]), as Xpbd keeps them. The rows are cut into `parts` runs of
+  // consecutive rows with equal shares of the bonds, and each run grouped on its own, so that
+  // part t's groups [first_group(t), last_group(t)) move only the particles of its own rows
+  // (threads that own a part each write their own stretch of memory). A row's floats do not
+  // depend on its group.
+  BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size_t>& rows,
+            std::size_t parts = 1);
 
   // Each bond's α̃ = α/h² by bond index (−1: no stiffness), for the step's substeps.
   void SetCompliance(const float* alpha_tilde);
@@ -40,10 +45,27 @@ class BondLanes {
   // p[particle]. The first pass of a substep's solve reads λ = 0 for every bond (no reset
   // needed); later passes read the λ the previous one left. Needs AVX2 and FMA (UseAvx2() or
   // UseAvx512()).
-  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first);
+  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first) {
+    Pass(start, p, first, 0, groups());
+  }
+  // The same over groups [first_group, last_group) only. Groups move disjoint particles and
+  // hold disjoint λ, so threads may pass disjoint ranges at once.
+  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first, std::size_t first_group,
+            std::size_t last_group);
+
+  std::size_t groups() const { return group_slot_.size() - 1; }
+  std::size_t parts() const { return part_group_.size() - 1; }
+  std::size_t first_group(std::size_t part) const { return part_group_[part]; }
+  std::size_t last_group(std::size_t part) const { return part_group_[part + 1]; }
+  // Group g's lanes' particles (−1: an empty lane).
+  const std::int32_t* lane_particles(std::size_t g) const { return &lane_particle_[g * kLanes]; }
+  static constexpr int kLanes = 8;
 
  private:
-  static constexpr int kLanes = 8;
+  void AddGroups(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first,
+                 std::vector<std::size_t>* rows);
+
+  std::vector<std::size_t> part_group_;      // part t's groups: [part_group_[t], [t + 1])
   std::vector<std::int32_t> slot_bond_;      // per slot: the bond, or −1
   std::vector<std::int32_t> slot_partner_;   // per slot: the partner (the row's particle if none)
   std::vector<std::int32_t> lane_particle_;  // per group lane: the row's particle, or −1

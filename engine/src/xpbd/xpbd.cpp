@@ -1,7 +1,10 @@
 #include "xpbd/xpbd.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <type_traits>
@@ -124,9 +127,16 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
     if (UseAvx2() || UseAvx512()) {
       std::vector<BondLanes::Bond> lanes;
       for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
-      bond_lanes_.emplace(lanes, bond_rows_);
+      // Rows for each thread to own when the substeps can be shared (ShareBondSubsteps): the
+      // float lanes, one pass per substep, the split scheme, and at least 32 rows (four groups)
+      // a thread; one_sprig's single bond stays serial.
+      const bool shared = threads_ > 1 && moving_block_ && parameters_.iterations == 1 &&
+                          parameters_.density_passes > 0 &&
+                          bond_rows_.size() > 32 * std::size_t(threads_);
+      bond_lanes_.emplace(lanes, bond_rows_, shared ? std::size_t(threads_) : 1);
     }
   }
+  ShareBondSubsteps();
   grid_.Refresh(&state_, threads_);
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
@@ -183,7 +193,11 @@ void Xpbd<T>::Step() {
       const T H = T(k_.time_step_s) / T(m), h = H / T(inner);
       BondComplianceOf(h);
       for (int pass = 0; pass < m; ++pass) {
-        for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+        if (bond_shares_.empty()) {
+          for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+        } else {
+          SharedBondSubsteps(h, inner);
+        }
         clock_.Mark(kBondSubsteps);
         Correct(H);
         clock_.Mark(kCorrections);
@@ -233,6 +247,73 @@ void Xpbd<T>::BondSubstep(T h) {
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
     x_[i] = p_[i];
+  }
+}
+
+// One share of the bond substeps per part of the bond lanes (their constructor cut the rows
+// for the threads): its groups and the moving particles from its first row's particle to the
+// next part's, bondless ones included, so that each thread writes its own stretch of memory.
+template <typename T>
+void Xpbd<T>::ShareBondSubsteps() {
+  if (!bond_lanes_ || bond_lanes_->parts() < 2) return;
+  const BondLanes& lanes = *bond_lanes_;
+  std::vector<std::int32_t> begin;  // each part's first particle
+  for (std::size_t t = 0; t < lanes.parts(); ++t) {
+    std::int32_t first = std::numeric_limits<std::int32_t>::max();
+    for (std::size_t g = lanes.first_group(t); g < lanes.last_group(t); ++g)
+      for (int l = 0; l < BondLanes::kLanes; ++l)
+        if (const std::int32_t i = lanes.lane_particles(g)[l]; i >= 0) first = std::min(first, i);
+    if (lanes.first_group(t) == lanes.last_group(t)) return;  // a part without rows: serial
+    begin.push_back(t == 0 ? state_.moving.front() : first);
+  }
+  begin.push_back(state_.moving.back() + 1);
+  bond_shares_.resize(lanes.parts());
+  for (std::size_t t = 0; t < lanes.parts(); ++t) {
+    BondShare& share = bond_shares_[t];
+    share.first_group = lanes.first_group(t);
+    share.last_group = lanes.last_group(t);
+    share.first_particle = begin[t];
+    share.end_particle = begin[t + 1];
+  }
+  bond_start_next_ = bond_start_;
+}
+
+// The split scheme's bond substeps as BondSubstep computes them, each thread predicting,
+// passing and updating its own share in the same vector lanes: the same floats, bit for bit.
+// One barrier per substep, between the predictions and the pass that reads them: each pass
+// reads only its substep's start positions, which alternate between two buffers, so a thread
+// may predict the next substep while another still passes this one.
+template <typename T>
+void Xpbd<T>::SharedBondSubsteps(T h, int substeps) {
+  if constexpr (std::is_same_v<T, float>) {
+    const float to_cu = 1.0f / float(k_.scale), scale = float(k_.scale);
+    const std::int32_t first = state_.moving.front();  // held_acceleration_'s index is i − first
+    Vec3<float>* starts[2] = {bond_start_.data(), bond_start_next_.data()};
+#pragma omp parallel num_threads(threads_)
+    {
+      const std::size_t team = std::size_t(omp_get_num_threads());
+      const std::size_t thread = std::size_t(omp_get_thread_num());
+      for (int substep = 0; substep < substeps; ++substep) {
+        Vec3<float>* start = starts[substep % 2];
+        for (std::size_t t = thread; t < bond_shares_.size(); t += team) {
+          const BondShare& share = bond_shares_[t];
+          const std::int32_t i = share.first_particle;
+          PredictAvx2(3 * std::size_t(share.end_particle - i), h, to_cu,
+                      held_acceleration_[std::size_t(i - first)].data(), v_[i].data(), x_[i].data(),
+                      p_[i].data(), start[i].data());
+        }
+#pragma omp barrier
+        for (std::size_t t = thread; t < bond_shares_.size(); t += team) {
+          const BondShare& share = bond_shares_[t];
+          const std::int32_t i = share.first_particle;
+          bond_lanes_->Pass(start, p_.data(), true, share.first_group, share.last_group);
+          UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, scale, v_[i].data(),
+                             x_[i].data(), p_[i].data());
+        }
+      }
+    }
+  } else {
+    for (int substep = 0; substep < substeps; ++substep) BondSubstep(h);
   }
 }
 

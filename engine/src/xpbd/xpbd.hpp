@@ -111,6 +111,8 @@ class Xpbd final : public Solver {
   void HoldAcceleration();
   void Substep(T h);
   void BondSubstep(T h);
+  void ShareBondSubsteps();
+  void SharedBondSubsteps(T h, int substeps);
   bool BondSubstepInLanes(T h, T to_cu, T scale, bool predict);
   void Correct(T h);
   void Predict(T h);
@@ -158,11 +160,21 @@ class Xpbd final : public Solver {
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
   std::vector<Vec3<T>> bond_start_;         // the split's bond pass: positions as the pass began
-  std::vector<Vec3<T>> slot_gradient_;      // ProjectDensity: V0∇W per moving particle and slot
-  std::vector<float> lane_record_;          // the same in lanes, with the lists (density_lanes.hpp)
-  std::vector<int> lane_slots_;             // per lane group: the slots its record holds
-  std::vector<Vec3<T>> wall_normal_;        // a substep's last wall push direction, or zero
-  double wall_friction_ = 1;                // Sibernetic's 0.99 per step, per substep
+  // The split scheme's bond substeps on several threads at once (SharedBondSubsteps): per
+  // thread, one part of BondLanes' groups and the moving particles it predicts and updates,
+  // from its first row's particle to the next part's (bondless ones included). Empty: the
+  // substeps run serial.
+  struct BondShare {
+    std::size_t first_group = 0, last_group = 0;
+    std::int32_t first_particle = 0, end_particle = 0;  // moving particles [first, end)
+  };
+  std::vector<BondShare> bond_shares_;
+  std::vector<Vec3<T>> bond_start_next_;  // SharedBondSubsteps: every other substep's start
+  std::vector<Vec3<T>> slot_gradient_;    // ProjectDensity: V0∇W per moving particle and slot
+  std::vector<float> lane_record_;        // the same in lanes, with the lists (density_lanes.hpp)
+  std::vector<int> lane_slots_;           // per lane group: the slots its record holds
+  std::vector<Vec3<T>> wall_normal_;      // a substep's last wall push direction, or zero
+  double wall_friction_ = 1;              // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
