@@ -225,9 +225,9 @@ void Xpbd<T>::Substep(T h) {
   UpdateVelocities(h);
 }
 
-// A bond substep of the split scheme [M19 Alg. 1 without the density and wall constraints]:
-// serial, as it is a few microseconds of work (a parallel region per substep cost more than the
-// work on a shared machine).
+// A bond substep of the split scheme [M19 Alg. 1 without the density and wall constraints],
+// on one thread: a few microseconds of work, for which a parallel region per substep cost more
+// than it saved on a shared machine. SharedBondSubsteps runs a step's substeps in one region.
 template <typename T>
 void Xpbd<T>::BondSubstep(T h) {
   const T to_cu = T(1) / T(k_.scale), scale = T(k_.scale);
