@@ -6,6 +6,7 @@
 #include "command.hpp"
 #include "owval/backends/engine_bench.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/render/render_benchmark.hpp"
 #include "owval/trajectory/io_benchmark.hpp"
 #include "resolve.hpp"
@@ -50,7 +51,8 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
                 "Time each phase of the step and the frames' fields (one run, --threads)");
   cmd->add_flag("--whole-run", a->whole_run,
                 "With a reference folder: profile its whole run (meta.json's time and log step)");
-  cmd->add_option("--threads", o.threads, "Threads for --phases (default: the engine's rule)");
+  cmd->add_option("--threads", o.threads, "Threads for --phases (default: the engine's rule)")
+      ->check(CLI::Range(0, engine::kMaxThreads));
   cmd->add_option("--time", o.time_s, "Simulated seconds for --phases instead of --steps")
       ->check(Positive());
   cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")->check(Positive());

@@ -10,6 +10,7 @@
 #include "owval/backends/bench.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/engine/run.hpp"
 
 namespace owval::cli {
 namespace {
@@ -64,7 +65,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--repeat", a->repeat, "Runs per backend (median and spread)")->check(Positive());
   cmd->add_option("--threads", a->threads,
                   "Built-in backends' threads, every run (default: all cores)")
-      ->check(Positive());
+      ->check(CLI::Range(1, engine::kMaxThreads));
   cmd->add_option("--set", a->sets, "NAME=VALUE for {set:NAME}");
   cmd->add_option("--json", a->json, "Also write the JSON here");
   cmd->add_option("--markdown", a->markdown, "Write the Markdown table here");

@@ -98,7 +98,8 @@ void SetUp(CLI::App& app) {
   cmd->add_flag("--apply-physical-parameters", r.apply_physical_parameters,
                 "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
   cmd->add_option("--threads", a->threads,
-                  "OpenMP threads (default: every idle core; one below 4,096 particles)");
+                  "OpenMP threads (default: every idle core; one below 4,096 particles)")
+      ->check(CLI::Range(0, engine::kMaxThreads));
   cmd->add_flag("--no-fields", r.no_fields,
                 "Record positions only (no velocity, density, pressure): faster");
   cmd->add_flag("--zarr", r.zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");

@@ -262,6 +262,12 @@ TEST(Cli, NumbersOutOfRangeSayWhatWasExpected) {
   EXPECT_EQ(negative.err,
             "owval: usage: --patience: expected a number >= 0, found '-1' (see --help)\n");
   EXPECT_EQ(Owval("fit one_sprig --param a=1 -o x --patience 0 --help").exit_code, 0);
+  // A thread count the machine cannot start: one line before any work, not libgomp's crash.
+  const Result threads = Owval("run one_sprig --out x --threads 100000");
+  EXPECT_EQ(threads.exit_code, 2);
+  EXPECT_EQ(threads.err,
+            "owval: usage: --threads: Value 100000 not in range 0 to 1024 (see --help)\n");
+  EXPECT_EQ(Owval("bench backends owval --scenario demo1 --threads 0").exit_code, 2);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <string>
 
 #include "owval/base/errors.hpp"
 #include "owval/engine/constants.hpp"
@@ -83,6 +84,9 @@ int IdleCores() {
 // worm in 84.4 s vs 126.1 s; but threads that share a core with another busy process stall at
 // every barrier (the worm ran 8x slower on two threads than on one under a load of 10).
 int ThreadsFor(const SiberneticConfig& config, int requested) {
+  if (requested < 0 || requested > kMaxThreads)
+    throw InputError("threads: expected 0 (every idle core) or 1 to " +
+                     std::to_string(kMaxThreads) + ", found " + std::to_string(requested));
   if (requested > 0) return requested;
   return config.particle_count() < 4096 ? 1 : IdleCores();
 }

@@ -49,6 +49,28 @@ TEST(Backends, UnknownNameIsInputErrorListingTheKnownOnes) {
   EXPECT_THROW(engine::Run(TwoLiquidParticlesAt(40, 60), o), InputError);
 }
 
+// A thread count the machine cannot start is bad input, not a crash in the OpenMP runtime
+// (100,000 threads segfaulted libgomp), for every backend.
+TEST(Solver, ThreadCountsOutsideZeroToTheMaximumAreInputErrors) {
+  for (const std::string& backend : KnownBackends()) {
+    RunOptions o;
+    o.backend = backend;
+    for (const int threads : {-1, kMaxThreads + 1, 100000}) {
+      o.threads = threads;
+      try {
+        MakeSolver(TwoLiquidParticlesAt(40, 60), o);
+        ADD_FAILURE() << backend << " took " << threads << " threads";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("threads: expected 0 (every idle core) or 1 to 1024"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
+    o.threads = 3;  // more than this machine's cores is allowed
+    EXPECT_EQ(MakeSolver(TwoLiquidParticlesAt(40, 60), o)->threads(), 3) << backend;
+  }
+}
+
 TEST(Solver, FactoryBuildsAPcisphThatStepsAndExposesItsState) {
   RunOptions o;
   o.backend = "owval";

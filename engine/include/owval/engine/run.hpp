@@ -16,6 +16,11 @@ namespace owval::engine {
 
 enum class Integrator { kSemiImplicitEuler, kLeapfrog };  // Sibernetic's modes 2 and 0/1
 
+// The most threads a run may ask for: beyond the machine's cores threads only stall each other
+// at barriers, and far beyond them the OpenMP runtime fails to start them (libgomp aborted at
+// 50,000 threads here and crashed at 100,000).
+inline constexpr int kMaxThreads = 1024;
+
 struct RunOptions {
   double duration_s = 0.05;  // steps = (int)(duration_s / dt) computed in float, as Sibernetic
   int log_step = 1;          // a frame after step k when k % log_step == 0
@@ -29,7 +34,9 @@ struct RunOptions {
   bool apply_physical_parameters = false;
   // Where muscle activations come from; kAuto follows Sibernetic (waves for "worm" files).
   MuscleSignal muscle_signal = MuscleSignal::kAuto;
-  int threads = 0;            // 0: OpenMP default
+  // OpenMP threads: 0 for the engine's rule (every idle core; one below 4,096 particles), or 1 to
+  // kMaxThreads. More is an InputError (MakeSolver).
+  int threads = 0;
   bool record_fields = true;  // store velocity, density and pressure per frame
   // Where the state dump goes when a NaN appears (owval_nan_dump_step<k>.txt); empty: no dump.
   std::filesystem::path dump_dir;
