@@ -44,7 +44,7 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
       bench.add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
   cmd->add_option("config", a->config,
                   "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
-  cmd->add_option("--steps", o.steps, "Steps to time");
+  cmd->add_option("--steps", o.steps, "Steps to time")->check(Count());
   AddJsonOut(cmd, &a->json_out);
   cmd->add_option("--backend", o.backend, "Solver to time (pcisph, xpbd; default pcisph)");
   cmd->add_flag("--phases", o.phases,
@@ -67,7 +67,8 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   IoBenchmarkOptions& o = a->io;
   CLI::App* cmd =
       bench.add_subcommand("io", "Text parse and HDF5 read throughput on a large generated file");
-  cmd->add_option("--size-mb", o.text_size_mb, "Size of the generated position_buffer.txt (MB)");
+  cmd->add_option("--size-mb", o.text_size_mb, "Size of the generated position_buffer.txt (MB)")
+      ->check(Positive());
   cmd->add_option("--dir", o.directory, "Where to write the generated files");
   AddJsonOut(cmd, &a->json_out);
   cmd->add_option("--hdf5-level", o.hdf5.compression_level, "HDF5 deflate level (0-9)");
@@ -81,7 +82,7 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
 
 void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand("render", "Render + H.264 encode frames per second (JSON)");
-  cmd->add_option("--frames", a->render.frames, "Frames per case");
+  cmd->add_option("--frames", a->render.frames, "Frames per case")->check(Count());
   AddJsonOut(cmd, &a->json_out);
   cmd->callback([a] {
     a->render.demo1_trajectory = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";

@@ -89,7 +89,7 @@ void AddCommon(CLI::App* cmd, RenderArgs* a) {
       ->check(CLI::IsMember({"auto", "iso", "side", "top", "front", "worm"}));
   cmd->add_option("--boundary", a->boundary, "hidden, translucent or shown")
       ->check(CLI::IsMember({"hidden", "translucent", "shown"}));
-  cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1");
+  cmd->add_option("--liquid-opacity", a->liquid_opacity, "0..1")->check(Fraction());
   AddTrackFlags(cmd, &a->track, "track-", "Print this");
   cmd->add_option("--label-ref", a->label_ref, "Left panel's name (default: from the file name)");
   cmd->add_option("--label-cand", a->label_cand,
@@ -108,14 +108,16 @@ void SetUp(CLI::App& app) {
   cmd->add_option("trajectory", a->trajectory, "Trajectory to render");
   AddCommon(cmd, a.get());
   cmd->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
-  cmd->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)");
+  cmd->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
+      ->check(Count());
   CLI::App* sxs =
       cmd->add_subcommand("sxs", "Side by side: reference left, candidate right, one camera");
   sxs->add_option("reference", a->reference)->required();
   sxs->add_option("candidate", a->candidate)->required();
   AddCommon(sxs, a.get());
   sxs->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
-  sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)");
+  sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
+      ->check(Count());
   sxs->callback([a] {
     RequireOut(*a);
     const auto ref = OpenTrajectoryArgument(a->reference);  // frame by frame

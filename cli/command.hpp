@@ -26,6 +26,9 @@ const CLI::Validator& ParticleIndex();
 // ("expected a number > 0, found '0'"); CLI11's own print the bounds as 300-digit doubles.
 const CLI::Validator& Positive();
 const CLI::Validator& NonNegative();
+const CLI::Validator& Fraction();  // 0 to 1 (NaN refused, which CLI::Range lets through)
+// A count for an unsigned option: digits only ("-1" is refused, not wrapped).
+const CLI::Validator& Count();
 
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
 // --PREFIXaxis): only what was given, laid over a command's default track (a manifest's, or

@@ -36,15 +36,26 @@ CLI::App& Bench(CLI::App& app) {
 
 void SetExitCode(int code) { g_exit_code = code; }
 
-const CLI::Validator& ParticleIndex() {
-  static const CLI::Validator index(
-      [](std::string& text) {
+namespace {
+// Digits only, at most 18 of them: "-1" is refused rather than wrapped to 2^64 - 1.
+CLI::Validator DigitsOnly(const std::string& expected, const std::string& name) {
+  return CLI::Validator(
+      [expected](std::string& text) {
         const bool digits = !text.empty() && text.size() <= 18 &&
                             text.find_first_not_of("0123456789") == std::string::npos;
-        return digits ? std::string() : std::string("expected a particle index (0, 1, 2, ...)");
+        return digits ? std::string() : "expected " + expected;
       },
-      "INDEX");
+      name);
+}
+}  // namespace
+
+const CLI::Validator& ParticleIndex() {
+  static const CLI::Validator index = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
   return index;
+}
+const CLI::Validator& Count() {
+  static const CLI::Validator count = DigitsOnly("a whole number >= 0", "COUNT");
+  return count;
 }
 namespace {
 // A validator accepting a whole decimal number (as strtod reads it) for which `holds` is true.
@@ -65,6 +76,11 @@ CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
 const CLI::Validator& Positive() {
   static const CLI::Validator v =
       NumberThat([](double x) { return x > 0; }, "a number > 0", "POSITIVE");
+  return v;
+}
+const CLI::Validator& Fraction() {
+  static const CLI::Validator v =
+      NumberThat([](double x) { return x >= 0 && x <= 1; }, "a number from 0 to 1", "0..1");
   return v;
 }
 const CLI::Validator& NonNegative() {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace {
 namespace fs = std::filesystem;
@@ -268,6 +269,37 @@ TEST(Cli, NumbersOutOfRangeSayWhatWasExpected) {
   EXPECT_EQ(threads.err,
             "owval: usage: --threads: Value 100000 not in range 0 to 1024 (see --help)\n");
   EXPECT_EQ(Owval("bench backends owval --scenario demo1 --threads 0").exit_code, 2);
+}
+
+// Numbers that were taken and misread: a negative count wrapped to 2^64 - 1, an opacity of NaN,
+// a frame edge past int's range read by sscanf, a generated file of -5 MB (which ran until
+// killed). Each is now one line, exit 2, and nothing written.
+TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  const fs::path out = Scratch() / "hostile";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::string video = (out / "a.mp4").string(), frames = (out / "f").string();
+  for (const std::string& args : std::vector<std::string>{
+           "render " + traj + " -o " + video + " --size 99999999999999999999x10",
+           "render " + traj + " -o " + video + " --size 20000x100",
+           "render " + traj + " -o " + video + " --liquid-opacity nan",
+           "render " + traj + " -o " + video + " --liquid-opacity -3",
+           "render " + traj + " -o " + video + " --max-frames -1",
+           "frames " + traj + " " + traj + " -o " + frames + " --at -1",
+           "compare " + traj + " " + traj + " --frames 0,-1",
+           "bench io --size-mb -5 --dir " + out.string(),
+           "bench io --size-mb 99999999999 --dir " + out.string(),
+           "bench engine one_sprig --steps -1",
+           "bench render --frames -2",
+       }) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+    EXPECT_TRUE(fs::is_empty(out)) << args;
+  }
 }
 
 }  // namespace

@@ -10,11 +10,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "code_pages.hpp"
 #include "mp4_writer.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/one_line.hpp"
 #include "owval/base/progress.hpp"
 #include "text.hpp"
 #include "worm_camera.hpp"
@@ -299,7 +301,7 @@ void WritePng(const std::filesystem::path& path, const std::vector<unsigned char
 void CheckSize(const RenderOptions& o) {
   if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
     throw InputError("frame size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                     " is out of range");
+                     " is out of range: expected 16 to 8192 pixels a side");
 }
 
 // The MP4 writer, opened at the first frame: by then llvmpipe has compiled its shaders, and
@@ -618,9 +620,17 @@ std::string VideoSummary::ToText(const std::filesystem::path& output) const {
 }
 
 void ParseFrameSize(const std::string& text, RenderOptions* options) {
-  char end = 0;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &options->width, &options->height, &end) != 2)
-    throw InputError("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  // Two runs of at most 5 digits (CheckSize allows 16 to 8192): sscanf's %d on a longer one is
+  // undefined.
+  const std::size_t x = text.find('x');
+  const auto digits = [](std::string_view s) {
+    return !s.empty() && s.size() <= 5 && s.find_first_not_of("0123456789") == s.npos;
+  };
+  if (x == std::string::npos || !digits(std::string_view(text).substr(0, x)) ||
+      !digits(std::string_view(text).substr(x + 1)))
+    throw InputError("--size " + OneLine(text, 40) + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  options->width = std::stoi(text.substr(0, x));
+  options->height = std::stoi(text.substr(x + 1));
 }
 
 std::string PanelLabel(const std::filesystem::path& trajectory, const std::string& fallback) {

@@ -5,6 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <string>
+
+#include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
 
 namespace owval {
 namespace {
@@ -41,9 +46,16 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 }  // namespace
 
 nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
-  // ~27 bytes per row, 64,000 moving rows per later frame.
+  // ~27 bytes per row, 64,000 moving rows per later frame. The generated trajectory and the one
+  // read back are held in memory, 12 bytes a particle and frame: within the memory budget.
+  if (!(a.text_size_mb > 0 && a.text_size_mb <= 1e9)) {
+    std::ostringstream found;
+    found << a.text_size_mb;
+    throw InputError("--size-mb: expected a size above 0 and at most 1e9 MB, found " + found.str());
+  }
   const std::size_t frames =
       static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * 64000)));
+  CheckAllocation(SaturatingProduct(frames, (64000 + 17498) * 12), "owval bench io", "--size-mb");
   const fs::path text = a.directory / "owval_bench_position_buffer.txt";
   const fs::path h5 = a.directory / "owval_bench_trajectory.h5";
   {
