@@ -43,20 +43,27 @@ void SetUp(CLI::App& app) {
   CLI::App* stability =
       check->add_subcommand("stability", "NaN/Inf, box escapes, kinetic blow-up, density range");
   stability->add_option("trajectory", args->path)->required();
-  stability->add_option("--box-tolerance", args->stability.box_tolerance_cu,
-                        "cu outside the box allowed");
-  stability->add_option("--speed-limit", args->stability.speed_limit_m_s,
-                        "Mean speed (m/s) counted as blow-up");
-  stability->add_option("--density-range", args->stability.density_max, "Maximum density (kg/m^3)");
+  stability
+      ->add_option("--box-tolerance", args->stability.box_tolerance_cu,
+                   "cu outside the box allowed")
+      ->check(NonNegative());
+  stability
+      ->add_option("--speed-limit", args->stability.speed_limit_m_s,
+                   "Mean speed (m/s) counted as blow-up")
+      ->check(Positive());
+  stability->add_option("--density-range", args->stability.density_max, "Maximum density (kg/m^3)")
+      ->check(Positive());
   stability->add_flag("--json", args->json);
   stability->callback([args] { RunStability(*args); });
   CLI::App* incompressible =
       check->add_subcommand("incompressibility", "Mean and max |rho/rho0 - 1| of liquid");
   incompressible->add_option("trajectory", args->path)->required();
-  incompressible->add_option("--rest-density", args->incompressibility.rest_density,
-                             "rho0 (kg/m^3)");
-  incompressible->add_option("--limit", args->incompressibility.limit,
-                             "Allowed deviation (default 0.01)");
+  incompressible
+      ->add_option("--rest-density", args->incompressibility.rest_density, "rho0 (kg/m^3)")
+      ->check(Positive());
+  incompressible
+      ->add_option("--limit", args->incompressibility.limit, "Allowed deviation (default 0.01)")
+      ->check(Positive());
   incompressible->add_flag("--json", args->json);
   incompressible->callback([args] { RunIncompressibility(*args); });
 }

@@ -105,8 +105,9 @@ void SetUp(CLI::App& app) {
   cmd->add_flag("--zarr", r.zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
   cmd->add_flag("--json", a->json, "Print a JSON summary");
   cmd->add_option(
-      "--checkpoint-every", r.checkpoint_every,
-      "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)");
+         "--checkpoint-every", r.checkpoint_every,
+         "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)")
+      ->check(Count());
   cmd->add_option("--resume", a->resume,
                   "Continue the checkpointed run in this output directory with its own "
                   "arguments; the outputs equal an uninterrupted run's byte for byte")

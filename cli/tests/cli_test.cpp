@@ -273,7 +273,8 @@ TEST(Cli, NumbersOutOfRangeSayWhatWasExpected) {
 
 // Numbers that were taken and misread: a negative count wrapped to 2^64 - 1, an opacity of NaN,
 // a frame edge past int's range read by sscanf, a generated file of -5 MB (which ran until
-// killed). Each is now one line, exit 2, and nothing written.
+// killed), a stability gate's tolerance of NaN (which passed every frame). Each is now one line,
+// exit 2, and nothing written.
 TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
   const std::string traj =
       (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
@@ -294,6 +295,9 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
            "bench io --size-mb 99999999999 --dir " + out.string(),
            "bench engine one_sprig --steps -1",
            "bench render --frames -2",
+           "check stability " + traj + " --box-tolerance nan",
+           "check stability " + traj + " --speed-limit -1",
+           "run one_sprig --out " + out.string() + " --checkpoint-every -1",
        }) {
     const Result r = Owval(args);
     EXPECT_EQ(r.exit_code, 2) << args;

@@ -48,9 +48,28 @@ StabilityOptions LongRunStabilityOptions() {
   return o;
 }
 
+namespace {
+// A gate's threshold that is NaN, infinite or out of range would let every frame pass (every
+// comparison with NaN is false): refused as bad input instead.
+void RequireThreshold(bool in_range, const char* name, double value, const char* expected) {
+  if (in_range && std::isfinite(value)) return;
+  std::ostringstream found;
+  found << value;
+  throw InputError(std::string(name) + ": expected " + expected + ", found " + found.str());
+}
+}  // namespace
+
 StabilityMonitor::StabilityMonitor(const Box& box, std::vector<float> type,
                                    const StabilityOptions& options)
     : box_(box), type_(std::move(type)), o_(options) {
+  RequireThreshold(o_.box_tolerance_cu >= 0, "box tolerance", o_.box_tolerance_cu, "cu >= 0");
+  RequireThreshold(o_.speed_limit_m_s > 0, "speed limit", o_.speed_limit_m_s, "m/s > 0");
+  RequireThreshold(o_.simulation_scale > 0, "simulation scale", o_.simulation_scale, "m/cu > 0");
+  RequireThreshold(o_.density_min >= 0, "density minimum", o_.density_min, "kg/m^3 >= 0");
+  RequireThreshold(o_.density_max > o_.density_min, "density maximum", o_.density_max,
+                   "kg/m^3 above the minimum");
+  RequireThreshold(o_.density_outside_fraction >= 0 && o_.density_outside_fraction <= 1,
+                   "density outside fraction", o_.density_outside_fraction, "0 to 1");
   for (std::size_t p = 0; p < type_.size(); ++p) {
     if (KindOf(type_[p]) != ParticleKind::kBoundary) moving_.push_back(p);
     if (!o_.density_liquid_only || KindOf(type_[p]) == ParticleKind::kLiquid)
@@ -165,6 +184,8 @@ IncompressibilityMonitor::IncompressibilityMonitor(const Trajectory& header, std
                                                    bool has_density,
                                                    const IncompressibilityOptions& o)
     : o_(o) {
+  RequireThreshold(o_.rest_density > 0, "rest density", o_.rest_density, "kg/m^3 > 0");
+  RequireThreshold(o_.limit > 0, "limit", o_.limit, "> 0");
   if (!has_density)
     throw InputError(
         "this trajectory carries no density (Sibernetic's position_buffer.txt never does); "

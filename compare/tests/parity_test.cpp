@@ -4,8 +4,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
@@ -312,6 +314,34 @@ TEST(StabilityMonitor, FedFrameByFrameAgreesWithCheckStability) {
   for (std::size_t f = 0; f < t.frame_count(); ++f)
     monitor.Observe(t.time_s[f], t.position(f, 0), &t.velocities[f * 6], &t.density[f * 2]);
   EXPECT_EQ(monitor.report().ToJson(), whole.ToJson());
+}
+
+// A threshold of NaN made every comparison false, so a trajectory that escapes its box passed
+// (`owval check stability --box-tolerance nan` exited 0): thresholds out of range are bad input.
+TEST(Stability, ThresholdsThatWouldPassEverythingAreInputErrors) {
+  Trajectory escaped = TwoLiquidParticles(3);
+  escaped.position(2, 1)[0] = 50.0f;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& set : std::vector<std::function<void(StabilityOptions*)>>{
+           [&](StabilityOptions* o) { o->box_tolerance_cu = nan; },
+           [&](StabilityOptions* o) { o->box_tolerance_cu = -1; },
+           [&](StabilityOptions* o) { o->speed_limit_m_s = nan; },
+           [&](StabilityOptions* o) { o->speed_limit_m_s = 0; },
+           [&](StabilityOptions* o) { o->density_max = nan; },
+           [&](StabilityOptions* o) { o->density_outside_fraction = 2; },
+       }) {
+    StabilityOptions o;
+    set(&o);
+    EXPECT_THROW(CheckStability(escaped, o), InputError);
+  }
+  EXPECT_FALSE(CheckStability(escaped).pass());
+  const Trajectory t = TwoLiquidParticles(3);
+  IncompressibilityOptions nan_limit;
+  nan_limit.limit = nan;
+  EXPECT_THROW(CheckIncompressibility(t, nan_limit), InputError);
+  IncompressibilityOptions zero_density;
+  zero_density.rest_density = 0;
+  EXPECT_THROW(CheckIncompressibility(t, zero_density), InputError);
 }
 
 TEST(Incompressibility, MeasuresMeanAndMaxDeviation) {
