@@ -22,8 +22,9 @@ CLI::App& Bench(CLI::App& app);
 
 // A particle index: digits only, at most 18 of them ("--particle -1" is refused, not wrapped).
 const CLI::Validator& ParticleIndex();
-// A number > 0 and a number >= 0. Their messages say what was expected and what was found
-// ("expected a number > 0, found '0'"); CLI11's own print the bounds as 300-digit doubles.
+// A finite number > 0 and a finite number >= 0 (a NaN or infinite threshold would pass every
+// frame). Their messages say what was expected and what was found ("expected a number > 0,
+// found '0'"); CLI11's own print the bounds as 300-digit doubles.
 const CLI::Validator& Positive();
 const CLI::Validator& NonNegative();
 const CLI::Validator& Fraction();  // 0 to 1 (NaN refused, which CLI::Range lets through)

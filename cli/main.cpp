@@ -1,4 +1,5 @@
 // owval: one CLI over the owval libraries. Every subcommand lives in its own cmd_*.cpp.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -47,6 +48,20 @@ CLI::Validator DigitsOnly(const std::string& expected, const std::string& name) 
       },
       name);
 }
+// A validator accepting a finite decimal number (as strtod reads it) for which `holds` is true:
+// an infinite threshold would pass every frame, as a NaN one would.
+CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
+                          const std::string& name) {
+  return CLI::Validator(
+      [holds, expected](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        const bool number = !text.empty() && end == text.c_str() + text.size();
+        if (number && std::isfinite(value) && holds(value)) return std::string();
+        return "expected " + expected + ", found '" + OneLine(text, 40) + "'";
+      },
+      name);
+}
 }  // namespace
 
 const CLI::Validator& ParticleIndex() {
@@ -57,21 +72,6 @@ const CLI::Validator& Count() {
   static const CLI::Validator count = DigitsOnly("a whole number >= 0", "COUNT");
   return count;
 }
-namespace {
-// A validator accepting a whole decimal number (as strtod reads it) for which `holds` is true.
-CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
-                          const std::string& name) {
-  return CLI::Validator(
-      [holds, expected](std::string& text) {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        const bool number = !text.empty() && end == text.c_str() + text.size();
-        if (number && holds(value)) return std::string();
-        return "expected " + expected + ", found '" + OneLine(text, 40) + "'";
-      },
-      name);
-}
-}  // namespace
 
 const CLI::Validator& Positive() {
   static const CLI::Validator v =

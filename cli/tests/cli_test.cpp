@@ -291,6 +291,7 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
            "render " + traj + " -o " + video + " --max-frames -1",
            "frames " + traj + " " + traj + " -o " + frames + " --at -1",
            "compare " + traj + " " + traj + " --frames 0,-1",
+           "compare " + traj + " " + traj + " --scale inf",
            "bench io --size-mb -5 --dir " + out.string(),
            "bench io --size-mb 99999999999 --dir " + out.string(),
            "bench engine one_sprig --steps -1",
