@@ -34,12 +34,10 @@ std::vector<std::size_t> ParseIndexList(const std::string& text, const std::stri
   std::vector<std::size_t> indices;
   std::stringstream in(text);
   for (std::string item; std::getline(in, item, ',');) {
-    try {  // digits only: stoul would take "-1" as 2^64 - 1
-      std::size_t used = 0;
+    try {  // digits only: stoul would take "-1" as 2^64 - 1 (and throws past 2^64)
       if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos)
         throw std::invalid_argument(item);
-      indices.push_back(std::stoul(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
+      indices.push_back(std::stoul(item));
     } catch (const std::exception&) {
       throw InputError(flag + ": expected comma-separated frame indices, found '" + item + "'");
     }

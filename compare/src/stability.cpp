@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 
 namespace owval::compare {
 namespace {
@@ -53,9 +54,8 @@ namespace {
 // comparison with NaN is false): refused as bad input instead.
 void RequireThreshold(bool in_range, const char* name, double value, const char* expected) {
   if (in_range && std::isfinite(value)) return;
-  std::ostringstream found;
-  found << value;
-  throw InputError(std::string(name) + ": expected " + expected + ", found " + found.str());
+  throw InputError(std::string(name) + ": expected " + expected + ", found " +
+                   FormatNumber(value, 6));
 }
 }  // namespace
 

@@ -5,10 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
 
 namespace owval {
@@ -17,14 +17,16 @@ namespace fs = std::filesystem;
 
 // A demo1-like scene: a walled box of boundary particles and a block of moving particles whose
 // positions wander, written in the OpenCL layout with Sibernetic's 6 significant digits.
+constexpr int kSide = 40;  // the moving block's particles a side
+constexpr std::size_t kMoving = kSide * kSide * kSide, kBoundary = 17498;
+
 Trajectory SyntheticTrajectory(std::size_t frames) {
   Trajectory t;
   t.box = {0, 89.1f, 0, 89.1f, 0, 89.1f};
   t.time_step_s = 2e-5;
   t.log_step = 20;
-  const int side = 40;
-  for (int i = 0; i < side * side * side; ++i) t.type.push_back(i % 3 == 0 ? 2.1f : 1.1f);
-  for (int i = 0; i < 17498; ++i) t.type.push_back(3.0f);
+  for (std::size_t i = 0; i < kMoving; ++i) t.type.push_back(i % 3 == 0 ? 2.1f : 1.1f);
+  for (std::size_t i = 0; i < kBoundary; ++i) t.type.push_back(3.0f);
   std::mt19937 rng(42);
   std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
   std::vector<float> frame(t.type.size() * 3);
@@ -32,8 +34,7 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
     for (int a = 0; a < 3; ++a)
       frame[p * 3 + a] = 5.0f + 1.67f * static_cast<float>((p >> (4 * a)) % 45);
   for (std::size_t f = 0; f < frames; ++f) {
-    for (std::size_t p = 0; p < static_cast<std::size_t>(side * side * side) * 3; ++p)
-      frame[p] += jitter(rng);
+    for (std::size_t p = 0; p < kMoving * 3; ++p) frame[p] += jitter(rng);
     t.AppendFrame(static_cast<double>(f) * 20 * 2e-5, frame.data());
   }
   return t;
@@ -46,16 +47,15 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 }  // namespace
 
 nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
-  // ~27 bytes per row, 64,000 moving rows per later frame. The generated trajectory and the one
-  // read back are held in memory, 12 bytes a particle and frame: within the memory budget.
-  if (!(a.text_size_mb > 0 && a.text_size_mb <= 1e9)) {
-    std::ostringstream found;
-    found << a.text_size_mb;
-    throw InputError("--size-mb: expected a size above 0 and at most 1e9 MB, found " + found.str());
-  }
+  // ~27 bytes per row, a row per moving particle in every later frame. The generated trajectory
+  // and the one read back are held in memory, 12 bytes a particle and frame: within the budget.
+  if (!(a.text_size_mb > 0 && a.text_size_mb <= 1e9))
+    throw InputError("--size-mb: expected a size above 0 and at most 1e9 MB, found " +
+                     FormatNumber(a.text_size_mb, 6));
   const std::size_t frames =
-      static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * 64000)));
-  CheckAllocation(SaturatingProduct(frames, (64000 + 17498) * 12), "owval bench io", "--size-mb");
+      static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * double(kMoving))));
+  CheckAllocation(SaturatingProduct(frames, (kMoving + kBoundary) * 12), "owval bench io",
+                  "--size-mb");
   const fs::path text = a.directory / "owval_bench_position_buffer.txt";
   const fs::path h5 = a.directory / "owval_bench_trajectory.h5";
   {
