@@ -70,7 +70,7 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
     const std::string metric = t.value("metric", std::string());
     const double weight = t.value("weight", 1.0);
     if (metric == "rms") {
-      targets.push_back({"rms", 0, range, weight, (f.dir / "reference.h5").string()});
+      targets.push_back({"rms", 0, range, weight, (f.dir / "reference.h5").string(), nullptr});
       continue;
     }
     const std::optional<double> value = metric == "period"           ? m.period_s
@@ -81,7 +81,7 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
       *why = "the reference has no " + metric + " of " + f.scenario.track.Describe() + " to fit to";
       return std::nullopt;
     }
-    targets.push_back({metric, *value, std::max(std::abs(*value), 1e-12), weight, ""});
+    targets.push_back({metric, *value, std::max(std::abs(*value), 1e-12), weight, "", nullptr});
   }
   return targets;
 }

@@ -39,17 +39,12 @@ std::pair<std::string, std::string> KeyValue(const std::string& text, const std:
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-double Rms(const Trajectory& t, const Track& k, const std::string& reference_file) {
-  static thread_local std::string cached_name;
-  static thread_local Trajectory cached;
-  if (cached_name != reference_file) {
-    cached = ReadTrajectory(reference_file);
-    cached_name = reference_file;
-  }
-  const auto pairs = PairFramesByTime(cached, t);
+double Rms(const Trajectory& t, const Track& k, const Trajectory& reference,
+           const std::string& reference_file) {
+  const auto pairs = PairFramesByTime(reference, t);
   if (pairs.empty())
     throw InputError(reference_file, 0, "shares no frame time with the simulation");
-  const auto ref = k.Series(cached), cand = k.Series(t);
+  const auto ref = k.Series(reference), cand = k.Series(t);
   double sum = 0;
   for (const auto& [fr, fc] : pairs) sum += (cand[fc] - ref[fr]) * (cand[fc] - ref[fr]);
   return std::sqrt(sum / double(pairs.size()));
@@ -110,13 +105,24 @@ Parameter ParseParameter(const std::string& text) {
   return p;
 }
 
+void LoadReferences(std::vector<Target>* targets) {
+  for (Target& target : *targets)
+    if (target.metric == "rms" && !target.reference)
+      target.reference = std::make_shared<const Trajectory>(ReadTrajectory(target.reference_file));
+}
+
 std::vector<double> ScaledResiduals(const Trajectory& t, const Track& k,
                                     const std::vector<Target>& targets) {
   const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, k.Series(t));
   std::vector<double> r;
   for (const Target& target : targets) {
-    const double measured =
-        target.metric == "rms" ? Rms(t, k, target.reference_file) : Measure(m, target.metric);
+    double measured = 0;
+    if (target.metric != "rms")
+      measured = Measure(m, target.metric);
+    else if (target.reference)
+      measured = Rms(t, k, *target.reference, target.reference_file);
+    else  // not loaded by LoadReferences: read for this call only
+      measured = Rms(t, k, ReadTrajectory(target.reference_file), target.reference_file);
     r.push_back(std::sqrt(target.weight) * (measured - target.value) / target.scale);
   }
   return r;
@@ -134,6 +140,7 @@ nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Track& k)
 }
 
 Objective MakeObjective(Simulator simulator, Track tracking, std::vector<Target> targets) {
+  LoadReferences(&targets);
   return [simulator = std::move(simulator), tracking, targets](const std::vector<double>& values) {
     return ScaledResiduals(simulator(values), tracking, targets);
   };

@@ -3,9 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <future>
+
+#include <unistd.h>
 
 #include "owval/base/errors.hpp"
 #include "owval/sgd/targets.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::sgd {
 namespace {
@@ -106,6 +111,41 @@ TEST(Targets, ParseTargetAndParameterSpecifications) {
   EXPECT_THROW(ParseTarget("period=abc"), InputError);
   EXPECT_THROW(ParseParameter("k=-1:log"), InputError);
   EXPECT_THROW(ParseTarget("period=1:color=red"), InputError);
+}
+
+// One particle at y = 1, 2, 3 over three frames, shifted by `dy`.
+Trajectory Line(double dy) {
+  Trajectory t;
+  t.box = {0, 10, 0, 10, 0, 10};
+  t.time_step_s = 1e-3;
+  t.type = {1.1f};
+  t.time_s = {0, 1e-3, 2e-3};
+  for (int f = 0; f < 3; ++f) t.positions.insert(t.positions.end(), {5, float(1 + f + dy), 5});
+  return t;
+}
+
+// The reference of an rms target is read once, when the objective is made: finite-difference
+// points run on threads of their own, and reading HDF5 there (a fork from a busy process) left a
+// sanitizer build's containment child hung until its timeout, failing the fit.
+TEST(Targets, RmsReferenceIsReadOnceWhenTheObjectiveIsMade) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("owval_rms_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path reference = dir / "reference.h5";
+  WriteTrajectory(Line(0), reference);
+  const Objective objective = MakeObjective(
+      [](const std::vector<double>& x) { return Line(x[0]); }, Track{},
+      {ParseTarget("rms=0:scale=2:ref=" + reference.string())});
+  std::filesystem::remove_all(dir);  // evaluations must not need the file any more
+  std::vector<std::future<std::vector<double>>> points;
+  for (double dy : {0.5, 1.0, 3.0})
+    points.push_back(std::async(std::launch::async, [&objective, dy] { return objective({dy}); }));
+  EXPECT_DOUBLE_EQ(points[0].get().at(0), 0.25);
+  EXPECT_DOUBLE_EQ(points[1].get().at(0), 0.5);
+  EXPECT_DOUBLE_EQ(points[2].get().at(0), 1.5);
+  EXPECT_THROW(MakeObjective([](const std::vector<double>&) { return Line(0); }, Track{},
+                             {ParseTarget("rms=0:ref=" + reference.string())}),
+               InputError);  // unreadable now: refused before any evaluation
 }
 
 }  // namespace

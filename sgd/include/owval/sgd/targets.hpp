@@ -23,7 +23,16 @@ struct Target {
   double scale = 1;
   double weight = 1;
   std::string reference_file;  // rms only
+  // rms: the trajectory in reference_file, read once by LoadReferences (MakeObjective calls it)
+  // so that concurrent evaluations share it instead of each reading the file.
+  std::shared_ptr<const Trajectory> reference;
 };
+
+// Reads every rms target's reference_file that is not loaded yet (InputError when unreadable).
+// Call it on the thread that owns the fit, before evaluations run concurrently: reading HDF5
+// forks a containment child (trajectory/hdf5_format.cpp), and a fork while evaluation threads
+// allocate can leave the child waiting on a lock the fork did not copy the owner of.
+void LoadReferences(std::vector<Target>* targets);
 
 // "period=0.7246e-3:scale=0.725e-3:weight=0.25" and "rms=0:scale=1:ref=FILE".
 Target ParseTarget(const std::string& text);
@@ -36,7 +45,7 @@ nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Track& tr
 
 using Simulator = std::function<Trajectory(const std::vector<double>& values)>;
 
-// Objective = simulate, then measure the targets.
+// Objective = simulate, then measure the targets. Loads the targets' references first.
 Objective MakeObjective(Simulator simulator, Track track, std::vector<Target> targets);
 
 // Runs `command_template` through the shell for each evaluation, with {name} replaced by each
