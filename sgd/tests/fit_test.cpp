@@ -133,9 +133,9 @@ TEST(Targets, RmsReferenceIsReadOnceWhenTheObjectiveIsMade) {
   std::filesystem::create_directories(dir);
   const std::filesystem::path reference = dir / "reference.h5";
   WriteTrajectory(Line(0), reference);
-  const Objective objective = MakeObjective(
-      [](const std::vector<double>& x) { return Line(x[0]); }, Track{},
-      {ParseTarget("rms=0:scale=2:ref=" + reference.string())});
+  const Objective objective =
+      MakeObjective([](const std::vector<double>& x) { return Line(x[0]); }, Track{},
+                    {ParseTarget("rms=0:scale=2:ref=" + reference.string())});
   std::filesystem::remove_all(dir);  // evaluations must not need the file any more
   std::vector<std::future<std::vector<double>>> points;
   for (double dy : {0.5, 1.0, 3.0})
