@@ -12,6 +12,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
 
 namespace owval::engine {
@@ -166,6 +167,15 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
                      "wrong particle count: " + std::to_string(c.position.size()) +
                          " [position] rows but " + std::to_string(c.velocity.size()) +
                          " [velocity] rows");
+  for (std::size_t i = 0; i < c.position.size(); ++i) {
+    // Sibernetic's kernels take the class as (int)w and know 1, 2 and 3 only; any other class
+    // would move as none of them (and (int) of 1e30 is undefined).
+    const float type = c.position[i][3];
+    if (!(type >= 1.0f && type < 4.0f))
+      throw InputError(name, 0,
+                       "row " + std::to_string(i) + " of [position] has type " + FormatNumber(type) +
+                           ": expected 1.x (liquid), 2.x (elastic) or 3.x (boundary)");
+  }
   const std::size_t elastic = c.elastic_count();
   for (std::size_t i = 0; i < elastic; ++i)
     if (KindOf(c.position[i][3]) != ParticleKind::kElastic)
@@ -181,6 +191,10 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
   for (std::size_t r = 0; r < c.connection.size(); ++r) {
     const float partner = c.connection[r][0];
     // Truncation: int(partner) >= n exactly when partner >= n, and no cast of 1e30 is made.
+    if (partner >= 0 && !(c.connection[r][1] >= 0))
+      throw InputError(name, 0,
+                       "connection row " + std::to_string(r) + " has rest length " +
+                           FormatNumber(c.connection[r][1]) + " cu: expected 0 or more");
     if (partner >= static_cast<float>(c.particle_count()))
       throw InputError(name, 0,
                        "connection row " + std::to_string(r) + " links to particle " +

@@ -72,6 +72,32 @@ TEST(ConfigHostile, RefusesAConnectionTo1e30) {
       std::string::npos);
 }
 
+// Type 7.5 ran as a particle of no class (it moved, but as neither liquid, elastic nor
+// boundary), and (int) of a type 1e30 is undefined.
+TEST(ConfigHostile, RefusesATypeCodeOfNoClass) {
+  for (const char* type : {"7.5", "0.5", "1e30", "-2"}) {
+    std::string text = Config(kBox, "[end]\n");
+    text.replace(text.find("\t3\n[velocity]"), 2, std::string("\t") + type);
+    EXPECT_NE(ErrorOf(text).find("cfg: row 1 of [position] has type "), std::string::npos)
+        << type << ": " << ErrorOf(text);
+  }
+  std::string text = Config(kBox, "[end]\n");
+  text.replace(text.find("\t3\n[velocity]"), 2, "\t7.5");
+  EXPECT_EQ(ErrorOf(text),
+            "cfg: row 1 of [position] has type 7.5: expected 1.x (liquid), 2.x (elastic) or 3.x "
+            "(boundary)");
+}
+
+// A spring whose rest length is negative can never relax; an empty slot's (-1 partner) is unread.
+TEST(ConfigHostile, RefusesANegativeRestLength) {
+  std::string text = Config(kBox, "[end]\n");
+  text.replace(text.find("-1\t0\t0\t0\n"), 9, "1\t-5\t0\t0\n");
+  EXPECT_EQ(ErrorOf(text), "cfg: connection row 0 has rest length -5 cu: expected 0 or more");
+  text = Config(kBox, "[end]\n");
+  text.replace(text.find("-1\t0\t0\t0\n"), 9, "-1\t-5\t0\t0\n");
+  EXPECT_EQ(ErrorOf(text), "no error");
+}
+
 // Was an 11 GB allocation and bad_alloc for three particles.
 TEST(ConfigHostile, RefusesABoxWhoseNeighbourGridExceedsTheBudget) {
   const std::string error = ErrorOf(Config("0\n1e6\n0\n1e6\n0\n1e6\n", "[end]\n"));
