@@ -173,7 +173,8 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
     const float type = c.position[i][3];
     if (!(type >= 1.0f && type < 4.0f))
       throw InputError(name, 0,
-                       "row " + std::to_string(i) + " of [position] has type " + FormatNumber(type) +
+                       "row " + std::to_string(i) + " of [position] has type " +
+                           FormatNumber(type) +
                            ": expected 1.x (liquid), 2.x (elastic) or 3.x (boundary)");
   }
   const std::size_t elastic = c.elastic_count();
