@@ -11,13 +11,13 @@ void CheckOutputPath(const fs::path& destination) {
   std::error_code error;
   if (fs::is_directory(destination, error))
     throw InputError(destination.string(), 0, "is a directory; expected a file to write");
-  fs::path parent = destination.parent_path();
-  if (parent.empty()) parent = ".";
-  // The nearest existing ancestor decides whether the missing directories can be created.
-  fs::path existing = parent;
-  while (!fs::exists(existing, error) && existing.has_parent_path() &&
-         existing != existing.parent_path())
+  // The nearest existing ancestor decides whether the missing directories can be created. A
+  // relative path's ancestors end at its first component ("reports" of "reports/a/index.html"),
+  // whose parent is the working directory.
+  fs::path existing = destination.parent_path();
+  while (!existing.empty() && !fs::exists(existing, error) && existing != existing.parent_path())
     existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
   if (!fs::is_directory(existing, error))
     throw InputError(destination.string(), 0,
                      "cannot be written: " + existing.string() + " is not a directory");

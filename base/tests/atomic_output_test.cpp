@@ -116,5 +116,33 @@ TEST(OutputGroup, AnInterruptedCommitMakesReadersRefuseItsFiles) {
   EXPECT_EQ(ReadWholeFile(dir / "other.txt"), "not in the group");
 }
 
+std::string CheckError(const fs::path& destination) {
+  try {
+    CheckOutputPath(destination);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// `owval pipeline free_fall` (default -o reports/free_fall) was refused in a directory without
+// reports/, as "reports is not a directory": a relative path's missing first component was
+// taken for the nearest existing ancestor instead of the working directory.
+TEST(OutputPath, MissingDirectoriesOfARelativePathCanBeCreated) {
+  const fs::path dir = Fresh("relative");
+  const fs::path before = fs::current_path();
+  fs::current_path(dir);
+  EXPECT_EQ(CheckError("reports/free_fall/index.html"), "no error");
+  EXPECT_EQ(CheckError("index.html"), "no error");
+  std::ofstream("plain") << "x";
+  EXPECT_EQ(CheckError("plain/sub/index.html"),
+            "plain/sub/index.html: cannot be written: plain is not a directory");
+  fs::create_directory("taken");
+  EXPECT_EQ(CheckError("taken"), "taken: is a directory; expected a file to write");
+  fs::current_path(before);
+  EXPECT_EQ(CheckError(dir / "new" / "deeper" / "index.html"), "no error");
+  EXPECT_EQ(CheckError(""), "output path is empty");
+}
+
 }  // namespace
 }  // namespace owval
