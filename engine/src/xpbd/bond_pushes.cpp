@@ -142,19 +142,24 @@ __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h
 }
 
 __attribute__((target("avx2,fma"))) void UpdateVelocityAvx2(std::size_t values, float h,
-                                                            float scale, float* v, float* x,
-                                                            const float* p) {
-  const __m256 hv = _mm256_set1_ps(h), scale_v = _mm256_set1_ps(scale);
+                                                            float to_cu, float scale, float* v,
+                                                            float* x, const float* p) {
+  const __m256 hv = _mm256_set1_ps(h), to_cu_v = _mm256_set1_ps(to_cu),
+               scale_v = _mm256_set1_ps(scale);
   std::size_t k = 0;
   for (; k + 8 <= values; k += 8) {
-    const __m256 position = _mm256_loadu_ps(p + k);
-    _mm256_storeu_ps(
-        v + k,
-        _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(position, _mm256_loadu_ps(x + k)), scale_v), hv));
+    const __m256 position = _mm256_loadu_ps(p + k), start = _mm256_loadu_ps(x + k);
+    const __m256 velocity = _mm256_loadu_ps(v + k);
+    const __m256 predicted =
+        _mm256_add_ps(start, _mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v));
+    const __m256 change =
+        _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(position, predicted), scale_v), hv);
+    _mm256_storeu_ps(v + k, _mm256_add_ps(velocity, change));
     _mm256_storeu_ps(x + k, position);
   }
   for (; k < values; ++k) {
-    v[k] = (p[k] - x[k]) * scale / h;
+    const float predicted = x[k] + h * v[k] * to_cu;
+    v[k] = v[k] + (p[k] - predicted) * scale / h;
     x[k] = p[k];
   }
 }

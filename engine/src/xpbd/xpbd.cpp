@@ -245,7 +245,10 @@ void Xpbd<T>::BondSubstep(T h) {
     ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes);
   if (BondSubstepInLanes(h, to_cu, scale, false)) return;
   for (std::int32_t i : state_.moving) {
-    for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / h;
+    for (int a = 0; a < 3; ++a) {  // the prediction's own p, bit for bit (bond_pushes.hpp)
+      const T predicted = x_[i][a] + h * v_[i][a] * to_cu;
+      v_[i][a] = v_[i][a] + (p_[i][a] - predicted) * scale / h;
+    }
     x_[i] = p_[i];
   }
 }
@@ -307,7 +310,7 @@ void Xpbd<T>::SharedBondSubsteps(T h, int substeps) {
           const BondShare& share = bond_shares_[t];
           const std::int32_t i = share.first_particle;
           bond_lanes_->Pass(start, p_.data(), true, share.first_group, share.last_group);
-          UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, scale, v_[i].data(),
+          UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, to_cu, scale, v_[i].data(),
                              x_[i].data(), p_[i].data());
         }
       }
@@ -332,7 +335,7 @@ bool Xpbd<T>::BondSubstepInLanes(T h, T to_cu, T scale, bool predict) {
       PredictAvx2(values, h, to_cu, held_acceleration_.front().data(), v, x, p,
                   bond_start_[first].data());
     else
-      UpdateVelocityAvx2(values, h, scale, v, x, p);
+      UpdateVelocityAvx2(values, h, to_cu, scale, v, x, p);
     return true;
   }
 }
@@ -627,11 +630,14 @@ void Xpbd<T>::WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restituti
 
 template <typename T>
 void Xpbd<T>::UpdateVelocities(T dt) {
-  const T scale = T(k_.scale);
+  const T scale = T(k_.scale), to_cu = T(1) / T(k_.scale);
   const T floor = T(box_.ymin) + T(k_.r0_cu), restitution = T(parameters_.floor_restitution);
   for (std::int32_t i : state_.moving) {
     const Vec3<T> predicted = v_[i];
-    for (int a = 0; a < 3; ++a) v_[i][a] = (p_[i][a] - x_[i][a]) * scale / dt;
+    for (int a = 0; a < 3; ++a) {  // v* plus the constraints' change (bond_pushes.hpp: why)
+      const T predicted_p = x_[i][a] + dt * predicted[a] * to_cu;
+      v_[i][a] = predicted[a] + (p_[i][a] - predicted_p) * scale / dt;
+    }
     WallVelocity(i, predicted, restitution);
     if (p_[i][1] <= floor && v_[i][1] < 0) v_[i][1] = -restitution * v_[i][1];
     x_[i] = p_[i];
