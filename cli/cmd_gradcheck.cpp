@@ -66,7 +66,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--reference", a->reference,
                   "End-to-end loss: elastic and liquid centroids against this run (default with "
                   "the default --config: the shared OpenCL demo1 run; without: the model's own "
-                  "trajectory at shifted parameters, targets moved 0.1 cu)")
+                  "trajectory at shifted parameters)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--steps", a->options.end_to_end_steps, "Steps of the end-to-end test")
       ->check(CLI::Range(20, 100000));

@@ -122,9 +122,7 @@ struct GradCheckOptions {
   int end_to_end_density_passes = -1;
   // The end-to-end test's loss (frames at most end_to_end_steps). Empty: the elastic and liquid
   // centroids every 20 steps against the model's own trajectory at shifted parameters (ρ_rest
-  // +1%, bond stiffness −10%, viscosity ×1.5), each target moved 0.1 cu on every axis so that
-  // the loss is not at its minimum where no parameter matters (free_fall's one particle: a zero
-  // gradient against rounding noise). `owval gradcheck` passes demo1's fit loss, the
+  // +1%, bond stiffness −10%, viscosity ×1.5). `owval gradcheck` passes demo1's fit loss, the
   // centroids against the OpenCL reference run (sgd::GroupCentroidLoss). On demo1 the split
   // step barely feels those shifts: the self-referenced loss is 7e-14, so near its minimum that
   // its directional derivatives (~6e-9) drown in the 100-step loss's rounding noise over 2ε and
