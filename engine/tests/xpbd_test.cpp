@@ -103,6 +103,29 @@ TEST(XpbdSolver, AnchoredSpringFollowsTheImplicitEulerRecurrenceFor1000Steps) {
   EXPECT_LT(std::pow(1 + stiffness * h * h * n * n, -1000.0), 1e-12);
 }
 
+// The float solver, as runs use it: a particle at rest with no bond of its own, beside a quiet
+// anchored spring that sets 28 substeps, falls under gravity. Its substep displacement from rest,
+// h²g/s = 6.8e-7 cu, is under half an ulp of y = 80 cu (3.8e-6), and a velocity taken as
+// (p − x)·s/h rounded it away on every substep: the particle hung in the air (as the hanging
+// chain's beads did). The velocity is now v* plus the constraints' change.
+TEST(XpbdSolver, AFloatParticleAtRestFallsUnderGravityWithManySubsteps) {
+  SiberneticConfig c = AnchoredParticle(0.0f);  // the spring at its rest length: quiet
+  c.position.insert(c.position.begin(), {20, 80, 20, 2.1f});  // elastic rows come first
+  c.velocity.insert(c.velocity.begin(), {0, 0, 0, 0});
+  c.connection.insert(c.connection.begin(), 32, {-1, 0, 0, 0});
+  c.connection[32] = {2, 10, 0, 0};  // the anchored particle's bond, renumbered
+  c.particle_mem_index.assign(14, -1);
+  PhysicsConstants k = Quiet();
+  k.gravity = {0, -9.8f, 0};
+  ASSERT_EQ(SubstepsOf(c, k), 28);
+  Xpbd<float> solver(c, k, 1);
+  const int steps = 200;
+  for (int step = 0; step <= steps; ++step) solver.Step();  // step 0 moves nothing
+  const double t = steps * double(float(k.time_step_s)), s = float(k.simulation_scale);
+  const double drop = 0.5 * 9.8 * t * t / s;  // cu
+  EXPECT_NEAR(80 - solver.positions()[0].y, drop, 0.01 * drop);
+}
+
 TEST(XpbdSolver, SetSubstepsReplaceTheDerivedCount) {
   PhysicsConstants k = Quiet();
   k.xpbd.substeps = 3;
