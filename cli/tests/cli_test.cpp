@@ -271,6 +271,25 @@ TEST(Cli, NumbersOutOfRangeSayWhatWasExpected) {
   EXPECT_EQ(Owval("bench backends owval --scenario demo1 --threads 0").exit_code, 2);
 }
 
+// bench io writes its generated files where --dir says and removes them, and the directories it
+// had to make for them, however it ends (it left an empty --dir tree behind before).
+TEST(CliBench, IoRemovesItsFilesAndTheDirectoriesItMade) {
+  const fs::path root = Scratch() / "bench_io";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const Result r = Owval("-q bench io --size-mb 1 --dir " + (root / "new/deeper").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_empty(root));
+  const Result kept = Owval("-q bench io --size-mb 1 --keep --dir " + (root / "kept").string());
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_TRUE(fs::exists(root / "kept/owval_bench_trajectory.h5"));
+  std::ofstream(root / "file") << "x";  // a file where the directory would go
+  const Result blocked = Owval("-q bench io --size-mb 1 --dir " + (root / "file/sub").string());
+  EXPECT_EQ(blocked.exit_code, 2) << blocked.err;
+  EXPECT_EQ(std::count(blocked.err.begin(), blocked.err.end(), '\n'), 1) << blocked.err;
+  fs::remove_all(root);
+}
+
 // Numbers that were taken and misread: a negative count wrapped to 2^64 - 1, an opacity of NaN,
 // a frame edge past int's range read by sscanf, a generated file of -5 MB (which ran until
 // killed), a stability gate's tolerance of NaN (which passed every frame). Each is now one line,

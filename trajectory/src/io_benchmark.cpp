@@ -4,8 +4,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
@@ -40,6 +42,34 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
   return t;
 }
 
+// The benchmark's generated files, removed however the benchmark ends (unless kept), with the
+// directories it had to create for them when they are left empty.
+class GeneratedFiles {
+ public:
+  GeneratedFiles(const fs::path& directory, bool keep) : directory_(directory), keep_(keep) {
+    std::error_code error;
+    for (fs::path d = directory; !d.empty() && !fs::exists(d, error); d = d.parent_path()) {
+      created_.push_back(d);
+      if (d == d.parent_path()) break;
+    }
+    fs::create_directories(directory, error);  // (a failure shows when the first file is written)
+  }
+  ~GeneratedFiles() {
+    if (keep_) return;
+    std::error_code error;
+    for (const fs::path& file : files_) fs::remove(file, error);
+    for (const fs::path& d : created_) fs::remove(d, error);  // innermost first; only if empty
+  }
+  GeneratedFiles(const GeneratedFiles&) = delete;
+  GeneratedFiles& operator=(const GeneratedFiles&) = delete;
+  fs::path Add(const std::string& name) { return files_.emplace_back(directory_ / name); }
+
+ private:
+  fs::path directory_;
+  bool keep_;
+  std::vector<fs::path> files_, created_;
+};
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
@@ -56,8 +86,9 @@ nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
       static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * double(kMoving))));
   CheckAllocation(SaturatingProduct(frames, (kMoving + kBoundary) * 12), "owval bench io",
                   "--size-mb");
-  const fs::path text = a.directory / "owval_bench_position_buffer.txt";
-  const fs::path h5 = a.directory / "owval_bench_trajectory.h5";
+  GeneratedFiles generated(a.directory, a.keep_files);
+  const fs::path text = generated.Add("owval_bench_position_buffer.txt");
+  const fs::path h5 = generated.Add("owval_bench_trajectory.h5");
   {
     const Trajectory t = SyntheticTrajectory(frames);
     WriteSiberneticText(t, text, TextLayout::kOpenCL);
@@ -92,10 +123,6 @@ nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
       {"threads", 1},  // text parsing
       {"hdf5_read_threads", omp_get_max_threads()},
   };
-  if (!a.keep_files) {
-    fs::remove(text);
-    fs::remove(h5);
-  }
   return out;
 }
 
