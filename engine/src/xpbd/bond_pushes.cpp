@@ -105,8 +105,8 @@ void BondLanes::SetCompliance(const float* alpha_tilde) {
     alpha_tilde_[s] = slot_bond_[s] >= 0 ? alpha_tilde[slot_bond_[s]] : -1.0f;
 }
 
-void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, bool first, std::size_t first_group,
-                     std::size_t last_group) {
+void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first,
+                     std::size_t first_group, std::size_t last_group) {
   static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "points are three packed floats");
   for (std::size_t g = first_group; g < last_group; ++g) {
     float sum[3][kLanes];
@@ -116,7 +116,10 @@ void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, bool first, std::
     for (int l = 0; l < kLanes; ++l) {
       const std::int32_t i = lane_particle_[g * kLanes + std::size_t(l)];
       if (i < 0) continue;
-      for (int a = 0; a < 3; ++a) p[i][a] += sum[a][l];
+      for (int a = 0; a < 3; ++a) {
+        p[i][a] += sum[a][l];
+        correction[i][a] = first ? sum[a][l] : correction[i][a] + sum[a][l];
+      }
     }
   }
 }
@@ -142,25 +145,31 @@ __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h
 }
 
 __attribute__((target("avx2,fma"))) void UpdateVelocityAvx2(std::size_t values, float h,
-                                                            float to_cu, float scale, float* v,
-                                                            float* x, const float* p) {
+                                                            float to_cu, float scale,
+                                                            const float* correction, float* v,
+                                                            float* x, float* p, float* remainder) {
   const __m256 hv = _mm256_set1_ps(h), to_cu_v = _mm256_set1_ps(to_cu),
                scale_v = _mm256_set1_ps(scale);
   std::size_t k = 0;
   for (; k + 8 <= values; k += 8) {
-    const __m256 position = _mm256_loadu_ps(p + k), start = _mm256_loadu_ps(x + k);
-    const __m256 velocity = _mm256_loadu_ps(v + k);
-    const __m256 predicted =
-        _mm256_add_ps(start, _mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v));
     const __m256 change =
-        _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(position, predicted), scale_v), hv);
-    _mm256_storeu_ps(v + k, _mm256_add_ps(velocity, change));
+        _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(correction + k), scale_v), hv);
+    const __m256 velocity = _mm256_add_ps(_mm256_loadu_ps(v + k), change);
+    const __m256 start = _mm256_loadu_ps(x + k);
+    const __m256 move = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v),
+                                      _mm256_loadu_ps(remainder + k));
+    const __m256 position = _mm256_add_ps(start, move);
+    _mm256_storeu_ps(remainder + k, _mm256_sub_ps(move, _mm256_sub_ps(position, start)));
+    _mm256_storeu_ps(v + k, velocity);
     _mm256_storeu_ps(x + k, position);
+    _mm256_storeu_ps(p + k, position);
   }
   for (; k < values; ++k) {
-    const float predicted = x[k] + h * v[k] * to_cu;
-    v[k] = v[k] + (p[k] - predicted) * scale / h;
-    x[k] = p[k];
+    v[k] = v[k] + correction[k] * scale / h;
+    const float move = h * v[k] * to_cu + remainder[k];
+    const float position = x[k] + move;
+    remainder[k] = move - (position - x[k]);
+    x[k] = p[k] = position;
   }
 }
 

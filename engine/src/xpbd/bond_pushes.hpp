@@ -42,16 +42,17 @@ class BondLanes {
   void SetCompliance(const float* alpha_tilde);
   // One Jacobi pass: `start` holds the positions the pass began with, and one readable float
   // after its last particle (points are loaded 16 bytes at a time); each row's push is added to
-  // p[particle]. The first pass of a substep's solve reads λ = 0 for every bond (no reset
-  // needed); later passes read the λ the previous one left. Needs AVX2 and FMA (UseAvx2() or
-  // UseAvx512()).
-  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first) {
-    Pass(start, p, first, 0, groups());
+  // p[particle] and to correction[particle] (set to it on the first pass), the substep's sum
+  // of pushes unrounded by p's ulp. The first pass of a substep's solve reads λ = 0 for every
+  // bond (no reset needed); later passes read the λ the previous one left. Needs AVX2 and FMA
+  // (UseAvx2() or UseAvx512()).
+  void Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first) {
+    Pass(start, p, correction, first, 0, groups());
   }
   // The same over groups [first_group, last_group) only. Groups move disjoint particles and
   // hold disjoint λ, so threads may pass disjoint ranges at once.
-  void Pass(const Vec3<float>* start, Vec3<float>* p, bool first, std::size_t first_group,
-            std::size_t last_group);
+  void Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first,
+            std::size_t first_group, std::size_t last_group);
 
   std::size_t groups() const { return group_slot_.size() - 1; }
   std::size_t parts() const { return part_group_.size() - 1; }
@@ -77,16 +78,20 @@ class BondLanes {
 // The bond substep's predict and velocity update (Xpbd::BondSubstep) over `values` contiguous
 // floats (three per particle, for moving particles that are one block of the configuration), in
 // the scalar loops' operations and order: v += h·a, p = x + (h·v)·to_cu (also written to
-// `p_copy`, the bond pass's start); then v += ((p − p*)·s)/h with p* = x + (h·v)·to_cu
-// recomputed (the prediction, bit for bit), x = p. Need AVX2 and FMA.
+// `p_copy`, the bond pass's start). After the pass: v += (c·s)/h with c the pass's correction,
+// then x advances by (h·v)·to_cu with its remainder r carried (y = (h·v)·to_cu + r,
+// t = x + y, r = y − (t − x), x = p = t). Need AVX2 and FMA.
 //
-// The velocity is the predicted one plus the constraints' change, not (p − x)·s/h: in float a
-// substep's displacement is rounded to the position's ulp, and with demo1's 55 substeps gravity
-// moves a particle at rest by h²g/s = 0.05-0.2 ulp per substep, which (p − x)/h rounded away
-// every substep (a quiet chain hung still; the same in every other body at rest).
+// The same as v = (p − x)·s/h, x = p in exact arithmetic, but in float p − x is a whole number
+// of the position's ulps: with demo1's 55 substeps gravity moves a particle at rest by
+// h²g/s = 0.05-0.2 ulp per substep and a bond at 3% strain corrects its particle by less than
+// half an ulp at y = 44 cu, and both were rounded away on every substep (a quiet chain hung
+// still; later, with the velocity kept, it sagged 2.8x too far: its springs' corrections were
+// lost, gravity was not). The velocity now takes the corrections unrounded, and the position
+// keeps what each substep's rounding dropped.
 void PredictAvx2(std::size_t values, float h, float to_cu, const float* acceleration, float* v,
                  const float* x, float* p, float* p_copy);
-void UpdateVelocityAvx2(std::size_t values, float h, float to_cu, float scale, float* v, float* x,
-                        const float* p);
+void UpdateVelocityAvx2(std::size_t values, float h, float to_cu, float scale,
+                        const float* correction, float* v, float* x, float* p, float* remainder);
 
 }  // namespace owval::engine::internal

@@ -99,6 +99,8 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   dp_.assign(n, {0, 0, 0});
   bond_start_ = p_;
   bond_start_.push_back({0, 0, 0});  // BondLanes::Pass loads 16 bytes per point
+  bond_correction_.assign(n, {0, 0, 0});
+  position_remainder_.assign(n, {0, 0, 0});
   wall_normal_.assign(n, {0, 0, 0});
   wall_friction_ = std::pow(
       0.99, 1.0 / (parameters_.density_passes > 0 ? parameters_.density_passes : substeps_));
@@ -245,11 +247,13 @@ void Xpbd<T>::BondSubstep(T h) {
     ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes);
   if (BondSubstepInLanes(h, to_cu, scale, false)) return;
   for (std::int32_t i : state_.moving) {
-    for (int a = 0; a < 3; ++a) {  // the prediction's own p, bit for bit (bond_pushes.hpp)
-      const T predicted = x_[i][a] + h * v_[i][a] * to_cu;
-      v_[i][a] = v_[i][a] + (p_[i][a] - predicted) * scale / h;
+    for (int a = 0; a < 3; ++a) {  // UpdateVelocityAvx2's operations (bond_pushes.hpp: why)
+      v_[i][a] = v_[i][a] + bond_correction_[i][a] * scale / h;
+      const T move = h * v_[i][a] * to_cu + position_remainder_[i][a];
+      const T position = x_[i][a] + move;
+      position_remainder_[i][a] = move - (position - x_[i][a]);
+      x_[i][a] = p_[i][a] = position;
     }
-    x_[i] = p_[i];
   }
 }
 
@@ -309,9 +313,11 @@ void Xpbd<T>::SharedBondSubsteps(T h, int substeps) {
         for (std::size_t t = thread; t < bond_shares_.size(); t += team) {
           const BondShare& share = bond_shares_[t];
           const std::int32_t i = share.first_particle;
-          bond_lanes_->Pass(start, p_.data(), true, share.first_group, share.last_group);
-          UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, to_cu, scale, v_[i].data(),
-                             x_[i].data(), p_[i].data());
+          bond_lanes_->Pass(start, p_.data(), bond_correction_.data(), true, share.first_group,
+                            share.last_group);
+          UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, to_cu, scale,
+                             bond_correction_[i].data(), v_[i].data(), x_[i].data(), p_[i].data(),
+                             position_remainder_[i].data());
         }
       }
     }
@@ -335,7 +341,8 @@ bool Xpbd<T>::BondSubstepInLanes(T h, T to_cu, T scale, bool predict) {
       PredictAvx2(values, h, to_cu, held_acceleration_.front().data(), v, x, p,
                   bond_start_[first].data());
     else
-      UpdateVelocityAvx2(values, h, to_cu, scale, v, x, p);
+      UpdateVelocityAvx2(values, h, to_cu, scale, bond_correction_[first].data(), v, x, p,
+                         position_remainder_[first].data());
     return true;
   }
 }
@@ -560,7 +567,8 @@ void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written) {
   if (!start_written)  // fixed entries never change
     for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];
   if constexpr (std::is_same_v<T, float>) {
-    if (bond_lanes_) return bond_lanes_->Pass(bond_start_.data(), p_.data(), first_pass);
+    if (bond_lanes_)
+      return bond_lanes_->Pass(bond_start_.data(), p_.data(), bond_correction_.data(), first_pass);
   }
   for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
     const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
@@ -581,7 +589,10 @@ void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written) {
       const T step = dlambda / length;
       for (int a = 0; a < 3; ++a) sum[a] += step * d[a];
     }
-    for (int a = 0; a < 3; ++a) p_[i][a] += sum[a];
+    for (int a = 0; a < 3; ++a) {
+      p_[i][a] += sum[a];
+      bond_correction_[i][a] = first_pass ? sum[a] : bond_correction_[i][a] + sum[a];
+    }
   }
 }
 
@@ -668,7 +679,7 @@ void Xpbd<T>::SaveState(std::string* out) const {
   StateWriter w(out);
   PutStateHeader(w, name(), state_.size(), step_);
   PutParticleState(w, state_);
-  w.Put(pressure_acceleration_), w.Put(x_), w.Put(v_), w.Put(p_);
+  w.Put(pressure_acceleration_), w.Put(x_), w.Put(v_), w.Put(p_), w.Put(position_remainder_);
   w.Put(matter_.muscle_activation);
 }
 
@@ -679,7 +690,7 @@ void Xpbd<T>::RestoreState(const std::string& state, const std::string& source) 
   const std::uint64_t steps = GetStateHeader(r, name(), n);
   GetParticleState(r, &state_);
   r.GetSized(&pressure_acceleration_, n);
-  r.GetSized(&x_, n), r.GetSized(&v_, n), r.GetSized(&p_, n);
+  r.GetSized(&x_, n), r.GetSized(&v_, n), r.GetSized(&p_, n), r.GetSized(&position_remainder_, n);
   r.GetSized(&matter_.muscle_activation, std::size_t(kMuscles));
   if (!r.done()) r.Fail("bytes left after the state");
   step_ = std::size_t(steps);

@@ -160,6 +160,10 @@ class Xpbd final : public Solver {
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
   std::vector<Vec3<T>> bond_start_;         // the split's bond pass: positions as the pass began
+  // The split's bond substeps: each bonded particle's sum of pushes in the substep, unrounded by
+  // its position's ulp (zero for the others), and what each substep's rounding of the position
+  // dropped (bond_pushes.hpp: why).
+  std::vector<Vec3<T>> bond_correction_, position_remainder_;
   // The split scheme's bond substeps on several threads at once (SharedBondSubsteps): per
   // thread, one part of BondLanes' groups and the moving particles it predicts and updates,
   // from its first row's particle to the next part's (bondless ones included). Empty: the
