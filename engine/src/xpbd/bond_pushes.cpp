@@ -116,10 +116,10 @@ void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* corr
     for (int l = 0; l < kLanes; ++l) {
       const std::int32_t i = lane_particle_[g * kLanes + std::size_t(l)];
       if (i < 0) continue;
-      for (int a = 0; a < 3; ++a) {
-        p[i][a] += sum[a][l];
+      for (int a = 0; a < 3; ++a)
         correction[i][a] = first ? sum[a][l] : correction[i][a] + sum[a][l];
-      }
+      if (p != nullptr)
+        for (int a = 0; a < 3; ++a) p[i][a] += sum[a][l];
     }
   }
 }

@@ -42,10 +42,10 @@ class BondLanes {
   void SetCompliance(const float* alpha_tilde);
   // One Jacobi pass: `start` holds the positions the pass began with, and one readable float
   // after its last particle (points are loaded 16 bytes at a time); each row's push is added to
-  // p[particle] and to correction[particle] (set to it on the first pass), the substep's sum
-  // of pushes unrounded by p's ulp. The first pass of a substep's solve reads λ = 0 for every
-  // bond (no reset needed); later passes read the λ the previous one left. Needs AVX2 and FMA
-  // (UseAvx2() or UseAvx512()).
+  // correction[particle] (set to it on the first pass), the substep's sum of pushes unrounded by
+  // p's ulp, and to p[particle] unless p is null (a substep's last pass: nothing reads it). The
+  // first pass of a substep's solve reads λ = 0 for every bond (no reset needed); later passes read
+  // the λ the previous one left. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
   void Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first) {
     Pass(start, p, correction, first, 0, groups());
   }

@@ -244,7 +244,8 @@ void Xpbd<T>::BondSubstep(T h) {
     }
   }
   for (int pass = 0; pass < parameters_.iterations; ++pass)
-    ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes);
+    ProjectBondsOneSided(pass == 0, pass == 0 && predicted_in_lanes,
+                         pass + 1 == parameters_.iterations);
   if (BondSubstepInLanes(h, to_cu, scale, false)) return;
   for (std::int32_t i : state_.moving) {
     for (int a = 0; a < 3; ++a) {  // UpdateVelocityAvx2's operations (bond_pushes.hpp: why)
@@ -313,7 +314,7 @@ void Xpbd<T>::SharedBondSubsteps(T h, int substeps) {
         for (std::size_t t = thread; t < bond_shares_.size(); t += team) {
           const BondShare& share = bond_shares_[t];
           const std::int32_t i = share.first_particle;
-          bond_lanes_->Pass(start, p_.data(), bond_correction_.data(), true, share.first_group,
+          bond_lanes_->Pass(start, nullptr, bond_correction_.data(), true, share.first_group,
                             share.last_group);
           UpdateVelocityAvx2(3 * std::size_t(share.end_particle - i), h, to_cu, scale,
                              bond_correction_[i].data(), v_[i].data(), x_[i].data(), p_[i].data(),
@@ -563,12 +564,13 @@ void Xpbd<T>::BondComplianceOf(T dt) {
 // moves its particle by ~1/α̃ of its error and the sum cannot overshoot; Gauss-Seidel's serial
 // chain (a square root and a division per bond, through the particle's position) cost 5x more.
 template <typename T>
-void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written) {
+void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written, bool last_pass) {
   if (!start_written)  // fixed entries never change
     for (std::int32_t i : state_.moving) bond_start_[i] = p_[i];
   if constexpr (std::is_same_v<T, float>) {
     if (bond_lanes_)
-      return bond_lanes_->Pass(bond_start_.data(), p_.data(), bond_correction_.data(), first_pass);
+      return bond_lanes_->Pass(bond_start_.data(), last_pass ? nullptr : p_.data(),
+                               bond_correction_.data(), first_pass);
   }
   for (std::size_t r = 0; r + 1 < bond_rows_.size(); ++r) {
     const std::size_t first = bond_rows_[r], last = bond_rows_[r + 1];
@@ -590,7 +592,7 @@ void Xpbd<T>::ProjectBondsOneSided(bool first_pass, bool start_written) {
       for (int a = 0; a < 3; ++a) sum[a] += step * d[a];
     }
     for (int a = 0; a < 3; ++a) {
-      p_[i][a] += sum[a];
+      if (!last_pass) p_[i][a] += sum[a];
       bond_correction_[i][a] = first_pass ? sum[a] : bond_correction_[i][a] + sum[a];
     }
   }

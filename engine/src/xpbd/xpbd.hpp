@@ -123,8 +123,8 @@ class Xpbd final : public Solver {
   void ProjectBonds(T h);
   void BondComplianceOf(T h);
   // `first_pass`: the substep's first pass (λ starts at 0); `start_written`: bond_start_ already
-  // holds p.
-  void ProjectBondsOneSided(bool first_pass, bool start_written);
+  // holds p; `last_pass`: p is left as predicted (the update reads only the corrections).
+  void ProjectBondsOneSided(bool first_pass, bool start_written, bool last_pass);
   void ProjectBoundaries();
   void UpdateVelocities(T h);
   void WriteFloatState(std::int32_t i);
