@@ -43,7 +43,8 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
 }
 
 // The benchmark's generated files, removed however the benchmark ends (unless kept), with the
-// directories it had to create for them when they are left empty.
+// directories that were missing for them (the writers' AtomicOutput creates those) when they are
+// left empty.
 class GeneratedFiles {
  public:
   GeneratedFiles(const fs::path& directory, bool keep) : directory_(directory), keep_(keep) {
@@ -52,7 +53,6 @@ class GeneratedFiles {
       created_.push_back(d);
       if (d == d.parent_path()) break;
     }
-    fs::create_directories(directory, error);  // (a failure shows when the first file is written)
   }
   ~GeneratedFiles() {
     if (keep_) return;
