@@ -84,14 +84,16 @@ TEST(VectorPaths, GiveTheScalarPathsBitsOnADenseLiquidBlockUnderXpbd) {
 
 // The default thread count follows the machine's idle cores, so the output must not depend on it:
 // each particle's arithmetic is done by one thread, in the same order, whatever the count.
-// demo1 under XPBD shares its bond substeps between the threads (218 rows of bonds cut in two or
-// three parts, xpbd.cpp's SharedBondSubsteps) and forks its corrections (343 moving particles).
+// The worm under XPBD shares its bond substeps between the threads (its rows of bonds cut in two
+// or three parts, xpbd.cpp's SharedBondSubsteps); demo1's bond substeps stay on one thread (too
+// few rows to repay a barrier) and its corrections are forked (343 moving particles).
 TEST(ThreadCount, GivesTheSameBitsOnOneThreadAsOnTwo) {
   for (const auto& [name, duration_s, backend, threads] : {std::tuple{"demo1", 0.004, "pcisph", 2},
                                                            {"test_energy", 0.0004, "pcisph", 2},
                                                            {"test_energy", 0.0004, "xpbd", 2},
                                                            {"demo1", 0.004, "xpbd", 2},
-                                                           {"demo1", 0.004, "xpbd", 3}}) {
+                                                           {"worm_alone_0.6s", 0.002, "xpbd", 2},
+                                                           {"worm_alone_0.6s", 0.002, "xpbd", 3}}) {
     const Trajectory one = RunWith(Path::kCpuChoice, name, duration_s, 1, backend);
     const Trajectory more = RunWith(Path::kCpuChoice, name, duration_s, threads, backend);
     ASSERT_GT(one.frame_count(), 1u);

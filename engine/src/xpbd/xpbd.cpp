@@ -130,11 +130,17 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       std::vector<BondLanes::Bond> lanes;
       for (const Bond& bond : bonds_) lanes.push_back({bond.particle, bond.partner, bond.rest_cu});
       // Rows for each thread to own when the substeps can be shared (ShareBondSubsteps): the
-      // float lanes, one pass per substep, the split scheme, and at least 32 rows (four groups)
-      // a thread; one_sprig's single bond stays serial.
+      // float lanes, one pass per substep, the split scheme, and at least kRowsPerThread rows a
+      // thread. Sharing costs a barrier per substep. The worm's 1,300 rows a thread repay it
+      // (0.25 s of bond substeps per 200 steps against 0.44 on one thread); demo1's 171 do not
+      // (1.51 s against 1.46-1.57 per 10,000 steps in process), and as a whole process, where the
+      // trajectory writers' threads take a core from time to time, a thread preempted at a barrier
+      // stalls the other: demo1 took 7.0 s on two threads shared, 4.8 s serial
+      // (docs/benchmarks.md, "Bond substeps shared only when a thread's share repays a barrier").
+      constexpr std::size_t kRowsPerThread = 512;
       const bool shared = threads_ > 1 && moving_block_ && parameters_.iterations == 1 &&
                           parameters_.density_passes > 0 &&
-                          bond_rows_.size() > 32 * std::size_t(threads_);
+                          bond_rows_.size() > kRowsPerThread * std::size_t(threads_);
       bond_lanes_.emplace(lanes, bond_rows_, shared ? std::size_t(threads_) : 1);
     }
   }
