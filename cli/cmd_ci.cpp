@@ -63,7 +63,7 @@ void SetUp(CLI::App& app) {
       "With --stability: scenario name or configuration (default: the reference demo1)");
   validate->add_option("--log-step", stability->log_step, "With --stability: steps between frames")
       ->check(Positive());
-  validate->add_option("--out", stability->out,
+  validate->add_option("-o,--out", stability->out,
                        "With --stability: where the run's trajectory goes");
   validate->callback([dir, stability] {
     if (!stability->duration.empty()) return RunStability(*stability);

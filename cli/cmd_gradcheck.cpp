@@ -77,7 +77,7 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--alpha-density", a->options.end_to_end_alpha_density,
                   "Density compliance of the end-to-end test (s^2/cu^2; default: the model's)")
       ->check(NonNegative());
-  cmd->add_option("-o,--output", a->output, "Write fd_tests.json here");
+  cmd->add_option("-o,--out,--output", a->output, "Write fd_tests.json here");
   cmd->add_flag("--json", a->json, "Machine-readable output on stdout");
   cmd->callback([a] { RunGradCheckCommand(*a); });
 }

@@ -78,7 +78,7 @@ void SetUp(CLI::App& app) {
                   "Scenario name (owval scenario list) or Sibernetic configuration file");
   cmd->add_option("--time", r.time_s, "Simulated time in seconds (steps = (int)(time/dt))");
   cmd->add_option("--log-step", r.log_step, "Steps between frames")->check(Positive());
-  cmd->add_option("--out", r.out,
+  cmd->add_option("-o,--out", r.out,
                   "Output directory (position_buffer.txt and trajectory.h5, written as frames "
                   "are produced)");
   std::string backends;

@@ -182,6 +182,14 @@ TEST(CliRun, UnknownBackendIsExitTwoListingTheKnownOnes) {
   EXPECT_FALSE(fs::exists(out / "position_buffer.txt"));
 }
 
+// Every command that writes a file or directory takes -o/--out, as a user types it anywhere.
+TEST(CliRun, TakesTheShortOutputFlagAsEveryOtherCommandDoes) {
+  const fs::path out = Scratch() / "short_out";
+  const Result r = Owval("run one_sprig --time 0.0001 --quiet -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "trajectory.h5"));
+}
+
 TEST(CliRun, OwvalIsAnAliasOfPcisph) {
   const fs::path out = Scratch() / "alias_backend";
   const Result r =
