@@ -24,6 +24,10 @@ struct Evidence {
   fs::path dir;
   ChecklistOptions options;
   std::unique_ptr<FrameSource> reference, candidate;
+  // The tracked scalar of every check: the caller's, never frames.json's (a pull request must
+  // not pick the particle that happens to agree), else the default particle 0 y.
+  Track track;
+  std::string track_source;
 };
 
 using Check = void (*)(Evidence& e, ChecklistItem* item);
@@ -159,8 +163,13 @@ void CheckFrames(Evidence& e, ChecklistItem* item) {
   const nlohmann::json j = ReadJsonFile(json_path);
   if (!j.is_object() || !j.contains("frames") || !j["frames"].is_array())
     throw InputError(json_path.string(), 0, "expected an object with a \"frames\" list");
-  const Track track = e.options.track.value_or(
-      Track::FromJson(j.value("track", nlohmann::json::object()), json_path.string()));
+  const Track& track = e.track;
+  const Track labelled =
+      Track::FromJson(j.value("track", nlohmann::json::object()), json_path.string());
+  if (labelled.Describe() != track.Describe())
+    throw InputError(json_path.string(), 0,
+                     "labels " + labelled.Describe() + ", but the checklist tracks " +
+                         track.Describe() + " (" + e.track_source + ")");
   FrameSource& ref = Need(e.reference, "reference");
   FrameSource& cand = Need(e.candidate, "candidate");
   std::vector<std::size_t> sampled;
@@ -318,16 +327,29 @@ ChecklistItem Evaluate(Evidence& e, const ItemSpec& spec) {
 }
 
 // The parity gate, recomputed from the trajectories; a parity.json that disagrees is stale.
-void JudgeParity(Evidence& e, const nlohmann::json& frames_track, ChecklistReport* r) {
+// A quantity that does not move in the reference agrees with any candidate that leaves it
+// alone (a wall particle, scale 1 cu): its frame gate is no evidence.
+void CheckTrackedMotion(ChecklistReport* r) {
+  const std::vector<double>& series = r->parity->reference_series;
+  const auto [low, high] = std::minmax_element(series.begin(), series.end());
+  r->tracked_moves = series.size() >= 2 && *high > *low;
+  if (!r->tracked_moves)
+    r->parity_note = r->parity->subject +
+                     " does not move in the reference: its frame gate is no evidence (track a "
+                     "quantity that moves, e.g. with --scenario)";
+}
+
+void JudgeParity(Evidence& e, ChecklistReport* r) {
   if (!e.reference || !e.candidate) return;
   try {
-    Track track = e.options.track.value_or(Track::FromJson(frames_track, "frames/frames.json"));
     r->parity = compare::CompareFrameSources(*e.reference, *e.candidate,
-                                             {track, {}, std::nullopt, e.options.gates});
+                                             {e.track, {}, std::nullopt, e.options.gates});
   } catch (const std::exception& ex) {
     r->parity_note = std::string("parity could not be computed: ") + ex.what();
     return;
   }
+  CheckTrackedMotion(r);
+  if (!r->tracked_moves) return;
   const fs::path stored = e.dir / "parity.json";
   if (!fs::exists(stored)) return;
   try {
@@ -342,15 +364,6 @@ void JudgeParity(Evidence& e, const nlohmann::json& frames_track, ChecklistRepor
   }
 }
 
-nlohmann::json FramesTrack(const fs::path& dir) {
-  try {
-    const nlohmann::json j = ReadJsonFile(dir / "frames" / "frames.json");
-    if (j.is_object() && j.contains("track")) return j["track"];
-  } catch (const std::exception&) {
-  }
-  return nlohmann::json::object();
-}
-
 void Decide(ChecklistReport* r) {
   auto fails = [&](int n) { return !r->items[std::size_t(n - 1)].pass; };
   auto block = [&](int n) {
@@ -360,8 +373,9 @@ void Decide(ChecklistReport* r) {
   for (int n : {2, 3, 1, 4, 5, 6})
     if (fails(n)) block(n);
   if (!fails(2) && !fails(3) && !r->parity_pass())
-    r->blocking.push_back(r->parity ? "parity gate (failed: " + r->parity->FailedGates() + ")"
-                                    : "parity gate (" + r->parity_note + ")");
+    r->blocking.push_back(r->parity && r->tracked_moves
+                              ? "parity gate (failed: " + r->parity->FailedGates() + ")"
+                              : "parity gate (" + r->parity_note + ")");
   if (fails(2) || fails(3)) {
     r->verdict = Verdict::kUnreviewable;
   } else if (!r->blocking.empty()) {
@@ -396,13 +410,18 @@ int ChecklistReport::exit_code() const {
 ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
   if (!fs::is_directory(directory))
     throw InputError(directory.string(), 0, "not a directory of PR artifacts");
-  Evidence e{directory, options,
+  if (!options.git_range.empty()) CheckGitRange(directory, options.git_range);  // a bad flag: 2
+  Evidence e{directory,
+             options,
              TryOpen(FirstExisting(directory, {"reference.h5", "reference.txt"})),
-             TryOpen(FirstExisting(directory, {"candidate.h5", "candidate.txt"}))};
+             TryOpen(FirstExisting(directory, {"candidate.h5", "candidate.txt"})),
+             options.track.value_or(Track{}),
+             options.track ? "the caller's, from --scenario or --manifest"
+                           : "the default: give --scenario or --manifest for a scenario's"};
   ChecklistReport r;
   r.directory = directory;
   for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(e, spec));
-  JudgeParity(e, FramesTrack(directory), &r);
+  JudgeParity(e, &r);
   Decide(&r);
   return r;
 }
@@ -420,7 +439,9 @@ std::string ChecklistReport::ToMarkdown() const {
   s << "- " << (parity_pass() ? "✅" : "❌") << " **parity gate** — ";
   if (parity) {
     s << parity->subject << ", " << parity->paired_frames << " paired frames: "
-      << (parity->pass() ? "every applicable gate passes" : "failed: " + parity->FailedGates());
+      << (!parity->pass() ? "failed: " + parity->FailedGates()
+          : tracked_moves ? "every applicable gate passes"
+                          : "the tracked quantity does not move");
   } else {
     s << "not computed";
   }

@@ -5,7 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -18,8 +20,8 @@ namespace owval::ci {
 namespace fs = std::filesystem;
 namespace {
 
-// Runs git with `args` in `cwd`; returns stdout. InputError with git's exit status otherwise.
-std::string Git(const fs::path& cwd, std::vector<std::string> args) {
+// Runs git with `args` in `cwd`; returns stdout. InputError naming `range` otherwise.
+std::string Git(const fs::path& cwd, const std::string& range, std::vector<std::string> args) {
   args.insert(args.begin(), {"git", "-C", cwd.string()});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -44,10 +46,12 @@ std::string Git(const fs::path& cwd, std::vector<std::string> args) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw InputError("--git-range " + args.back() + ": git cannot read this range in " +
-                     cwd.string());
+    throw InputError("--git-range " + range + ": git cannot read this range in " + cwd.string());
   return text;
 }
+
+constexpr const char* kTrajectoryNames[] = {"reference.h5", "reference.txt", "candidate.h5",
+                                            "candidate.txt"};
 
 bool IsTrajectory(const std::string& name) {
   const std::string base = fs::path(name).filename().string();
@@ -56,14 +60,25 @@ bool IsTrajectory(const std::string& name) {
 
 }  // namespace
 
+void CheckGitRange(const fs::path& directory, const std::string& git_range) {
+  const auto dots = git_range.find("..");
+  if (dots == std::string::npos || dots == 0 || git_range.find("..", dots + 2) != std::string::npos)
+    throw InputError("--git-range " + git_range + ": expected BASE..HEAD");
+  Git(directory, git_range, {"rev-list", "--count", git_range});
+}
+
 bool PredictionCommittedFirst(const fs::path& directory, const std::string& git_range,
                               std::string* detail) {
-  const auto dots = git_range.find("..");
-  if (dots == std::string::npos || dots == 0)
-    throw InputError("--git-range " + git_range + ": expected BASE..HEAD");
+  CheckGitRange(directory, git_range);
+  const std::string base = git_range.substr(0, git_range.find(".."));
+  // Whether `name` (a file under the directory) already existed at BASE.
+  auto at_base = [&](const std::string& name) {
+    return !Git(directory, git_range, {"ls-tree", "--name-only", base, "--", name}).empty();
+  };
   // Commits oldest first, each followed by the files it added under the directory.
-  const std::string log = Git(directory, {"log", "--reverse", "--diff-filter=A", "--format=@%h",
-                                          "--name-only", "--relative", git_range, "--", "."});
+  const std::string log = Git(directory, git_range,
+                              {"log", "--reverse", "--diff-filter=A", "--format=@%h", "--name-only",
+                               "--relative", git_range, "--", "."});
   std::istringstream in(log);
   std::size_t index = 0;
   std::optional<std::size_t> prediction_at, trajectory_at;
@@ -80,13 +95,19 @@ bool PredictionCommittedFirst(const fs::path& directory, const std::string& git_
     }
   }
   if (!trajectory_at) {
+    // The runs predate the range: a prediction added in it came after them.
+    const bool runs_at_base =
+        std::any_of(std::begin(kTrajectoryNames), std::end(kTrajectoryNames), at_base);
+    if (prediction_at && runs_at_base) {
+      *detail = "prediction.json committed in " + prediction_commit +
+                ", after the trajectories (already at " + base + "): prediction AFTER the run";
+      return false;
+    }
     *detail = "order not checked: no trajectory was added in " + git_range;
     return true;
   }
   if (!prediction_at) {
-    const std::string base = git_range.substr(0, dots);
-    const bool before =
-        !Git(directory, {"ls-tree", "--name-only", base, "--", "prediction.json"}).empty();
+    const bool before = at_base("prediction.json");
     *detail = before ? "prediction.json predates " + git_range
                      : "prediction.json was not committed before the first trajectory (" +
                            trajectory_commit + ")";

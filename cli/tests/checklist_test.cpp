@@ -112,7 +112,22 @@ TEST_F(Checklist, Item1ChecksThePredictionWasCommittedBeforeTheTrajectories) {
   CommitInOrder(early, {{"prediction.json"}, {"reference.h5", "candidate.h5"}, {"."}});
   j = Judge(early, 0, "--git-range base..HEAD");
   EXPECT_TRUE(ItemPasses(j, 1)) << j["items"][0].dump();
-  EXPECT_EQ(Owval("checklist " + early.string() + " --git-range nonsense").exit_code, 1);
+  // A malformed or unreadable range is bad input, named as given.
+  EXPECT_EQ(Owval("checklist " + early.string() + " --git-range nonsense").exit_code, 2);
+  const Result unreadable = Owval("checklist " + early.string() + " --git-range nosuch..HEAD");
+  EXPECT_EQ(unreadable.exit_code, 2);
+  EXPECT_NE(unreadable.err.find("--git-range nosuch..HEAD"), std::string::npos) << unreadable.err;
+}
+
+// The runs committed before the range, the prediction inside it: no trajectory was added in the
+// range, but the prediction still came after them.
+TEST_F(Checklist, Item1FailsWhenThePredictionFollowsRunsThatPredateTheRange) {
+  const fs::path d = Copy("item1_runs_before_range");
+  CommitInOrder(d, {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
+  const auto j = Judge(d, 1, "--git-range HEAD~2..HEAD");
+  EXPECT_FALSE(ItemPasses(j, 1));
+  EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("AFTER"), std::string::npos)
+      << j["items"][0].dump();
 }
 
 TEST_F(Checklist, Items2And3MissingOrCorruptAreUnreviewable) {
@@ -185,6 +200,50 @@ TEST_F(Checklist, Item10ReconcilesThePredictionWithTheReference) {
   const auto j = Judge(d, 0);
   EXPECT_FALSE(ItemPasses(j, 10));
   EXPECT_NE(j["items"][9]["detail"].get<std::string>().find("reference"), std::string::npos);
+}
+
+// A failing candidate (k = 3.3e8 against one_sprig's 1.62e8) with frames labelled on a wall
+// particle that never moves: the checklist tracks the caller's quantity, not frames.json's.
+TEST_F(Checklist, APullRequestCannotChooseTheTrackedParticle) {
+  const fs::path d = Copy("chosen_track");
+  const fs::path run = Scratch() / "chosen_track_run";
+  ASSERT_EQ(
+      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
+          .exit_code,
+      0);
+  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
+  fs::remove_all(d / "frames");
+  ASSERT_EQ(Owval("frames " + (d / "reference.h5").string() + " " + (d / "candidate.h5").string() +
+                  " --at 0,15,100,200 --track-particle 1 --no-gate -o " + (d / "frames").string())
+                .exit_code,
+            0);
+  auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_FALSE(ItemPasses(j, 5));
+  EXPECT_NE(j["items"][4]["detail"].get<std::string>().find("checklist tracks particle 0 y"),
+            std::string::npos)
+      << j["items"][4].dump();
+  EXPECT_FALSE(j["parity"]["pass"].get<bool>());  // particle 0 y: the frames gate fails
+  // Told by the caller to track the still particle, the parity gate is no evidence and fails.
+  const fs::path manifest = Scratch() / "chosen_track_manifest.json";
+  Write(manifest, R"({"track": {"particle": 1, "axis": "y"}})");
+  j = Judge(d, 1, "--manifest " + manifest.string());
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_NE(j["parity_note"].get<std::string>().find("does not move"), std::string::npos)
+      << j["parity_note"];
+}
+
+// 5 ms of the same physics against the 50 ms reference: identical where they overlap, but the
+// candidate covers a tenth of the reference.
+TEST_F(Checklist, ACandidateThatCoversPartOfTheReferenceIsNotReady) {
+  const fs::path d = Copy("short_candidate");
+  const fs::path run = Scratch() / "short_candidate_run";
+  ASSERT_EQ(Owval("run one_sprig --no-fields --time 0.005 --out " + run.string()).exit_code, 0);
+  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
+  const auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_TRUE(ItemPasses(j, 5));  // frames 0, 15, 100 and 200 agree
+  EXPECT_NE(j["blocking"].dump().find("window"), std::string::npos) << j["blocking"].dump();
 }
 
 TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {

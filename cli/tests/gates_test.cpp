@@ -49,12 +49,16 @@ TEST(Gates, PipelineWithAStifferSpringCandidateIsNotReadyNamingItem5AndParity) {
   EXPECT_EQ(Owval("checklist " + dir.string() + " --scenario one_sprig").exit_code, 1);
 }
 
-TEST(Gates, CompareOfIdenticalRunsOverDifferentDurationsPasses) {
+TEST(Gates, CompareOfIdenticalRunsOverDifferentDurationsPassesOnlyWhenTheWindowIsAccepted) {
   // owval reproduces Sibernetic's one_sprig at every printed digit: 5 ms of it against the
-  // bundled 50 ms reference is identical over the common window.
+  // bundled 50 ms reference is identical over the common window, but covers a tenth of it.
   const fs::path dir = Scratch() / "one_sprig_5ms";
   ASSERT_EQ(Owval("run one_sprig --time 0.005 --no-fields --out " + dir.string()).exit_code, 0);
-  const Result r = Owval("compare " + kOneSprig + " " + (dir / "position_buffer.txt").string());
+  const std::string compare = "compare " + kOneSprig + " " + (dir / "position_buffer.txt").string();
+  const Result strict = Owval(compare);
+  EXPECT_EQ(strict.exit_code, 1) << strict.out;
+  EXPECT_NE(strict.out.find("window"), std::string::npos) << strict.out;
+  const Result r = Owval(compare + " --window-threshold 1");
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("paired frames 250 over 0 s to 0.00498 s"), std::string::npos) << r.out;
 }

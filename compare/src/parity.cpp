@@ -284,6 +284,26 @@ void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std
   r->gates.push_back(g);
 }
 
+// The common window against the reference's whole duration (n/a for a one-frame reference).
+void GateWindow(const Trajectory& ref, const ParityOptions& o, ParityReport* r) {
+  const double start = ref.time_s.front(), end = ref.time_s.back(), duration = end - start;
+  const double outside = (r->common_window_start_s - start) + (end - r->common_window_end_s);
+  Gate g = MakeGate("window", "part of the reference's duration outside the common window",
+                    duration > 0 ? outside / duration : 0, o.gates.window,
+                    "of the reference's duration");
+  char detail[160];
+  std::snprintf(detail, sizeof detail,
+                "common window %.6g s to %.6g s of the reference's %.6g s to %.6g s",
+                r->common_window_start_s, r->common_window_end_s, start, end);
+  g.detail = detail;
+  if (duration > 0) {
+    Decide(&g);
+  } else {
+    g.detail += " (one frame: nothing to cover)";
+  }
+  r->gates.push_back(g);
+}
+
 void GateOscillation(const ParityOptions& o, ParityReport* r) {
   const std::size_t need = static_cast<std::size_t>(o.gates.min_crossings.value);
   const std::size_t nr = r->reference_metrics.upward_crossings,
@@ -428,6 +448,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   PairReducer reducer(ref, cand, refs, pairs, gated, o, &r);
   Reduce(refs, cands, pairs, &reducer, o.quiet);
   MeasureSignals(reducer.candidate_time(), o, &r);
+  GateWindow(ref, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
@@ -567,7 +588,9 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
     {"body_shape_threshold", "--body-threshold", &G::body_shape,
      "worm.span and worm.cross_section_diameter gates, relative"},
     {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
-     "liquid.fraction_above_membrane gate"}};
+     "liquid.fraction_above_membrane gate"},
+    {"window_threshold", "--window-threshold", &G::window,
+     "window gate: the reference's duration outside the common window, fraction"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

@@ -87,18 +87,35 @@ Trajectory FirstFrames(const Trajectory& t, std::size_t frames) {
   return out;
 }
 
-TEST(Parity, IdenticalRunsOfDifferentDurationsPassOverTheCommonWindow) {
+TEST(Parity, IdenticalRunsOfDifferentDurationsAgreeOverTheCommonWindow) {
   // 250 of 2500 frames (5 ms of 50 ms, about 7 periods): every measure on both sides is taken
-  // over those 5 ms, so nothing differs.
+  // over those 5 ms, so nothing differs; but the shorter candidate covers a tenth of the
+  // reference, which the window gate fails unless the caller accepts it.
   const Trajectory shorter = FirstFrames(OneSprig(), 250);
-  for (const auto* pair : {&shorter}) {
-    const ParityReport r = CompareTrajectories(OneSprig(), *pair, {});
-    EXPECT_TRUE(r.pass()) << r.ToTable();
+  ParityOptions over_the_common_window;
+  over_the_common_window.gates.window = {1.0, ThresholdSource::kFlag};
+  for (const ParityOptions& o : {ParityOptions{}, over_the_common_window}) {
+    const ParityReport r = CompareTrajectories(OneSprig(), shorter, o);
     EXPECT_EQ(r.paired_frames, 250u);
     EXPECT_EQ(*r.half_amplitude_gap, 0.0);
     EXPECT_EQ(r.gate("period")->status, GateStatus::kPass);
+    EXPECT_NEAR(r.gate("window")->value, 0.9, 0.001);
   }
-  EXPECT_TRUE(CompareTrajectories(shorter, OneSprig(), {}).pass());
+  const ParityReport strict = CompareTrajectories(OneSprig(), shorter, {});
+  EXPECT_FALSE(strict.pass());
+  EXPECT_EQ(strict.FailedGates(), "window") << strict.ToTable();
+  EXPECT_TRUE(CompareTrajectories(OneSprig(), shorter, over_the_common_window).pass());
+  // A candidate longer than the reference covers it.
+  const ParityReport longer = CompareTrajectories(shorter, OneSprig(), {});
+  EXPECT_TRUE(longer.pass()) << longer.ToTable();
+  EXPECT_EQ(longer.gate("window")->value, 0.0);
+}
+
+TEST(Parity, ACandidateOfOneFrameFailsTheWindowGate) {
+  const ParityReport r = CompareTrajectories(OneSprig(), FirstFrames(OneSprig(), 1), {});
+  EXPECT_FALSE(r.pass()) << r.ToTable();
+  EXPECT_EQ(r.gate("window")->status, GateStatus::kFail);
+  EXPECT_EQ(r.gate("window")->value, 1.0);
 }
 
 TEST(Parity, AnInterruptedRunIsComparedOverItsFramesAndTheReportSaysSo) {

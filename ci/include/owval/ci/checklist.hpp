@@ -20,8 +20,9 @@ struct ChecklistOptions {
   // Gate thresholds. They come from the caller (a scenario manifest or flags), never from files
   // in the directory under review: a pull request cannot loosen its own gates.
   compare::ParityGates gates;
-  // The tracked scalar of the frame gate; empty: frames/frames.json's "track" (the group gates
-  // cover every moving particle whatever is tracked).
+  // The tracked scalar of the frame gates, from the caller (a scenario manifest or flags);
+  // empty: particle 0 y. Never frames/frames.json's: a pull request cannot choose the particle
+  // that happens to agree (frames.json must label this track, else item 5 fails).
   std::optional<Track> track;
   // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
   // committed no later than the first trajectory. Empty: the order is reported as not checked.
@@ -51,17 +52,23 @@ struct ChecklistReport {
   // is missing or unreadable (then item 2 or 3 fails).
   std::optional<compare::ParityReport> parity;
   std::string parity_note;  // e.g. "parity.json is stale: it says pass, recomputed FAIL"
+  // The tracked scalar moves in the reference; a still one (a wall particle) fails the parity
+  // gate, whose frame gate it would pass with any candidate that leaves it alone.
+  bool tracked_moves = false;
   Verdict verdict = Verdict::kNotReady;
   std::vector<std::string> blocking;  // what makes the verdict what it is, e.g. "item 5 (...)"
 
   int exit_code() const;  // 0 ready or incomplete, 1 otherwise
-  bool parity_pass() const { return parity && parity->pass(); }
+  bool parity_pass() const { return parity && parity->pass() && tracked_moves; }
   std::string ToMarkdown() const;
   nlohmann::json ToJson() const;
 };
 
 ChecklistReport RunChecklist(const std::filesystem::path& directory,
                              const ChecklistOptions& options = {});
+
+// InputError unless `git_range` is BASE..HEAD and git can read it in `directory`'s repository.
+void CheckGitRange(const std::filesystem::path& directory, const std::string& git_range);
 
 // Whether prediction.json was committed no later than the first trajectory in `git_range`
 // (BASE..HEAD) of the repository holding `directory`; runs git. `detail` says what was found.

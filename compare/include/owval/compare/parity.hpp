@@ -8,6 +8,8 @@
 // the last pair), so memory is O(particles) plus a few numbers a frame, whatever the length.
 //
 // Gates (each listed in the report with its value, threshold and the threshold's source):
+//  - window: the common window must cover the reference's duration (every other gate is
+//    measured over it only, so a candidate with one frame would otherwise agree with anything).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -47,6 +49,9 @@ struct ParityGates {
   // Scene gates, applied when the scene has the body they measure (body_gates.cpp):
   Threshold body_shape{0.05};  // worm span and cross-section diameter, relative to the reference
   Threshold membrane_liquid_fraction{0.05};  // |difference| of the liquid fraction above a sheet
+  // The part of the reference's duration outside the common window: a candidate that stops
+  // early (or an interrupted run) is not judged on the stretch it happens to share.
+  Threshold window{0.02};  // fraction of the reference's duration
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
