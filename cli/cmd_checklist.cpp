@@ -5,6 +5,7 @@
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/ci/checklist.hpp"
+#include "owval/pipeline/pipeline.hpp"
 #include "owval/scenarios/scenario.hpp"
 
 namespace owval::cli {
@@ -25,6 +26,12 @@ void RunChecklistCommand(const ChecklistArgs& a) {
   if (!a.scenario.empty() || !a.manifest.empty()) options.track = parity.track;
   options.git_range = a.git_range;
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  if (!a.scenario.empty()) {
+    pipeline::ScenarioReference reference = pipeline::MakeScenarioReference(a.scenario, DataDir());
+    options.scenario_reference =
+        std::make_shared<const Trajectory>(std::move(reference.trajectory));
+    options.scenario_reference_source = reference.source;
+  }
   const ci::ChecklistReport report = ci::RunChecklist(a.directory, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
   // The JSON streamed out, not first built as one string (a 25,000-frame parity report is 7 MB).
@@ -48,7 +55,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("directory", args->directory, "PR artifact directory (see docs/checklist.md)")
       ->required();
   auto* scenario = cmd->add_option("--scenario", args->scenario,
-                                   "Built-in scenario whose track and gates apply");
+                                   "Built-in scenario whose track, gates and reference apply (the "
+                                   "directory's reference must be the scenario's)");
   cmd->add_option("--manifest", args->manifest,
                   "Scenario manifest JSON whose track and gates apply")
       ->excludes(scenario);

@@ -102,8 +102,44 @@ void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
   if (!item->pass) item->detail += " (expected at least 2 frames)";
 }
 
+// Why the directory's reference is not the scenario's, or empty: the same particles and frame
+// times, every position within 1e-3 cu (a text file prints six or seven digits; another run
+// differs by far more).
+std::string DifferenceFromScenarioReference(FrameSource& got, const Trajectory& expected) {
+  const Trajectory& header = got.header();
+  if (header.particle_count() != expected.particle_count())
+    return std::to_string(header.particle_count()) + " particles, the scenario's has " +
+           std::to_string(expected.particle_count());
+  if (header.frame_count() != expected.frame_count())
+    return std::to_string(header.frame_count()) + " frames, the scenario's has " +
+           std::to_string(expected.frame_count());
+  const std::size_t values = 3 * expected.particle_count();
+  for (std::size_t f = 0; f < expected.frame_count(); ++f) {
+    if (std::abs(header.time_s[f] - expected.time_s[f]) > 1e-9 + 1e-6 * expected.time_s[f])
+      return "frame " + std::to_string(f) + " is at " + FormatNumber(header.time_s[f]) +
+             " s, the scenario's at " + FormatNumber(expected.time_s[f]) + " s";
+    const FrameRef frame = got.Frame(f);
+    const float* x = frame.trajectory.position(frame.frame, 0);
+    const float* y = expected.position(f, 0);
+    for (std::size_t k = 0; k < values; ++k)
+      if (!(std::abs(double(x[k]) - double(y[k])) <= 1e-3))
+        return "particle " + std::to_string(k / 3) + " differs by " +
+               FormatNumber(std::abs(double(x[k]) - double(y[k]))) + " cu at frame " +
+               std::to_string(f);
+  }
+  return "";
+}
+
 void CheckReference(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
+  if (!e.options.scenario_reference || !item->pass) return;
+  const std::string why =
+      DifferenceFromScenarioReference(*e.reference, *e.options.scenario_reference);
+  item->pass = why.empty();
+  item->detail +=
+      why.empty()
+          ? "; the scenario's reference (" + e.options.scenario_reference_source + ")"
+          : "; NOT the scenario's reference (" + e.options.scenario_reference_source + "): " + why;
 }
 void CheckCandidate(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), e.candidate, item);

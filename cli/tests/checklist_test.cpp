@@ -246,6 +246,31 @@ TEST_F(Checklist, ACandidateThatCoversPartOfTheReferenceIsNotReady) {
   EXPECT_NE(j["blocking"].dump().find("window"), std::string::npos) << j["blocking"].dump();
 }
 
+// Reference and candidate both a k = 3.3e8 run: they agree with each other, but with
+// --scenario the reference must be the scenario's own (here its bundled Sibernetic run).
+TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
+  EXPECT_EQ(Judge(Ready(), 0, "--scenario one_sprig")["verdict"], "ready");
+  const fs::path d = Copy("own_reference");
+  const fs::path run = Scratch() / "own_reference_run";
+  ASSERT_EQ(
+      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
+          .exit_code,
+      0);
+  for (const char* side : {"reference.h5", "candidate.h5"})
+    fs::copy_file(run / "trajectory.h5", d / side, fs::copy_options::overwrite_existing);
+  fs::remove_all(d / "frames");
+  ASSERT_EQ(Owval("frames " + (d / "reference.h5").string() + " " + (d / "candidate.h5").string() +
+                  " --at 0,15,100,200 -o " + (d / "frames").string())
+                .exit_code,
+            0);
+  const auto j = Judge(d, 1, "--scenario one_sprig");
+  EXPECT_EQ(j["verdict"], "unreviewable");
+  EXPECT_FALSE(ItemPasses(j, 2));
+  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("NOT the scenario's reference"),
+            std::string::npos)
+      << j["items"][1].dump();
+}
+
 TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {
   const fs::path d = Copy("stale_parity");
   const fs::path run = Scratch() / "stale_parity_run";

@@ -62,16 +62,23 @@ void Predict(Context& c) {
        std::to_string(c.prediction.predictions.size()) + " quantities in prediction.json");
 }
 
+ScenarioReference ReferenceOf(const scenarios::Scenario& scenario,
+                              const engine::SiberneticConfig& config) {
+  if (!scenario.reference.empty())
+    return {ReadTrajectory(scenario.reference),
+            "bundled Sibernetic OpenCL run (" + scenario.reference.filename().string() + ")"};
+  engine::RunOptions o;
+  o.duration_s = scenario.duration_s;
+  o.log_step = scenario.log_step;
+  o.integrator = engine::Integrator::kSemiImplicitEuler;
+  return {engine::Run(config, o),
+          "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)"};
+}
+
 void Reference(Context& c) {
-  if (!c.scenario.reference.empty()) {
-    c.reference = ReadTrajectory(c.scenario.reference);
-    c.evidence.reference_source =
-        "bundled Sibernetic OpenCL run (" + c.scenario.reference.filename().string() + ")";
-  } else {
-    c.reference = engine::Run(c.config, RunOptionsFor(c, engine::Integrator::kSemiImplicitEuler));
-    c.evidence.reference_source =
-        "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)";
-  }
+  ScenarioReference reference = ReferenceOf(c.scenario, c.config);
+  c.reference = std::move(reference.trajectory);
+  c.evidence.reference_source = reference.source;
   WriteHdf5(c.reference, c.dir / "reference.h5");
   Done(c, "2 reference", true, "reference.h5 from " + c.evidence.reference_source);
 }
@@ -143,6 +150,8 @@ void Checklist(Context& c) {
   ci::ChecklistOptions o;
   o.gates = c.scenario.gates;
   o.track = c.scenario.track;
+  o.scenario_reference = std::make_shared<const Trajectory>(c.reference);
+  o.scenario_reference_source = c.evidence.reference_source;
   c.summary->checklist = ci::RunChecklist(c.dir, o);
   c.summary->checklist.directory = c.options.out_dir;  // where it lands, not the temporary
   c.evidence.checklist = c.summary->checklist;
@@ -180,6 +189,11 @@ void Prepare(Context& c) {
 }
 
 }  // namespace
+
+ScenarioReference MakeScenarioReference(const std::string& name, const fs::path& data_dir) {
+  const scenarios::Scenario scenario = scenarios::LoadScenario(name, data_dir);
+  return ReferenceOf(scenario, scenarios::GenerateConfig(scenario));
+}
 
 int Summary::exit_code() const { return checklist.exit_code() != 0 || !parity.pass() ? 1 : 0; }
 

@@ -6,6 +6,7 @@
 // prediction's order before the runs is checked in the git history where one is given. Renders
 // the verdict as a Markdown comment. File names and rules: docs/checklist.md.
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "owval/compare/parity.hpp"
 #include "owval/trajectory/track.hpp"
+#include "owval/trajectory/trajectory.hpp"
 
 namespace owval::ci {
 
@@ -24,6 +26,11 @@ struct ChecklistOptions {
   // empty: particle 0 y. Never frames/frames.json's: a pull request cannot choose the particle
   // that happens to agree (frames.json must label this track, else item 5 fails).
   std::optional<Track> track;
+  // The scenario's own reference, when the caller names a scenario
+  // (pipeline::MakeScenarioReference): item 2 holds the directory's reference to it, frame for
+  // frame, else a pull request could judge its candidate against a reference of its own making.
+  std::shared_ptr<const Trajectory> scenario_reference;
+  std::string scenario_reference_source;  // what it is, for the report
   // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
   // committed no later than the first trajectory. Empty: the order is reported as not checked.
   std::string git_range;

@@ -21,6 +21,7 @@
 #include "owval/ci/checklist.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/trajectory/trajectory.hpp"
 
 namespace owval::pipeline {
 
@@ -63,5 +64,16 @@ struct Summary {
 // Runs every phase. InputError for an unknown scenario or unusable candidate, before anything is
 // written when it can be known then.
 void Run(const Options& options, Summary* summary);
+
+// A built-in scenario's reference, as phase 2 makes it: the bundled Sibernetic OpenCL run its
+// manifest names, else owval's PCISPH engine (semi-implicit Euler, which reproduces Sibernetic's
+// run) over the manifest's duration and log step. The checklist holds a directory's
+// reference.h5 to it (`owval checklist DIR --scenario NAME`).
+struct ScenarioReference {
+  Trajectory trajectory;
+  std::string source;  // "bundled Sibernetic OpenCL run (position_buffer.txt)"
+};
+ScenarioReference MakeScenarioReference(const std::string& scenario,
+                                        const std::filesystem::path& data_dir);
 
 }  // namespace owval::pipeline
