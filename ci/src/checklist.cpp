@@ -169,6 +169,20 @@ std::size_t DecodedPngs(const fs::path& frames_dir) {
   return pngs;
 }
 
+// The entries of frames.json whose "image" is not a PNG file in frames/ (by its name).
+std::vector<std::string> MissingImages(const nlohmann::json& entries, const fs::path& frames_dir) {
+  std::vector<std::string> missing;
+  for (const auto& f : entries) {
+    const nlohmann::json none;
+    const nlohmann::json& image = f.is_object() && f.contains("image") ? f["image"] : none;
+    const std::string name = image.is_string() ? image.get<std::string>() : "";
+    const bool plain = !name.empty() && fs::path(name).filename() == name;
+    if (!plain || !fs::is_regular_file(frames_dir / name))
+      missing.push_back(name.empty() ? "(no image)" : name);
+  }
+  return missing;
+}
+
 // The labelled values of frames.json against the trajectories: returns how many agree.
 std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, FrameSource& ref,
                            FrameSource& cand, std::vector<std::size_t>* reference_frames) {
@@ -214,6 +228,12 @@ void CheckFrames(Evidence& e, ChecklistItem* item) {
   item->detail = std::to_string(pngs) + " PNGs decode; " + std::to_string(agree) + "/" +
                  std::to_string(listed) + " labelled values agree with the trajectories";
   item->pass = pngs >= 3 && listed >= 3 && agree == listed;
+  const std::vector<std::string> missing = MissingImages(j["frames"], e.dir / "frames");
+  if (!missing.empty()) {
+    item->pass = false;
+    item->detail += "; " + std::to_string(missing.size()) + " listed images missing (" +
+                    missing.front() + (missing.size() > 1 ? ", ..." : "") + ")";
+  }
   if (sampled.empty()) return;
   // The frame gate at the sampled frames, as `owval compare --frames` computes it.
   const compare::ParityReport p =

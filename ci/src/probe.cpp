@@ -27,9 +27,14 @@ struct FrameFreer {
   void operator()(AVFrame* f) const { av_frame_free(&f); }
 };
 
-std::size_t DrainFrames(AVCodecContext* codec, AVFrame* frame) {
+// Frames out of the decoder; those it had to conceal (decode_error_flags, or flagged corrupt)
+// are counted in `damaged` as well.
+std::size_t DrainFrames(AVCodecContext* codec, AVFrame* frame, std::size_t* damaged) {
   std::size_t n = 0;
-  while (avcodec_receive_frame(codec, frame) == 0) ++n;
+  while (avcodec_receive_frame(codec, frame) == 0) {
+    ++n;
+    if (frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0) ++*damaged;
+  }
   return n;
 }
 
@@ -50,6 +55,8 @@ VideoInfo ProbeVideo(const std::filesystem::path& path) {
   if (!decoder) throw InputError(name, 0, "no decoder for its codec");
   std::unique_ptr<AVCodecContext, CodecFreer> codec(avcodec_alloc_context3(decoder));
   avcodec_parameters_to_context(codec.get(), par);
+  // A damaged stream is an error, not something to conceal and count as decoded.
+  codec->err_recognition = AV_EF_CRCCHECK | AV_EF_BITSTREAM | AV_EF_BUFFER | AV_EF_EXPLODE;
   if (avcodec_open2(codec.get(), decoder, nullptr) < 0)
     throw InputError(name, 0, "cannot open decoder");
   VideoInfo info;
@@ -59,20 +66,30 @@ VideoInfo ProbeVideo(const std::filesystem::path& path) {
   if (format->duration > 0) info.duration_s = double(format->duration) / AV_TIME_BASE;
   std::unique_ptr<AVPacket, PacketFreer> packet(av_packet_alloc());
   std::unique_ptr<AVFrame, FrameFreer> frame(av_frame_alloc());
-  while (av_read_frame(format.get(), packet.get()) >= 0) {
+  std::size_t packets = 0, refused = 0, damaged = 0;
+  int read = 0;
+  while ((read = av_read_frame(format.get(), packet.get())) >= 0) {
     if (packet->stream_index == stream) {
+      ++packets;
       int status = avcodec_send_packet(codec.get(), packet.get());
       while (status == AVERROR(EAGAIN)) {  // decoder full: take frames out, then resend
-        info.decoded_frames += DrainFrames(codec.get(), frame.get());
+        info.decoded_frames += DrainFrames(codec.get(), frame.get(), &damaged);
         status = avcodec_send_packet(codec.get(), packet.get());
       }
-      info.decoded_frames += DrainFrames(codec.get(), frame.get());
+      if (status < 0) ++refused;
+      info.decoded_frames += DrainFrames(codec.get(), frame.get(), &damaged);
     }
     av_packet_unref(packet.get());
   }
   avcodec_send_packet(codec.get(), nullptr);
-  info.decoded_frames += DrainFrames(codec.get(), frame.get());
+  info.decoded_frames += DrainFrames(codec.get(), frame.get(), &damaged);
   if (info.decoded_frames == 0) throw InputError(name, 0, "no frame decodes");
+  if (read != AVERROR_EOF) throw InputError(name, 0, "the container is damaged before its end");
+  if (refused > 0 || damaged > 0 || info.decoded_frames != packets)
+    throw InputError(name, 0,
+                     "damaged: " + std::to_string(refused) + " of " + std::to_string(packets) +
+                         " packets refused by the decoder, " + std::to_string(damaged) +
+                         " frames concealed, " + std::to_string(info.decoded_frames) + " decoded");
   return info;
 }
 

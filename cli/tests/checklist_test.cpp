@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/file.h>
 
+#include <fstream>
 #include <functional>
 
 #include <nlohmann/json.hpp>
@@ -152,6 +153,37 @@ TEST_F(Checklist, Item4FailsOnASinglePanelVideo) {
   const auto j = Judge(d, 1);
   EXPECT_FALSE(ItemPasses(j, 4));
   EXPECT_NE(j["items"][3]["detail"].get<std::string>().find("not two panels"), std::string::npos);
+}
+
+// 5,000 bytes zeroed in the first (key) frame's data, which starts near the top of the file:
+// libavcodec would conceal the damage and still hand out every frame; the checklist asks it not
+// to. (H.264 has no checksums: damage the decoder cannot see, it cannot report.)
+TEST_F(Checklist, Item4FailsOnADamagedVideo) {
+  const fs::path d = Copy("item4_damaged");
+  {
+    std::fstream video(d / "sxs.mp4", std::ios::in | std::ios::out | std::ios::binary);
+    video.seekp(2048);
+    const std::string zeros(5000, '\0');
+    video.write(zeros.data(), std::streamsize(zeros.size()));
+  }
+  const Result r = Owval("checklist " + d.string() + " --json");
+  EXPECT_EQ(r.exit_code, 1);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(ItemPasses(j, 4));
+  EXPECT_NE(j["items"][3]["detail"].get<std::string>().find("damaged"), std::string::npos)
+      << j["items"][3].dump();
+  EXPECT_EQ(r.err, "");  // libavcodec's own complaints stay out of owval's output
+}
+
+TEST_F(Checklist, Item5FailsWhenAListedImageIsMissing) {
+  const fs::path d = Copy("item5_missing_image");
+  const nlohmann::json frames = nlohmann::json::parse(Slurp(d / "frames/frames.json"));
+  fs::remove(d / "frames" / frames["frames"][1]["image"].get<std::string>());
+  const auto j = Judge(d, 1);
+  EXPECT_FALSE(ItemPasses(j, 5));
+  EXPECT_NE(j["items"][4]["detail"].get<std::string>().find("listed images missing"),
+            std::string::npos)
+      << j["items"][4].dump();
 }
 
 TEST_F(Checklist, Item5FailsWhenALabelledValueDisagreesWithTheTrajectory) {

@@ -116,6 +116,6 @@ void Mp4Writer::Finish() {
 
 namespace owval::render {
 
-void SilenceCodecLogging() { av_log_set_level(AV_LOG_ERROR); }
+void SilenceCodecLogging() { av_log_set_level(AV_LOG_FATAL); }
 
 }  // namespace owval::render

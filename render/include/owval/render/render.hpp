@@ -99,8 +99,10 @@ nlohmann::json RenderFrames(const Trajectory& reference, const Trajectory& candi
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);
 
-// Process-wide, for the application to call once: libav* log only errors (x264's statistics
-// are noise on a user's terminal). A library never changes this behind its caller's back.
+// Process-wide, for the application to call once: libav* log only fatal errors (x264's
+// statistics are noise on a user's terminal, and every error owval meets it reports itself, in
+// one line, from libav's return codes: a damaged video in the checklist is the item's detail).
+// A library never changes this behind its caller's back.
 void SilenceCodecLogging();
 
 // One frame as RGBA pixels (top row first), for tests and benchmarks.
