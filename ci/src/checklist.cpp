@@ -132,7 +132,11 @@ std::string DifferenceFromScenarioReference(FrameSource& got, const Trajectory& 
 
 void CheckReference(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
-  if (!e.options.scenario_reference || !item->pass) return;
+  if (!e.options.scenario_reference) {
+    item->detail += "; that it is the scenario's reference: NOT CHECKED (pass --scenario NAME)";
+    return;
+  }
+  if (!item->pass) return;
   const std::string why =
       DifferenceFromScenarioReference(*e.reference, *e.options.scenario_reference);
   item->pass = why.empty();

@@ -73,6 +73,8 @@ TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
   EXPECT_TRUE(j["parity"]["pass"].get<bool>());
   // Item 1's order cannot be seen in a plain directory, and the report says so.
   EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("NOT CHECKED"), std::string::npos);
+  // Nor, without a scenario, whose reference it is.
+  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("NOT CHECKED"), std::string::npos);
 }
 
 TEST_F(Checklist, Item1FailsOnAnEmptyPrediction) {
