@@ -70,7 +70,9 @@ void RunBuiltin(const Backend& b, const RunRequest& r, const fs::path& dir) {
 }
 
 fs::path RunCommand(const Backend& b, const RunRequest& r, const fs::path& dir) {
-  const fs::path out = dir / "out";
+  // Absolute: the command runs in its working directory, and a relative --cache would otherwise
+  // name another folder there (and a file written into {out} would not be recognised as such).
+  const fs::path out = fs::absolute(dir / "out");
   fs::create_directories(out);
   const fs::path config = fs::absolute(r.scenario.configuration);
   ProcessOptions p;
@@ -94,7 +96,7 @@ fs::path RunCommand(const Backend& b, const RunRequest& r, const fs::path& dir) 
   } catch (const InputError& e) {
     throw BackendError(b.name, std::string("unreadable output: ") + e.what(), p.stderr_path);
   }
-  if (file.parent_path() != out) fs::copy_file(file, out / file.filename());
+  if (!fs::equivalent(file.parent_path(), out, ec)) fs::copy_file(file, out / file.filename());
   return fs::path("out") / file.filename();
 }
 

@@ -224,6 +224,38 @@ TEST(Runner, FailingCommandNamesBackendAndStderrAndCachesNothing) {
   EXPECT_TRUE(fs::is_empty(cache_dir));
 }
 
+TEST(Runner, CommandWritingIntoOutRunsWithARelativeCacheAndAnotherWorkingDirectory) {
+  const fs::path root = fs::path(OWVAL_SHARED_DIR) / "reference";
+  const fs::path recorded = root / "one_sprig" / "position_buffer.txt";
+  if (!fs::exists(recorded)) GTEST_SKIP() << "no reference";
+  const fs::path dir = Scratch("relative_cache");
+  fs::create_directories(dir / "elsewhere");
+  const fs::path previous = fs::current_path();
+  fs::current_path(dir);
+  Backend b;
+  b.name = "copyref";
+  b.kind = BackendKind::kCommand;
+  b.command = "cp " + recorded.string() + " {out}/position_buffer.txt";
+  b.working_directory = dir / "elsewhere";
+  RunRequest request;
+  request.scenario = ReadScenario(root / "one_sprig");
+  const RunCache cache(CacheOptions{"cache", true});  // relative, as `--cache cache2`
+  RunOutcome ran, hit;
+  try {
+    ran = ObtainRun(b, request, cache);
+    hit = ObtainRun(b, request, cache);
+  } catch (...) {
+    fs::current_path(previous);
+    throw;
+  }
+  fs::current_path(previous);
+  EXPECT_EQ(ran.source, "ran");
+  EXPECT_EQ(hit.source, "cache hit");
+  EXPECT_EQ(ran.trajectory.frame_count(), hit.trajectory.frame_count());
+  EXPECT_GT(ran.trajectory.frame_count(), 0u);
+  EXPECT_TRUE(fs::is_empty(dir / "elsewhere"));
+}
+
 TEST(Runner, CommandWithoutItsProgramFallsBackToTheStore) {
   const fs::path root = fs::path(OWVAL_SHARED_DIR) / "reference";
   if (!fs::exists(root / "test_gravity" / "position_buffer.txt")) GTEST_SKIP() << "no reference";
