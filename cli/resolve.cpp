@@ -1,5 +1,6 @@
 #include "resolve.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 
@@ -31,6 +32,9 @@ std::unique_ptr<FrameSource> OpenTrajectoryArgument(const std::string& path,
 }
 
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag) {
+  // An empty list ("" or a trailing comma) named nothing to render or gate: refused, as ",".
+  if (text.empty() || text.back() == ',')
+    throw InputError(flag + ": expected comma-separated frame indices, found '" + text + "'");
   std::vector<std::size_t> indices;
   std::stringstream in(text);
   for (std::string item; std::getline(in, item, ',');) {
@@ -41,6 +45,8 @@ std::vector<std::size_t> ParseIndexList(const std::string& text, const std::stri
     } catch (const std::exception&) {
       throw InputError(flag + ": expected comma-separated frame indices, found '" + item + "'");
     }
+    if (std::count(indices.begin(), indices.end(), indices.back()) > 1)
+      throw InputError(flag + ": frame " + item + " is listed twice");
   }
   return indices;
 }

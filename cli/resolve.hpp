@@ -24,7 +24,8 @@ std::unique_ptr<FrameSource> OpenTrajectoryArgument(const std::string& path,
                                                     const std::string& layout = "auto",
                                                     TextReadReport* report = nullptr);
 
-// "0,15,100,200" → indices; InputError naming `flag` on anything else.
+// "0,15,100,200" → indices; InputError naming `flag` on anything else (an empty list, a frame
+// listed twice).
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag);
 
 }  // namespace owval::cli

@@ -335,3 +335,19 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
 }
 
 }  // namespace
+// wrote one PNG but three entries: an empty, repeated or out-of-range list is one line, exit 2,
+// and nothing written.
+TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  const fs::path out = Scratch() / "frames_at";
+  fs::remove_all(out);
+  for (const std::string& at : {"''", "0,0,0", "0,", "0,15,9999"}) {
+    const Result r = Owval("frames " + traj + " " + traj + " --at " + at + " -o " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << at << ": " << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << at << ": " << r.err;
+    EXPECT_NE(r.err.find("owval: error:"), std::string::npos) << at << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << at;
+  }
+}

@@ -554,18 +554,27 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
   const Track& track = *options.tracking;
   const Trajectory& ref = refs.header();
   const auto pairs = PairFramesByTime(ref, cands.header());
-  const double scale = PairedRange(refs, pairs, track);
-  SideBySideFrame compose(refs.Frame(0), options);
-  nlohmann::json entries = nlohmann::json::array();
-  std::filesystem::create_directories(out_dir);
-  OutputGroup written;  // the PNGs and frames.json appear together (a rerun never mixes)
-  for (std::size_t fr : frames) {
+  // Every frame is checked before any is drawn or any directory created: one picture a frame.
+  if (frames.empty()) throw InputError("no frame to render: expected at least one frame index");
+  std::vector<std::size_t> partners;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::size_t fr = frames[k];
+    if (std::find(frames.begin(), frames.begin() + k, fr) != frames.begin() + k)
+      throw InputError("frame " + std::to_string(fr) + " is listed twice");
     const auto it =
         std::find_if(pairs.begin(), pairs.end(), [fr](auto p) { return p.first == fr; });
     if (it == pairs.end())
       throw InputError("frame " + std::to_string(fr) + " has no candidate frame at the same time" +
                        " (the reference has " + std::to_string(ref.frame_count()) + " frames)");
-    const std::size_t fc = it->second;
+    partners.push_back(it->second);
+  }
+  const double scale = PairedRange(refs, pairs, track);
+  SideBySideFrame compose(refs.Frame(0), options);
+  nlohmann::json entries = nlohmann::json::array();
+  std::filesystem::create_directories(out_dir);
+  OutputGroup written;  // the PNGs and frames.json appear together (a rerun never mixes)
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::size_t fr = frames[k], fc = partners[k];
     const FrameRef a = refs.Frame(fr), b = cands.Frame(fc);
     const double vr = track.ValueAt(a.trajectory, a.frame),
                  vc = track.ValueAt(b.trajectory, b.frame);

@@ -119,6 +119,22 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
   EXPECT_EQ(ci::ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
 }
 
+// `frames --at ""` reached the gate with no frame and crashed after writing frames.json; 0,0,0
+// wrote one PNG and three entries. Both are refused before any directory is created.
+TEST(Render, FramesRefuseAnEmptyOrRepeatedListBeforeCreatingAnything) {
+  const Trajectory t = OneParticle(15, 15, 15, 20);
+  RenderOptions o;
+  o.width = 64;
+  o.height = 64;
+  const fs::path out = Scratch() / "frames_refused";
+  fs::remove_all(out);
+  for (const std::vector<std::size_t>& frames :
+       {std::vector<std::size_t>{}, {0, 0, 0}, {3, 5, 3}, {0, 15, 9999}}) {
+    EXPECT_THROW(RenderFrames(t, t, frames, o, out), InputError);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 }  // namespace
 }  // namespace owval::render
 

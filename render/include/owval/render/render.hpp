@@ -91,7 +91,8 @@ VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& can
 // difference printed; returns (and writes to out_dir/frames.json) the same numbers. The
 // difference is also given relative to the reference's range over the common time window, as
 // owval compare's frame gate measures it (a first pass over the paired reference frames finds that
-// range). InputError for a frame without a partner.
+// range). InputError, before anything is drawn or created,
+// for an empty list, a frame listed twice or a frame without a partner.
 nlohmann::json RenderFrames(FrameSource& reference, FrameSource& candidate,
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);
