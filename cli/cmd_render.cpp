@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/compare/parity.hpp"
@@ -30,6 +31,13 @@ struct RenderArgs {
 
 void RequireOut(const RenderArgs& a) {  // before any work starts
   if (a.out.empty()) throw InputError("-o/--out is required");
+}
+
+// render and render sxs write one MP4: an existing directory (or a parent that cannot be written)
+// is refused here, not after the frames were rendered.
+void RequireVideoOut(const RenderArgs& a) {
+  RequireOut(a);
+  CheckOutputPath(a.out);
 }
 
 // shown: the (reference) trajectory; "auto" frames a worm with the worm view, anything else iso.
@@ -80,8 +88,8 @@ void Print(const render::VideoSummary& s, const std::string& out, bool json) {
   std::cout << s.ToText(out) << "\n";
 }
 
-void AddCommon(CLI::App* cmd, RenderArgs* a) {
-  cmd->add_option("-o,--out", a->out, "Output file or directory (required)");
+void AddCommon(CLI::App* cmd, RenderArgs* a, const std::string& out_help) {
+  cmd->add_option("-o,--out", a->out, out_help + " (required)");
   cmd->add_option("--size", a->size, "WIDTHxHEIGHT of the whole frame (default 1280x720)");
   cmd->add_option("--view", a->view,
                   "auto (worm for worm trajectories, else iso), iso, side, top, front, or worm "
@@ -106,7 +114,7 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "render", "Phase 6: render a trajectory to H.264 MP4 (OSMesa, no display)");
   cmd->add_option("trajectory", a->trajectory, "Trajectory to render");
-  AddCommon(cmd, a.get());
+  AddCommon(cmd, a.get(), "Output MP4 file (not a directory)");
   cmd->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
   cmd->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
       ->check(Count());
@@ -114,12 +122,12 @@ void SetUp(CLI::App& app) {
       cmd->add_subcommand("sxs", "Side by side: reference left, candidate right, one camera");
   sxs->add_option("reference", a->reference)->required();
   sxs->add_option("candidate", a->candidate)->required();
-  AddCommon(sxs, a.get());
+  AddCommon(sxs, a.get(), "Output MP4 file (not a directory)");
   sxs->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
   sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
       ->check(Count());
   sxs->callback([a] {
-    RequireOut(*a);
+    RequireVideoOut(*a);
     const auto ref = OpenTrajectoryArgument(a->reference);  // frame by frame
     const auto cand = OpenTrajectoryArgument(a->candidate);
     Print(render::RenderSideBySide(*ref, *cand, Options(*a, ref->header()), a->out), a->out,
@@ -129,7 +137,7 @@ void SetUp(CLI::App& app) {
     if (cmd->got_subcommand("sxs")) return;
     if (a->trajectory.empty())
       throw InputError("owval render: expected a trajectory (or: owval render sxs REF CAND)");
-    RequireOut(*a);
+    RequireVideoOut(*a);
     const auto t = OpenTrajectoryArgument(a->trajectory);  // frame by frame
     Print(render::RenderVideo(*t, Options(*a, t->header()), a->out), a->out, a->json);
   });
@@ -138,7 +146,7 @@ void SetUp(CLI::App& app) {
   frames->add_option("reference", a->reference)->required();
   frames->add_option("candidate", a->candidate)->required();
   frames->add_option("--at", a->at, "Reference frame indices, e.g. 0,15,100,200");
-  AddCommon(frames, a.get());
+  AddCommon(frames, a.get(), "Output directory (frame_N.png and frames.json)");
   frames
       ->add_option("--threshold", a->threshold,
                    "Frame gate: |delta| / reference range must stay below (default " +

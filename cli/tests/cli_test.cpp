@@ -350,4 +350,21 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
     EXPECT_NE(r.err.find("owval: error:"), std::string::npos) << at << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << at;
   }
+}  // render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
+// place: Is a directory". -o is the MP4 file: a directory is refused before any work, by name.
+TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  const fs::path dir = Scratch() / "render_dir";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const std::string& args : {"render " + traj, "render sxs " + traj + " " + traj}) {
+    const Result r = Owval(args + " --size 64x64 -o " + dir.string());
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err,
+              "owval: error: " + dir.string() + ": is a directory; expected a file to write\n")
+        << args;
+    EXPECT_TRUE(fs::is_empty(dir)) << args;
+  }
 }

@@ -449,6 +449,7 @@ std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t fram
 VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& o,
                          const std::filesystem::path& out_mp4) {
   CheckSize(o);
+  CheckOutputPath(out_mp4);
   const Trajectory& t = frames.header();
   if (t.frame_count() == 0) throw InputError("the trajectory has no frame to render");
   AtomicOutput out(out_mp4);
@@ -489,6 +490,7 @@ VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
 VideoSummary RenderSideBySide(FrameSource& refs, FrameSource& cands, const RenderOptions& o,
                               const std::filesystem::path& out_mp4) {
   CheckSize(o);
+  CheckOutputPath(out_mp4);
   const Trajectory& ref = refs.header();
   const Trajectory& cand = cands.header();
   if (ref.frame_count() == 0 || cand.frame_count() == 0)

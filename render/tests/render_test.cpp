@@ -119,6 +119,25 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
   EXPECT_EQ(ci::ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
 }
 
+// render -o DIR rendered every frame, then failed "cannot rename into place: Is a directory".
+TEST(Render, VideoIntoAnExistingDirectoryIsRefusedBeforeRendering) {
+  const Trajectory t = OneParticle(15, 15, 15, 4);
+  RenderOptions o;
+  o.width = 64;
+  o.height = 64;
+  const fs::path dir = Scratch() / "video_dir";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  try {
+    RenderVideo(t, o, dir);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a directory; expected a file to write");
+  }
+  EXPECT_THROW(RenderSideBySide(t, t, o, dir), InputError);
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 // `frames --at ""` reached the gate with no frame and crashed after writing frames.json; 0,0,0
 // wrote one PNG and three entries. Both are refused before any directory is created.
 TEST(Render, FramesRefuseAnEmptyOrRepeatedListBeforeCreatingAnything) {
