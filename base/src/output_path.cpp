@@ -1,10 +1,32 @@
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
+
+namespace {
+
+// access() says yes to root everywhere but a read-only mount, yet /proc, /sys or a FUSE folder
+// still refuse a new file: create (and remove) an empty one to know.
+void ProbeNewFile(const fs::path& destination, const fs::path& directory) {
+  static int counter = 0;
+  const fs::path probe =
+      directory / (".owval-probe." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0)
+    throw InputError(destination.string(), 0,
+                     "cannot be written: " + directory.string() + ": " + std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+}  // namespace
 
 void CheckOutputPath(const fs::path& destination) {
   if (destination.empty()) throw InputError("output path is empty");
@@ -24,6 +46,7 @@ void CheckOutputPath(const fs::path& destination) {
   if (::access(existing.c_str(), W_OK | X_OK) != 0)
     throw InputError(destination.string(), 0,
                      "cannot be written: " + existing.string() + " is not writable");
+  ProbeNewFile(destination, existing);
 }
 
 }  // namespace owval

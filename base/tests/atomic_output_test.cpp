@@ -144,5 +144,17 @@ TEST(OutputPath, MissingDirectoriesOfARelativePathCanBeCreated) {
   EXPECT_EQ(CheckError(""), "output path is empty");
 }
 
+// As root, access() allowed /proc, so `bench engine --json-out /proc/x.json` ran the whole
+// benchmark before failing to write. A folder that refuses a new file is refused up front, and
+// the check leaves nothing behind in a folder that accepts one.
+TEST(OutputPath, AFolderThatRefusesNewFilesIsRefusedEvenToRoot) {
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  const std::string error = CheckError("/proc/owval_x.json");
+  EXPECT_EQ(error.rfind("/proc/owval_x.json: cannot be written: /proc", 0), 0u) << error;
+  const fs::path dir = Fresh("probe");
+  EXPECT_EQ(CheckError(dir / "x.json"), "no error");
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 }  // namespace
 }  // namespace owval

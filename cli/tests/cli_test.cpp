@@ -367,4 +367,19 @@ TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
         << args;
     EXPECT_TRUE(fs::is_empty(dir)) << args;
   }
+}  // bench engine|render|gradient --json-out /proc/x.json ran the whole benchmark (as root,
+   // access()
+// allowed /proc), then exited 2: the path is now refused before the benchmark, nothing on stdout.
+TEST(Cli, BenchRefusesAnUnwritableJsonOutBeforeRunning) {
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  for (const std::string& args :
+       std::vector<std::string>{"bench engine one_sprig --steps 1 --json-out /proc/x.json",
+                                "bench render --frames 1 --json-out /proc/r.json",
+                                "bench gradient one_sprig --steps 1 --json-out /proc/g.json"}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("cannot be written: /proc"), std::string::npos) << args << ": " << r.err;
+  }
 }
