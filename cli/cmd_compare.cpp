@@ -81,7 +81,22 @@ void RunBackendCompare(const CompareArgs& a) {
   if (!report.pass()) SetExitCode(kExitGateFailed);
 }
 
+// A trajectory file and a backend name never go together: when one argument is a file, the other
+// must be one too, and is named (missing, a directory) instead of "unknown backend" for the file.
+void RequireFilePartner(const std::string& file, const std::string& other) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec) || std::filesystem::is_regular_file(other, ec))
+    return;
+  if (std::filesystem::is_directory(other, ec))
+    throw InputError(other, 0, "is a directory; expected a trajectory file like " + file);
+  if (std::filesystem::exists(other, ec))
+    throw InputError(other, 0, "is not a regular file; expected a trajectory file like " + file);
+  throw InputError(other, 0, "no such trajectory file (and " + file + " is a file, not a backend)");
+}
+
 void RunCompare(const CompareArgs& a) {
+  RequireFilePartner(a.reference, a.candidate);
+  RequireFilePartner(a.candidate, a.reference);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(a.reference, ec) ||
       !std::filesystem::is_regular_file(a.candidate, ec))

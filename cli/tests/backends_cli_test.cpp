@@ -155,6 +155,29 @@ TEST(BackendsCli, UnknownNamesAreExit2ListingTheKnownOnes) {
   EXPECT_EQ(nlohmann::json::parse(show.out)["engine_backend"], "pcisph");
 }
 
+// `compare ref.h5 nosuch.h5` (or a directory as candidate) said `unknown backend "ref.h5"`,
+// blaming the file that exists: the missing or unusable argument is named instead. Names without
+// a '/' (in the working directory), as a user types them.
+TEST(BackendsCli, AFileBesideAMissingFileOrADirectoryNamesTheOther) {
+  const fs::path dir = Scratch() / "file_partner";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "folder");
+  fs::copy_file(fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt",
+                dir / "ref.txt");
+  for (const auto& [args, named] :
+       std::vector<std::pair<std::string, std::string>>{{"ref.txt nosuch.h5", "nosuch.h5"},
+                                                        {"nosuch.h5 ref.txt", "nosuch.h5"},
+                                                        {"ref.txt folder", "folder"}}) {
+    const Result r = RunCaptured("cd " + dir.string() + " && " + OWVAL_EXE + " --quiet compare " +
+                                 args + " --cache " + (dir / "cache").string());
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.rfind("owval: error: " + named + ": ", 0), 0u) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("unknown backend"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "cache"));
+}
+
 TEST(BackendsCli, BenchTimesEachBackendAsAProcess) {
   if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
   const fs::path file = BackendsFile(
