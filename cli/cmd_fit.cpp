@@ -58,15 +58,17 @@ void SetUp(CLI::App& app) {
                   "METRIC=VALUE[:scale=S][:weight=W][:ref=FILE]; METRIC: period, "
                   "half_amplitude, equilibrium, rms (finite-difference fits)");
   AddTrackFlags(cmd, &a->track, "track-", "Tracked");
-  cmd->add_option("--time", a->request.time_s, "Simulated time per evaluation (s)");
-  cmd->add_option("--log-step", a->request.log_step, "Steps between frames");
+  cmd->add_option("--time", a->request.time_s, "Simulated time per evaluation (s)")
+      ->check(Positive());
+  cmd->add_option("--log-step", a->request.log_step, "Steps between frames")->check(Positive());
   cmd->add_option("--solver", a->request.solver,
                   "lm, dogleg or gd; with --gradient analytic|model-fd: lbfgs (default) or adam")
       ->check(CLI::IsMember({"lm", "dogleg", "gd", "lbfgs", "adam"}));
   cmd->add_option("--command", a->request.command,
                   "External simulator: {param} placeholders, {out} dir, {out_file}");
   cmd->add_option("--threshold", a->request.threshold,
-                  "Stop when the loss is below this (default 1e-4)");
+                  "Stop when the loss is below this (default 1e-4)")
+      ->check(NonNegative());
   cmd->add_option("--max-iterations", a->request.max_iterations, "Iteration cap");
   cmd->add_option("--learning-rate", a->request.learning_rate,
                   "Gradient descent step in internal units");

@@ -382,4 +382,27 @@ TEST(Cli, BenchRefusesAnUnwritableJsonOutBeforeRunning) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_NE(r.err.find("cannot be written: /proc"), std::string::npos) << args << ": " << r.err;
   }
+}  // fit with LOWER > UPPER exited 1 with Ceres' multi-line message and a history of loss 0; fit
+// --threshold nan, --log-step 0, --time -1 and bench gradient --alpha-density nan or -1 were
+// taken. Each is now one line, exit 2, before any work (nothing on stdout, no output folder).
+TEST(Cli, FitAndBenchGradientRefuseBadNumbersBeforeWork) {
+  const fs::path out = Scratch() / "fit_numbers";
+  fs::remove_all(out);
+  const std::string fit = "fit one_sprig --target period=0.7246e-3:scale=0.725e-3 -o " +
+                          out.string() + " --param elasticity_coefficient=1.62e8:log";
+  for (const std::string& args : std::vector<std::string>{
+           fit + ":1e9:1e8",
+           fit + " --threshold nan",
+           fit + " --threshold -1",
+           fit + " --log-step 0",
+           fit + " --time -1",
+           "bench gradient one_sprig --steps 1 --alpha-density nan",
+           "bench gradient one_sprig --steps 1 --alpha-density -1",
+       }) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
 }

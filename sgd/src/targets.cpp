@@ -102,6 +102,11 @@ Parameter ParseParameter(const std::string& text) {
   }
   if (p.log_space && !(p.start > 0))
     throw InputError("--param " + text + ": a log-space parameter must be positive");
+  if (i + 2 == parts.size()) {  // bounds Ceres would reject after the first evaluations
+    if (!(p.lower < p.upper)) throw InputError("--param " + text + ": expected LOWER < UPPER");
+    if (p.start < p.lower || p.start > p.upper)
+      throw InputError("--param " + text + ": expected LOWER <= START <= UPPER");
+  }
   return p;
 }
 

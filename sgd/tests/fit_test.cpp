@@ -113,6 +113,17 @@ TEST(Targets, ParseTargetAndParameterSpecifications) {
   EXPECT_THROW(ParseTarget("period=1:color=red"), InputError);
 }
 
+// `--param elasticity_coefficient=1.62e8:log:1e9:1e8` (lower > upper) reached Ceres, which
+// printed several lines and the fit wrote a history with loss 0 and exit 1.
+TEST(Targets, ParameterBoundsMustBeOrderedAndEncloseTheStart) {
+  EXPECT_THROW(ParseParameter("elasticity_coefficient=1.62e8:log:1e9:1e8"), InputError);
+  EXPECT_THROW(ParseParameter("k=5:1:1"), InputError);      // empty interval
+  EXPECT_THROW(ParseParameter("k=5:lin:6:7"), InputError);  // start below
+  EXPECT_THROW(ParseParameter("k=8:lin:6:7"), InputError);  // start above
+  EXPECT_NO_THROW(ParseParameter("k=6:lin:6:7"));           // on a bound
+  EXPECT_NO_THROW(ParseParameter("k=1.62e8:log:1e8:1e9"));
+}
+
 // One particle at y = 1, 2, 3 over three frames, shifted by `dy`.
 Trajectory Line(double dy) {
   Trajectory t;
