@@ -49,4 +49,18 @@ void CheckOutputPath(const fs::path& destination) {
   ProbeNewFile(destination, existing);
 }
 
+MissingDirectories::MissingDirectories(const fs::path& directory) {
+  std::error_code error;
+  for (fs::path d = directory; !d.empty() && !fs::exists(d, error); d = d.parent_path()) {
+    missing_.push_back(d);
+    if (d == d.parent_path()) break;
+  }
+}
+
+MissingDirectories::~MissingDirectories() {
+  if (keep_) return;
+  std::error_code error;
+  for (const fs::path& d : missing_) fs::remove(d, error);  // only if empty
+}
+
 }  // namespace owval

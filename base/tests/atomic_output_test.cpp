@@ -156,5 +156,32 @@ TEST(OutputPath, AFolderThatRefusesNewFilesIsRefusedEvenToRoot) {
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
+// fit and frames left an empty output folder behind when they failed with exit 2.
+TEST(MissingDirectories, RemovesTheFoldersItFoundMissingWhenLeftEmpty) {
+  const fs::path dir = Fresh("missing");
+  {
+    MissingDirectories guard(dir / "a" / "b");
+    fs::create_directories(dir / "a" / "b");
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  {
+    MissingDirectories guard(dir / "a" / "b");
+    fs::create_directories(dir / "a" / "b");
+    std::ofstream(dir / "a" / "kept.txt") << "x";  // not empty: kept, with its file
+  }
+  EXPECT_TRUE(fs::exists(dir / "a" / "kept.txt"));
+  EXPECT_FALSE(fs::exists(dir / "a" / "b"));
+  {
+    MissingDirectories guard(dir / "c");
+    fs::create_directories(dir / "c");
+    guard.Keep();
+  }
+  EXPECT_TRUE(fs::is_directory(dir / "c"));
+  {
+    MissingDirectories guard(dir);  // existing: never removed
+  }
+  EXPECT_TRUE(fs::is_directory(dir));
+}
+
 }  // namespace
 }  // namespace owval

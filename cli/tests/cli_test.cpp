@@ -405,4 +405,16 @@ TEST(Cli, FitAndBenchGradientRefuseBadNumbersBeforeWork) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << args;
   }
+}  // fit with an unknown --param or --target left the empty output folder it had created.
+TEST(Cli, FailedFitLeavesNoFolderBehind) {
+  const fs::path out = Scratch() / "fit_failed" / "deeper";
+  fs::remove_all(out.parent_path());
+  for (const std::string& args :
+       std::vector<std::string>{"--param nosuch=1:log --target period=0.7246e-3:scale=0.725e-3",
+                                "--param elasticity_coefficient=1.62e8:log --target nosuch=1"}) {
+    const Result r = Owval("fit one_sprig " + args + " -o " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out.parent_path())) << args;
+  }
 }

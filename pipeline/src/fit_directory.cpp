@@ -135,13 +135,18 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
                       const Trajectory* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary) {
-  if (request.gradient == "fd") return FiniteDifferenceFit(request, config, cancelled, summary);
-  if (!reference)
-    throw InputError("fit --gradient " + request.gradient +
-                     ": --reference FILE (a trajectory) is required");
-  if (!request.command.empty())
-    throw InputError("fit --gradient " + request.gradient + ": takes no --command");
-  GradientFit(request, *config, *reference, cancelled, summary);
+  MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made
+  if (request.gradient == "fd") {
+    FiniteDifferenceFit(request, config, cancelled, summary);
+  } else {
+    if (!reference)
+      throw InputError("fit --gradient " + request.gradient +
+                       ": --reference FILE (a trajectory) is required");
+    if (!request.command.empty())
+      throw InputError("fit --gradient " + request.gradient + ": takes no --command");
+    GradientFit(request, *config, *reference, cancelled, summary);
+  }
+  created.Keep();
 }
 
 }  // namespace owval::pipeline

@@ -547,6 +547,27 @@ double PairedRange(FrameSource& refs, const std::vector<std::pair<std::size_t, s
 
 }  // namespace
 
+namespace {
+
+// The frame_N.png of an earlier run into the same directory that this run did not draw: removed,
+// so that the directory holds this run's frames only, all listed in its frames.json.
+void RemoveStaleFrames(const std::filesystem::path& out_dir,
+                       const std::vector<std::size_t>& frames) {
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(out_dir, error)) {
+    const std::string name = entry.path().filename().string();
+    const std::string digits = name.size() > 10 ? name.substr(6, name.size() - 10) : "";
+    if (name.rfind("frame_", 0) != 0 || name.substr(name.size() - 4) != ".png" || digits.empty() ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    const bool drawn = std::any_of(frames.begin(), frames.end(),
+                                   [&](std::size_t fr) { return std::to_string(fr) == digits; });
+    if (!drawn) std::filesystem::remove(entry.path(), error);
+  }
+}
+
+}  // namespace
+
 nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
                             const std::vector<std::size_t>& frames, const RenderOptions& o,
                             const std::filesystem::path& out_dir) {
@@ -573,6 +594,7 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
   const double scale = PairedRange(refs, pairs, track);
   SideBySideFrame compose(refs.Frame(0), options);
   nlohmann::json entries = nlohmann::json::array();
+  MissingDirectories created(out_dir);  // a failure leaves no empty folder it made
   std::filesystem::create_directories(out_dir);
   OutputGroup written;  // the PNGs and frames.json appear together (a rerun never mixes)
   for (std::size_t k = 0; k < frames.size(); ++k) {
@@ -604,6 +626,8 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
                                  {"frames", entries}};
   WriteFileAtomically(written.Stage(out_dir / "frames.json"), result.dump(2) + "\n");
   written.Commit();
+  created.Keep();
+  RemoveStaleFrames(out_dir, frames);
   return result;
 }
 

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "owval/base/errors.hpp"
 #include "owval/ci/checklist.hpp"
@@ -117,6 +119,23 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
   EXPECT_FLOAT_EQ(json["frames"][1]["reference_value"].get<float>(), t.coordinate(15, 0, 1));
   EXPECT_EQ(json["frames"][1]["difference"].get<double>(), 0.0);
   EXPECT_EQ(ci::ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
+}
+
+// frames -o EXISTING_DIR kept an earlier run's PNGs beside the new frames.json.
+TEST(Render, FramesIntoAnEarlierRunsDirectoryHoldOnlyTheNewFrames) {
+  const Trajectory t = OneParticle(15, 15, 15, 20);
+  RenderOptions o;
+  o.width = 64;
+  o.height = 64;
+  const fs::path out = Scratch() / "frames_rerun";
+  fs::remove_all(out);
+  RenderFrames(t, t, {0, 5, 15}, o, out);
+  std::ofstream(out / "notes.txt") << "the user's";
+  RenderFrames(t, t, {5}, o, out);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame_5.png", "frames.json", "notes.txt"}));
 }
 
 // render -o DIR rendered every frame, then failed "cannot rename into place: Is a directory".

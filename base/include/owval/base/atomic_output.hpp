@@ -116,6 +116,23 @@ void WriteFileAtomically(const std::filesystem::path& destination, const std::st
 // its parent directory exists (or can be created) and is writable. InputError naming the path.
 void CheckOutputPath(const std::filesystem::path& destination);
 
+// The folders of an output directory that do not exist yet when a command starts (the directory
+// and its missing parents). Destroyed before Keep(), e.g. by an exception, it removes those left
+// empty, innermost first: a command that fails leaves no empty folder it made behind (the files
+// it wrote there are its writers' to remove: AtomicOutput, OutputGroup).
+class MissingDirectories {
+ public:
+  explicit MissingDirectories(const std::filesystem::path& directory);
+  ~MissingDirectories();
+  MissingDirectories(const MissingDirectories&) = delete;
+  MissingDirectories& operator=(const MissingDirectories&) = delete;
+  void Keep() { keep_ = true; }
+
+ private:
+  std::vector<std::filesystem::path> missing_;  // innermost first
+  bool keep_ = false;
+};
+
 // Reads a whole file; throws InputError naming the file when it is missing or unreadable.
 std::string ReadWholeFile(const std::filesystem::path& path);
 

@@ -92,7 +92,9 @@ VideoSummary RenderSideBySide(const Trajectory& reference, const Trajectory& can
 // difference is also given relative to the reference's range over the common time window, as
 // owval compare's frame gate measures it (a first pass over the paired reference frames finds that
 // range). InputError, before anything is drawn or created,
-// for an empty list, a frame listed twice or a frame without a partner.
+// for an empty list, a frame listed twice or a frame without a partner. An earlier run's
+// frame_N.png in out_dir that this run did not draw is removed; a folder created for a run that
+// fails is removed.
 nlohmann::json RenderFrames(FrameSource& reference, FrameSource& candidate,
                             const std::vector<std::size_t>& reference_frames,
                             const RenderOptions& options, const std::filesystem::path& out_dir);
