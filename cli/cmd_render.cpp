@@ -33,10 +33,13 @@ void RequireOut(const RenderArgs& a) {  // before any work starts
   if (a.out.empty()) throw InputError("-o/--out is required");
 }
 
-// render and render sxs write one MP4: an existing directory (or a parent that cannot be written)
-// is refused here, not after the frames were rendered.
+// render and render sxs write one MP4: an odd --size, an existing directory or a parent that
+// cannot be written is refused here, not after the frames were rendered.
 void RequireVideoOut(const RenderArgs& a) {
   RequireOut(a);
+  render::RenderOptions size;
+  render::ParseFrameSize(a.size, &size);
+  render::CheckVideoSize(size);  // --size 101x101: refused now, not by the encoder
   CheckOutputPath(a.out);
 }
 

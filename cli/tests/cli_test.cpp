@@ -417,4 +417,33 @@ TEST(Cli, FailedFitLeavesNoFolderBehind) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out.parent_path())) << args;
   }
+}  // Errors named the temporary instead of the user's path (render -o /proc/x.mp4 said
+// "/proc/.x.mp4.tmp.32621.0: cannot open for writing", pipeline -o /proc/pp "[/proc/.pp.tmp...]"),
+// and --size 101x101 failed after the trajectory was read, naming the temporary, leaving the
+// folder it had made. Each is one line naming what the user typed, before any work.
+TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  const fs::path out = Scratch() / "odd_size";
+  fs::remove_all(out);
+  for (const std::string& args :
+       {"render " + traj + " --size 101x101 -o " + (out / "x.mp4").string(),
+        "render sxs " + traj + " " + traj + " --size 64x33 -o " + (out / "x.mp4").string()}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.rfind("owval: error: --size ", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
+           {"render " + traj + " --size 64x64 -o /proc/x.mp4", "/proc/x.mp4"},
+           {"pipeline one_sprig -o /proc/pp", "/proc/pp"}}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.rfind("owval: error: " + named, 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  }
 }

@@ -22,11 +22,13 @@ void Check(int status, const std::string& path, const char* what) {
 }
 }  // namespace
 
-Mp4Writer::Mp4Writer(const std::string& path, int width, int height, int fps)
-    : path_(path), width_(width), height_(height) {
+Mp4Writer::Mp4Writer(const std::string& file, int width, int height, int fps,
+                     const std::string& shown)
+    : path_(shown.empty() ? file : shown), width_(width), height_(height) {
+  const std::string& path = path_;  // the name in messages
   if (width % 2 || height % 2)
     throw InputError(path, 0, "video width and height must be even for yuv420p");
-  Check(avformat_alloc_output_context2(&format_, nullptr, "mp4", path.c_str()), path,
+  Check(avformat_alloc_output_context2(&format_, nullptr, "mp4", file.c_str()), path,
         "cannot create MP4 container");
   const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");
   if (!encoder)
@@ -57,7 +59,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, int fps)
   Check(avcodec_open2(codec_, encoder, nullptr), path, "cannot open the H.264 encoder");
   Check(avcodec_parameters_from_context(stream_->codecpar, codec_), path, "codec parameters");
   stream_->time_base = codec_->time_base;
-  Check(avio_open(&format_->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot open for writing");
+  Check(avio_open(&format_->pb, file.c_str(), AVIO_FLAG_WRITE), path, "cannot open for writing");
   Check(avformat_write_header(format_, nullptr), path, "cannot write the MP4 header");
   frame_ = av_frame_alloc();
   frame_->format = AV_PIX_FMT_YUV420P;

@@ -15,7 +15,8 @@ namespace owval::render::internal {
 
 class Mp4Writer {
  public:
-  Mp4Writer(const std::string& path, int width, int height, int fps);
+  // Writes `path`; errors name `shown` (the user's destination of a temporary), else `path`.
+  Mp4Writer(const std::string& path, int width, int height, int fps, const std::string& shown = "");
   ~Mp4Writer();
   Mp4Writer(const Mp4Writer&) = delete;
   Mp4Writer& operator=(const Mp4Writer&) = delete;

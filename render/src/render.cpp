@@ -304,12 +304,25 @@ void CheckSize(const RenderOptions& o) {
                      " is out of range: expected 16 to 8192 pixels a side");
 }
 
+}  // namespace
+
+void CheckVideoSize(const RenderOptions& o) {
+  CheckSize(o);
+  if (o.width % 2 || o.height % 2)
+    throw InputError("--size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                     ": a video's width and height must be even (H.264 yuv420p)");
+}
+
+namespace {
+
 // The MP4 writer, opened at the first frame: by then llvmpipe has compiled its shaders, and
 // libLLVM's code leaves the resident set (code_pages.hpp) before libx264 allocates its frames.
 // A 1280x720 render peaks at about 125 MB instead of 156-162 MB (issue 16, docs/benchmarks.md).
 class Video {
  public:
-  Video(std::string path, const RenderOptions& o) : path_(std::move(path)), options_(o) {}
+  // path: the temporary written; shown: the destination, named in errors.
+  Video(std::string path, const RenderOptions& o, std::string shown)
+      : path_(std::move(path)), shown_(std::move(shown)), options_(o) {}
   void Add(const std::vector<unsigned char>& rgba) {
     Open();
     writer_->AddFrame(rgba);
@@ -325,9 +338,9 @@ class Video {
   void Open() {
     if (writer_) return;
     internal::ReleaseLibraryCode("libLLVM");
-    writer_.emplace(path_, options_.width, options_.height, options_.fps);
+    writer_.emplace(path_, options_.width, options_.height, options_.fps, shown_);
   }
-  std::string path_;
+  std::string path_, shown_;
   RenderOptions options_;
   std::optional<internal::Mp4Writer> writer_;
 };
@@ -448,7 +461,7 @@ std::vector<unsigned char> RenderFrameRgba(const Trajectory& t, std::size_t fram
 
 VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& o,
                          const std::filesystem::path& out_mp4) {
-  CheckSize(o);
+  CheckVideoSize(o);
   CheckOutputPath(out_mp4);
   const Trajectory& t = frames.header();
   if (t.frame_count() == 0) throw InputError("the trajectory has no frame to render");
@@ -459,7 +472,7 @@ VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& o,
   const float size = PointSize(frames.Frame(0), o, o.height);
   const std::string producer =
       t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory";
-  Video video(out.temporary_path().string(), o);
+  Video video(out.temporary_path().string(), o, out_mp4.string());
   const auto sampled = Sample(t.frame_count(), o.max_frames);
   Progress progress("render", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
@@ -489,7 +502,7 @@ VideoSummary RenderVideo(const Trajectory& t, const RenderOptions& o,
 
 VideoSummary RenderSideBySide(FrameSource& refs, FrameSource& cands, const RenderOptions& o,
                               const std::filesystem::path& out_mp4) {
-  CheckSize(o);
+  CheckVideoSize(o);
   CheckOutputPath(out_mp4);
   const Trajectory& ref = refs.header();
   const Trajectory& cand = cands.header();
@@ -509,7 +522,7 @@ VideoSummary RenderSideBySide(FrameSource& refs, FrameSource& cands, const Rende
   for (std::size_t k : Sample(pairs.size(), o.max_frames)) sampled.push_back(pairs[k]);
   AtomicOutput out(out_mp4);
   SideBySideFrame compose(refs.Frame(0), o);
-  Video video(out.temporary_path().string(), o);
+  Video video(out.temporary_path().string(), o, out_mp4.string());
   Progress progress("render sxs", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
     auto& rgba = compose.Compose(refs.Frame(sampled[k].first), cands.Frame(sampled[k].second));

@@ -67,6 +67,9 @@ struct VideoSummary {
 
 // "1280x720" → width and height; InputError naming --size on anything else.
 void ParseFrameSize(const std::string& text, RenderOptions* options);
+// A video's frame size: 16 to 8192 pixels a side, both even (H.264 yuv420p); InputError naming
+// --size otherwise. RenderVideo and RenderSideBySide check it before anything else.
+void CheckVideoSize(const RenderOptions& options);
 
 // A panel's default name: the trajectory file's stem, or its folder's name for the generic file
 // names (position_buffer.txt, trajectory.h5: an owval run directory says more); `fallback` when
