@@ -49,7 +49,8 @@ void SetUp(CLI::App& app) {
       ->check(CLI::IsMember({"euler", "leapfrog"}));
   cmd->add_option("--backend", a->backend,
                   "Candidate scheme (pcisph, xpbd, wcsph); xpbd: phase 5 runs owval gradcheck");
-  cmd->add_option("--max-video-frames", a->max_video_frames, "Frames in sxs.mp4 (evenly spaced)");
+  cmd->add_option("--max-video-frames", a->max_video_frames,
+                  "Frames in sxs.mp4, evenly spaced (0: every frame)");
   cmd->callback([a] { RunPipeline(*a); });
 }
 

@@ -119,7 +119,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("trajectory", a->trajectory, "Trajectory to render");
   AddCommon(cmd, a.get(), "Output MP4 file (not a directory)");
   cmd->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
-  cmd->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
+  cmd->add_option("--max-frames", a->max_frames,
+                  "Cap on rendered frames, evenly spaced (0, the default: every frame)")
       ->check(Count());
   CLI::App* sxs =
       cmd->add_subcommand("sxs", "Side by side: reference left, candidate right, one camera");
@@ -127,7 +128,8 @@ void SetUp(CLI::App& app) {
   sxs->add_option("candidate", a->candidate)->required();
   AddCommon(sxs, a.get(), "Output MP4 file (not a directory)");
   sxs->add_option("--fps", a->fps, "Frames per second")->check(CLI::Range(1, 240));
-  sxs->add_option("--max-frames", a->max_frames, "Cap on rendered frames (evenly spaced)")
+  sxs->add_option("--max-frames", a->max_frames,
+                  "Cap on rendered frames, evenly spaced (0, the default: every frame)")
       ->check(Count());
   sxs->callback([a] {
     RequireVideoOut(*a);

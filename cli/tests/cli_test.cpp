@@ -446,4 +446,14 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
     EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
   }
+}  // render --max-frames 0 rendered every frame, undocumented. 0 is the default and means no cap
+// (as "0: full tape", "0: never" on other flags): the help says so.
+TEST(Cli, MaxFramesHelpSaysZeroIsEveryFrame) {
+  for (const std::string& command : {"render", "render sxs"}) {
+    const Result r = Owval(command + " --help");
+    EXPECT_EQ(r.exit_code, 0) << command;
+    EXPECT_NE(r.out.find("0, the default: every frame"), std::string::npos) << r.out;
+  }
+  const Result pipeline = Owval("pipeline --help");
+  EXPECT_NE(pipeline.out.find("(0: every frame)"), std::string::npos) << pipeline.out;
 }
