@@ -1,6 +1,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -15,7 +16,7 @@ namespace {
 // access() says yes to root everywhere but a read-only mount, yet /proc, /sys or a FUSE folder
 // still refuse a new file: create (and remove) an empty one to know.
 void ProbeNewFile(const fs::path& destination, const fs::path& directory) {
-  static int counter = 0;
+  static std::atomic<int> counter{0};  // CheckOutputPath may be called from several threads
   const fs::path probe =
       directory / (".owval-probe." + std::to_string(::getpid()) + "." + std::to_string(counter++));
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
