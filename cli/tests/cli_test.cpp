@@ -343,7 +343,7 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
           .string();
   const fs::path out = Scratch() / "frames_at";
   fs::remove_all(out);
-  for (const std::string& at : {"''", "0,0,0", "0,", "0,15,9999"}) {
+  for (const std::string at : {"''", "0,0,0", "0,", "0,15,9999"}) {
     const Result r = Owval("frames " + traj + " " + traj + " --at " + at + " -o " + out.string());
     EXPECT_EQ(r.exit_code, 2) << at << ": " << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << at << ": " << r.err;
@@ -449,7 +449,7 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
 }  // render --max-frames 0 rendered every frame, undocumented. 0 is the default and means no cap
 // (as "0: full tape", "0: never" on other flags): the help says so.
 TEST(Cli, MaxFramesHelpSaysZeroIsEveryFrame) {
-  for (const std::string& command : {"render", "render sxs"}) {
+  for (const std::string command : {"render", "render sxs"}) {
     const Result r = Owval(command + " --help");
     EXPECT_EQ(r.exit_code, 0) << command;
     EXPECT_NE(r.out.find("0, the default: every frame"), std::string::npos) << r.out;
