@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/base/stop_signals.hpp"
@@ -22,6 +23,14 @@ struct RunArgs {
   bool json = false, stability = false;
 };
 
+// `path` as one shell word, quoted only when it has to be (the hint is pasted as written).
+std::string ShellWord(const std::string& path) {
+  const bool plain = !path.empty() && path.find_first_not_of(
+                                          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                          "0123456789_-./+,:@%") == std::string::npos;
+  return plain ? path : ShellQuote(path);
+}
+
 void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunDirectorySummary& s,
            const std::string& source) {
   for (const std::string& w : s.run.warnings)
@@ -38,7 +47,8 @@ void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunD
     std::fprintf(stderr,
                  "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
                  "continue with: owval run --resume %s\n",
-                 s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(), r.out.c_str());
+                 s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(),
+                 ShellWord(r.out).c_str());
     SetExitCode(128 + StopSignal());  // 130 for SIGINT, 143 for SIGTERM
   } else if (s.stability && !s.stability->pass()) {
     SetExitCode(kExitGateFailed);

@@ -217,5 +217,31 @@ TEST(LongRunProcess, SigintLeavesAReadablePartialTrajectoryAndACheckpoint) {
       << Bytes(dir.string() + ".i.log");
 }
 
+// A run started with a relative configuration path in a folder whose name has a space,
+// interrupted, then resumed from another working directory: the checkpoint holds the
+// configuration's absolute path, and the printed hint is one shell word.
+TEST(LongRunProcess, ResumesFromAnotherDirectoryAndQuotesItsHint) {
+  const fs::path dir = ScratchDir("resume here"), parent = dir.parent_path();
+  fs::copy_file(kDemo1, parent / "my demo1.cfg", fs::copy_options::overwrite_existing);
+  const fs::path was = fs::current_path();
+  fs::current_path(parent);
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = Start({"run", "my demo1.cfg", "--time", "0.2", "--log-step", "20",
+                           "--checkpoint-every", "250", "--out", "resume here"},
+                          parent / "resume_here.log");
+  const bool checkpointed = WaitFor([&] { return CheckpointInode(dir) != 0; }, 120);
+  ::kill(pid, SIGINT);
+  const Finished f = Wait(pid, start);
+  fs::current_path("/");
+  const std::string log = Bytes(parent / "resume_here.log");
+  ASSERT_TRUE(checkpointed) << log;
+  ASSERT_EQ(f.exit_code, 130) << log;
+  EXPECT_NE(log.find("continue with: owval run --resume 'resume here'"), std::string::npos) << log;
+  const Finished resumed = RunOwval({"run", "--resume", dir.string()}, parent / "resumed.log");
+  fs::current_path(was);
+  ASSERT_EQ(resumed.exit_code, 0) << Bytes(parent / "resumed.log");
+  EXPECT_TRUE(fs::exists(dir / "trajectory.h5"));
+}
+
 }  // namespace
 }  // namespace owval::engine

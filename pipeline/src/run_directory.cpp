@@ -104,7 +104,11 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
   engine::LongRunOptions files;
   files.out = r.out;
   files.resume = o.resume;
-  files.invocation = r.ToJson().dump();
+  // A configuration file by its absolute path: --resume may be given from another directory.
+  RunRequest invocation = r;
+  std::error_code error;
+  if (fs::is_regular_file(r.config, error)) invocation.config = fs::absolute(r.config).string();
+  files.invocation = invocation.ToJson().dump();
   files.on_begin = [seen, stability = o.stability](const Trajectory& t) {
     seen->header = t;
     if (stability)
