@@ -61,16 +61,18 @@ Header ParseHeader(TextCursor& in, std::size_t text_bytes) {
   }
   if (in.at_end()) in.Fail("truncated header: expected the time step on line 10");
   h.time_step_s = in.Number<double>("time step (s)");
+  if (h.time_step_s <= 0) in.Fail("time step must be positive");  // on its own line
   in.EndOfLine("time step");
   if (in.at_end()) in.Fail("truncated header: expected the log step on line 11");
   h.log_step = static_cast<int>(Count(in, "log step", std::numeric_limits<int>::max()));
+  // Sibernetic writes frame k when k % logstep == 0: 0 is no log step (a 1 in its place made the
+  // times and speeds of a log-step-10 file ten times off).
+  if (h.log_step <= 0) in.Fail("log step must be a positive whole number");
   in.EndOfLine("log step");
   if (h.particles() == 0) in.Fail("header declares no particles");
   if (h.particles() > text_bytes / kMinRowBytes)
     in.Fail("header declares " + std::to_string(h.particles()) +
             " particles, more rows than the file can hold");
-  if (h.time_step_s <= 0) in.Fail("time step must be positive");
-  if (h.log_step <= 0) h.log_step = 1;
   return h;
 }
 

@@ -84,6 +84,15 @@ TEST(HostileText, RefusesALogStepOf1e12) {
             "pb.txt:11: log step 1e+12 is larger than 2147483647");
 }
 
+// A log step of 0 was read as 1 (times and speeds of a log-step-10 file ten times off), and a
+// negative time step was reported two lines below where it is.
+TEST(HostileText, RefusesALogStepOfZeroAndNamesTheLineOfABadTimeStep) {
+  EXPECT_EQ(ParseError(Header("0\n1\n0\n", "2e-05", "0") + "1\t2\t3\t1.1\n"),
+            "pb.txt:11: log step must be a positive whole number");
+  EXPECT_EQ(ParseError(Header("0\n1\n0\n", "-5") + "1\t2\t3\t1.1\n"),
+            "pb.txt:10: time step must be positive");
+}
+
 TEST(HostileText, RefusesMoreParticlesThanTheFileCanHold) {
   EXPECT_EQ(ParseError(Header("0\n9\n0\n") + "1\t2\t3\t1.1\n"),
             "pb.txt:8: liquid particle count 9 is larger than 4");
