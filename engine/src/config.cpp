@@ -90,6 +90,16 @@ class Reader {
   std::string name_;
 };
 
+// Sibernetic's kernels take a particle's class as (int)w and know 1, 2 and 3 only; any other
+// class would move as none of them (and (int) of 1e30 is undefined). A row with three fields
+// reads its third as the type (Sibernetic's loader repeats the last field), so the message says
+// how many fields a row needs.
+void CheckTypeCode(const Reader& reader, float type) {
+  if (!(type >= 1.0f && type < 4.0f))
+    reader.Fail("[position] row has type " + FormatNumber(type) +
+                ": expected x, y, z and a type 1.x (liquid), 2.x (elastic) or 3.x (boundary)");
+}
+
 // Sibernetic accepts "name: value" where value is an unsigned decimal that may carry an exponent
 // only after a decimal point, with an optional trailing // comment (owHelper.cpp:83-91).
 void ParsePhysicalParameter(const std::string& line, const Reader& reader,
@@ -281,6 +291,7 @@ SiberneticConfig ParseSiberneticConfig(const std::string& text, const std::strin
         break;
       case Section::kPosition:
         c.position.push_back(reader.Row(line, 4, "position"));
+        CheckTypeCode(reader, c.position.back()[3]);  // here, where the line is known
         break;
       case Section::kVelocity:
         c.velocity.push_back(reader.Row(line, 4, "velocity"));

@@ -2,6 +2,8 @@
 // and what was wrong, before the engine sizes anything from it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <string>
 
 #include "owval/base/errors.hpp"
@@ -78,14 +80,30 @@ TEST(ConfigHostile, RefusesATypeCodeOfNoClass) {
   for (const char* type : {"7.5", "0.5", "1e30", "-2"}) {
     std::string text = Config(kBox, "[end]\n");
     text.replace(text.find("\t3\n[velocity]"), 2, std::string("\t") + type);
-    EXPECT_NE(ErrorOf(text).find("cfg: row 1 of [position] has type "), std::string::npos)
+    EXPECT_NE(ErrorOf(text).find("[position] row has type "), std::string::npos)
         << type << ": " << ErrorOf(text);
   }
   std::string text = Config(kBox, "[end]\n");
-  text.replace(text.find("\t3\n[velocity]"), 2, "\t7.5");
-  EXPECT_EQ(ErrorOf(text),
-            "cfg: row 1 of [position] has type 7.5: expected 1.x (liquid), 2.x (elastic) or 3.x "
-            "(boundary)");
+  const std::size_t at = text.find("\t3\n[velocity]");
+  const std::string line = std::to_string(std::count(text.begin(), text.begin() + at, '\n') + 1);
+  text.replace(at, 2, "\t7.5");
+  EXPECT_EQ(ErrorOf(text), "cfg:" + line +
+                               ": [position] row has type 7.5: expected x, y, z and a type 1.x "
+                               "(liquid), 2.x (elastic) or 3.x (boundary)");
+}
+
+// A row of three fields read its third (a coordinate) as the type, as Sibernetic's loader
+// repeats a row's last field, and the message had no line.
+TEST(ConfigHostile, ARowOfThreeFieldsIsReportedOnItsLine) {
+  std::string text = Config(kBox, "[end]\n");
+  const std::size_t at = text.find("\t3\n[velocity]");
+  const std::size_t row = text.rfind('\n', at) + 1;
+  const std::string line = std::to_string(std::count(text.begin(), text.begin() + row, '\n') + 1);
+  text.replace(row, at + 2 - row, "17.5\t20.04\t17.5");
+  EXPECT_EQ(
+      ErrorOf(text).rfind("cfg:" + line + ": [position] row has type 17.5: expected x, y, z", 0),
+      0u)
+      << ErrorOf(text);
 }
 
 // A spring whose rest length is negative can never relax; an empty slot's (-1 partner) is unread.
