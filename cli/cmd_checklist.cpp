@@ -31,6 +31,7 @@ void RunChecklistCommand(const ChecklistArgs& a) {
     options.scenario_reference =
         std::make_shared<const Trajectory>(std::move(reference.trajectory));
     options.scenario_reference_source = reference.source;
+    options.scenario_prediction = pipeline::MakeScenarioPrediction(a.scenario, DataDir());
   }
   const ci::ChecklistReport report = ci::RunChecklist(a.directory, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());

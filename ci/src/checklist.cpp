@@ -329,16 +329,42 @@ void CheckChanges(Evidence& e, ChecklistItem* item) {
 
 // DD001: the prediction is reconciled with the reference measurement (the validated physics),
 // recomputed here from prediction.json and the reference trajectory.
+// With a scenario: the scenario's tolerance for each of its gated quantities, which
+// prediction.json must hold, with the scenario's track. InputError naming what differs.
+predict::ReconcileOptions ScenarioTolerances(const predict::Prediction& file,
+                                             const predict::Prediction& scenario) {
+  if (file.track.Describe() != scenario.track.Describe())
+    throw InputError("prediction.json", 0,
+                     "tracks " + file.track.Describe() + ", the scenario's prediction " +
+                         scenario.track.Describe());
+  predict::ReconcileOptions o;
+  for (const predict::PredictedQuantity& q : scenario.predictions) {
+    if (q.tolerance <= 0) continue;  // informative
+    if (!file.Find(q.quantity))
+      throw InputError("prediction.json", 0,
+                       "lacks " + q.quantity + ", which the scenario's predictor gates");
+    o.tolerances[q.quantity] = q.tolerance;
+  }
+  return o;
+}
+
 void CheckReconcile(Evidence& e, ChecklistItem* item) {
+  const predict::Prediction prediction = ReadPrediction(e.dir / "prediction.json");
+  const predict::ReconcileOptions tolerances =
+      e.options.scenario_prediction ? ScenarioTolerances(prediction, *e.options.scenario_prediction)
+                                    : predict::ReconcileOptions{};
   const predict::Reconciliation r =
-      predict::Reconcile(ReadPrediction(e.dir / "prediction.json"), Need(e.reference, "reference"));
+      predict::Reconcile(prediction, Need(e.reference, "reference"), tolerances);
   item->pass = r.pass;
   std::string failing;
   for (const predict::ReconcileRow& row : r.rows)
     if (row.pass == false) failing += (failing.empty() ? "" : ", ") + row.quantity;
   item->detail = "prediction reconciled with the reference's measurement: " +
                  (item->pass ? std::string("every gap within tolerance")
-                             : "gap beyond tolerance in " + failing);
+                             : "gap beyond tolerance in " + failing) +
+                 (e.options.scenario_prediction ? " (the scenario's tolerances)"
+                                                : " (prediction.json's tolerances: pass --scenario "
+                                                  "for the scenario's)");
 }
 
 struct ItemSpec {

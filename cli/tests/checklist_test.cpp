@@ -305,6 +305,24 @@ TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
       << j["items"][1].dump();
 }
 
+// prediction.json's period 20% off with every tolerance loosened to 100%: it reconciles on its
+// own terms, not on the scenario's.
+TEST_F(Checklist, Item10TakesTheScenariosTolerancesWhenGivenAScenario) {
+  const fs::path d = Copy("item10_loosened");
+  EditJson(d / "prediction.json", [](nlohmann::json& j) {
+    for (auto& p : j["predictions"]) {
+      if (p["quantity"] == "zero_crossing_period") p["value"] = p["value"].get<double>() * 1.2;
+      if (p["tolerance"].get<double>() > 0) p["tolerance"] = 1.0;
+    }
+  });
+  EXPECT_TRUE(ItemPasses(Judge(d, 0), 10));
+  const auto j = Judge(d, 0, "--scenario one_sprig");
+  EXPECT_FALSE(ItemPasses(j, 10));
+  EXPECT_NE(j["items"][9]["detail"].get<std::string>().find("the scenario's tolerances"),
+            std::string::npos)
+      << j["items"][9].dump();
+}
+
 TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {
   const fs::path d = Copy("stale_parity");
   const fs::path run = Scratch() / "stale_parity_run";

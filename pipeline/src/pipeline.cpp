@@ -52,11 +52,16 @@ engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator
   return o;
 }
 
-void Predict(Context& c) {
+predict::Prediction PredictionOf(const scenarios::Scenario& scenario,
+                                 const engine::SiberneticConfig& config) {
   predict::PredictOptions o;
-  o.scenario = c.scenario.name;
-  o.predictor = c.scenario.predictor;
-  c.prediction = predict::Predict(c.config, engine::PhysicsConstants{}, o);
+  o.scenario = scenario.name;
+  o.predictor = scenario.predictor;
+  return predict::Predict(config, engine::PhysicsConstants{}, o);
+}
+
+void Predict(Context& c) {
+  c.prediction = PredictionOf(c.scenario, c.config);
   WriteJson(c.dir / "prediction.json", c.prediction.ToJson());
   Done(c, "1 predict", true,
        std::to_string(c.prediction.predictions.size()) + " quantities in prediction.json");
@@ -152,6 +157,7 @@ void Checklist(Context& c) {
   o.track = c.scenario.track;
   o.scenario_reference = std::make_shared<const Trajectory>(c.reference);
   o.scenario_reference_source = c.evidence.reference_source;
+  o.scenario_prediction = c.prediction;
   c.summary->checklist = ci::RunChecklist(c.dir, o);
   c.summary->checklist.directory = c.options.out_dir;  // where it lands, not the temporary
   c.evidence.checklist = c.summary->checklist;
@@ -193,6 +199,11 @@ void Prepare(Context& c) {
 ScenarioReference MakeScenarioReference(const std::string& name, const fs::path& data_dir) {
   const scenarios::Scenario scenario = scenarios::LoadScenario(name, data_dir);
   return ReferenceOf(scenario, scenarios::GenerateConfig(scenario));
+}
+
+predict::Prediction MakeScenarioPrediction(const std::string& name, const fs::path& data_dir) {
+  const scenarios::Scenario scenario = scenarios::LoadScenario(name, data_dir);
+  return PredictionOf(scenario, scenarios::GenerateConfig(scenario));
 }
 
 int Summary::exit_code() const { return checklist.exit_code() != 0 || !parity.pass() ? 1 : 0; }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "owval/compare/parity.hpp"
+#include "owval/predict/prediction.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
@@ -31,6 +32,10 @@ struct ChecklistOptions {
   // frame, else a pull request could judge its candidate against a reference of its own making.
   std::shared_ptr<const Trajectory> scenario_reference;
   std::string scenario_reference_source;  // what it is, for the report
+  // The scenario's own prediction (its predictor on its configuration), when the caller names a
+  // scenario: item 10 reconciles with its tolerances and needs its gated quantities and track,
+  // so prediction.json cannot loosen or drop what it is judged on.
+  std::optional<predict::Prediction> scenario_prediction;
   // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
   // committed no later than the first trajectory. Empty: the order is reported as not checked.
   std::string git_range;

@@ -21,6 +21,7 @@
 #include "owval/ci/checklist.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/predict/prediction.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::pipeline {
@@ -75,5 +76,10 @@ struct ScenarioReference {
 };
 ScenarioReference MakeScenarioReference(const std::string& scenario,
                                         const std::filesystem::path& data_dir);
+
+// A built-in scenario's prediction, as phase 1 makes it (its predictor on its configuration,
+// Sibernetic's constants).
+predict::Prediction MakeScenarioPrediction(const std::string& scenario,
+                                           const std::filesystem::path& data_dir);
 
 }  // namespace owval::pipeline
