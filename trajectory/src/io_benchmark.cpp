@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
@@ -47,27 +48,24 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
 // left empty.
 class GeneratedFiles {
  public:
-  GeneratedFiles(const fs::path& directory, bool keep) : directory_(directory), keep_(keep) {
-    std::error_code error;
-    for (fs::path d = directory; !d.empty() && !fs::exists(d, error); d = d.parent_path()) {
-      created_.push_back(d);
-      if (d == d.parent_path()) break;
-    }
+  GeneratedFiles(const fs::path& directory, bool keep)
+      : missing_(directory), directory_(directory), keep_(keep) {
+    if (keep) missing_.Keep();
   }
-  ~GeneratedFiles() {
+  ~GeneratedFiles() {  // the files first; then missing_ removes the folders left empty
     if (keep_) return;
     std::error_code error;
     for (const fs::path& file : files_) fs::remove(file, error);
-    for (const fs::path& d : created_) fs::remove(d, error);  // innermost first; only if empty
   }
   GeneratedFiles(const GeneratedFiles&) = delete;
   GeneratedFiles& operator=(const GeneratedFiles&) = delete;
   fs::path Add(const std::string& name) { return files_.emplace_back(directory_ / name); }
 
  private:
+  MissingDirectories missing_;
   fs::path directory_;
   bool keep_;
-  std::vector<fs::path> files_, created_;
+  std::vector<fs::path> files_;
 };
 
 double Seconds(std::chrono::steady_clock::time_point since) {
