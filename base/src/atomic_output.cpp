@@ -121,10 +121,21 @@ void OutputGroup::Commit() {
       throw std::logic_error("OutputGroup: members in more than one directory");
     names += m.destination.filename().string() + "\n";
   }
+  // A directory is replaced only by a directory (whose writer checked it may replace it): a
+  // user's directory in the way of a file is refused before anything is removed.
+  std::error_code error;
+  for (const Member& m : members_)
+    if (fs::is_directory(fs::symlink_status(m.destination, error)) &&
+        !fs::is_directory(fs::symlink_status(m.temporary, error)))
+      throw InputError(m.destination.string(), 0, "is a directory; expected a file to write");
   const fs::path marker = CommitMarkerPath(directory);
   WriteFileAtomically(marker, names);
-  std::error_code error;
-  for (const Member& m : members_) fs::remove_all(m.destination, error);  // older outputs
+  for (const Member& m : members_) {  // older outputs
+    if (fs::is_directory(fs::symlink_status(m.destination, error)))
+      fs::remove_all(m.destination, error);
+    else
+      fs::remove(m.destination, error);
+  }
   for (const Member& m : members_) {
     fs::rename(m.temporary, m.destination, error);
     if (error)  // the marker stays: the set in place is incomplete and readers say so
@@ -143,10 +154,37 @@ void AtomicOutput::CommitAs(const fs::path& destination) {
   committed_ = true;
 }
 
+fs::path OwvalDirectoryMarker(const fs::path& directory) { return directory / ".owval-directory"; }
+
 AtomicDirectory::AtomicDirectory(fs::path destination)
-    : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
+    : AtomicDirectory(std::move(destination), [](const fs::path& existing) {
+        std::error_code error;
+        return fs::is_regular_file(OwvalDirectoryMarker(existing), error);
+      }) {
+  std::ofstream(OwvalDirectoryMarker(temporary_)) << "written by owval; owval replaces it whole\n";
+}
+
+AtomicDirectory::AtomicDirectory(fs::path destination,
+                                 std::function<bool(const fs::path&)> replaceable)
+    : destination_(std::move(destination)),
+      temporary_(TemporarySibling(destination_)),
+      replaceable_(std::move(replaceable)) {
+  CheckReplaceable();
   SweepStaleTemporaries(destination_);
   fs::create_directories(temporary_);
+}
+
+void AtomicDirectory::CheckReplaceable() const {
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(destination_, error);
+  if (!fs::exists(status)) return;
+  if (!fs::is_directory(status))
+    throw InputError(destination_.string(), 0,
+                     "exists and is not a directory; expected a directory to write");
+  if (fs::is_empty(destination_, error) || replaceable_(destination_)) return;
+  throw InputError(destination_.string(), 0,
+                   "is a directory owval did not write; refusing to replace it (name a new or "
+                   "empty directory)");
 }
 
 AtomicDirectory::~AtomicDirectory() {
@@ -156,6 +194,7 @@ AtomicDirectory::~AtomicDirectory() {
 }
 
 void AtomicDirectory::Commit() {
+  CheckReplaceable();  // nothing of the user's was put there while the work ran
   std::error_code error;
   const fs::path old = TemporarySibling(destination_);
   const bool replacing = fs::exists(destination_, error);

@@ -26,6 +26,11 @@ std::size_t Entries(const fs::path& dir) {
   return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
+std::string Contents(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 TEST(AtomicDirectory, AnUncommittedDirectoryLeavesNothing) {
   const fs::path parent = Fresh("uncommitted");
   {
@@ -37,8 +42,11 @@ TEST(AtomicDirectory, AnUncommittedDirectoryLeavesNothing) {
 
 TEST(AtomicDirectory, CommitReplacesAnOlderDirectoryWhole) {
   const fs::path parent = Fresh("commit");
-  fs::create_directories(parent / "report");
-  std::ofstream(parent / "report" / "old.txt") << "old";
+  {  // an older report owval wrote
+    AtomicDirectory older(parent / "report");
+    std::ofstream(older.temporary_path() / "old.txt") << "old";
+    older.Commit();
+  }
   AtomicDirectory report(parent / "report");
   std::ofstream(report.temporary_path() / "new.txt") << "new";
   EXPECT_TRUE(fs::exists(parent / "report" / "old.txt"));  // untouched until the commit
@@ -46,6 +54,34 @@ TEST(AtomicDirectory, CommitReplacesAnOlderDirectoryWhole) {
   EXPECT_FALSE(fs::exists(parent / "report" / "old.txt"));
   EXPECT_TRUE(fs::exists(parent / "report" / "new.txt"));
   EXPECT_EQ(Entries(parent), 1u);  // no temporary or old copy beside it
+}
+
+TEST(AtomicDirectory, RefusesToReplaceADirectoryOwvalDidNotWrite) {
+  const fs::path parent = Fresh("foreign");
+  fs::create_directories(parent / "report" / "sub");
+  std::ofstream(parent / "report" / "sub" / "thesis.tex") << "precious";
+  EXPECT_THROW(AtomicDirectory(parent / "report"), InputError);
+  AtomicDirectory zarr(parent / "store", [](const fs::path&) { return false; });
+  fs::create_directories(parent / "store");
+  std::ofstream(parent / "store" / "notes.txt") << "put there while the work ran";
+  EXPECT_THROW(zarr.Commit(), InputError);
+  EXPECT_TRUE(fs::exists(parent / "report" / "sub" / "thesis.tex"));
+  EXPECT_TRUE(fs::exists(parent / "store" / "notes.txt"));
+  AtomicDirectory empty(parent / "empty");
+  fs::create_directories(parent / "empty");  // an empty directory holds nothing to lose
+  EXPECT_NO_THROW(empty.Commit());
+}
+
+TEST(OutputGroup, ADirectoryInTheWayOfAFileIsRefusedAndKept) {
+  const fs::path parent = Fresh("group_directory");
+  fs::create_directories(parent / "worm.wcon");
+  std::ofstream(parent / "worm.wcon" / "notes.txt") << "precious";
+  OutputGroup group;
+  WriteFileAtomically(group.Stage(parent / "a.txt"), "a");
+  WriteFileAtomically(group.Stage(parent / "worm.wcon"), "{}");
+  EXPECT_THROW(group.Commit(), InputError);
+  EXPECT_EQ(Contents(parent / "worm.wcon" / "notes.txt"), "precious");
+  EXPECT_FALSE(fs::exists(parent / "a.txt"));  // nothing moved: the set stays whole
 }
 
 TEST(AtomicOutput, RemovesTemporariesOfProcessesThatNoLongerRun) {
@@ -58,11 +94,6 @@ TEST(AtomicOutput, RemovesTemporariesOfProcessesThatNoLongerRun) {
   EXPECT_FALSE(fs::exists(parent / ".out.txt.tmp.999999999.0"));
   EXPECT_FALSE(fs::exists(parent / ".out.txt.tmp.999999999.1"));
   EXPECT_TRUE(fs::exists(parent / (".out.txt.tmp." + std::to_string(::getppid()) + ".0")));
-}
-
-std::string Contents(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 TEST(OutputGroup, CommitReplacesEveryMemberAndLeavesNoMarker) {

@@ -152,6 +152,19 @@ class FileSink : public FrameSink {
   std::vector<std::unique_ptr<TrajectoryWriter>> writers_;
 };
 
+// Before any work: a fresh run does not overwrite an interrupted run's checkpoint (it could no
+// longer be resumed), and the checkpoint's place is not a directory.
+void CheckCheckpointPath(const LongRunOptions& long_run) {
+  const fs::path checkpoint = CheckpointPath(long_run.out);
+  std::error_code error;
+  if (!long_run.resume && fs::is_regular_file(checkpoint, error))
+    throw InputError(long_run.out.string(), 0,
+                     "holds an interrupted run's checkpoint; continue it with owval run --resume " +
+                         long_run.out.string() + ", or remove " +
+                         checkpoint.parent_path().string() + " to start afresh");
+  if (!long_run.resume) CheckOutputPath(checkpoint);
+}
+
 }  // namespace
 
 fs::path CheckpointPath(const fs::path& out) { return out / "checkpoint" / "checkpoint.bin"; }
@@ -164,6 +177,7 @@ std::string ReadCheckpointInvocation(const fs::path& out) { return Load(out).inv
 
 RunSummary RunToFiles(const SiberneticConfig& config, const RunOptions& run_options,
                       const LongRunOptions& long_run) {
+  CheckCheckpointPath(long_run);
   const std::uint64_t fingerprint = Fingerprint(config);
   CheckpointFile resume;
   RunOptions options = run_options;
@@ -191,9 +205,11 @@ RunSummary RunToFiles(const SiberneticConfig& config, const RunOptions& run_opti
     OutputGroup own;
     sink.FinishInto(long_run.outputs ? long_run.outputs : &own);
     if (!long_run.outputs) own.Commit();
-    // Complete: a checkpoint would name temporaries that no longer exist.
+    // Complete: a checkpoint would name temporaries that no longer exist. Only the file goes;
+    // its directory too when nothing else is in it (a user's files there stay).
     std::error_code ignored;
-    fs::remove_all(CheckpointPath(long_run.out).parent_path(), ignored);
+    fs::remove(CheckpointPath(long_run.out), ignored);
+    fs::remove(CheckpointPath(long_run.out).parent_path(), ignored);
   }
   return summary;
 }

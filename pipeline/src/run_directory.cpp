@@ -125,6 +125,16 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
   return files;
 }
 
+// Every file the run may write, checked before it starts: a directory the user put in the way
+// is refused (exit 2), never replaced. The OME-Zarr store replaces only an owval store.
+void CheckRunOutputs(const RunRequest& r) {
+  const fs::path out = r.out;
+  for (const fs::path& output : engine::LongRunOutputs(out)) CheckOutputPath(output);
+  for (const char* name : {"worm_motion_log.txt", "worm.wcon", "step_log.json"})
+    CheckOutputPath(out / name);
+  if (r.zarr) CheckZarrOutput(out / "trajectory.zarr");
+}
+
 }  // namespace
 
 void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings, const fs::path& path) {
@@ -219,7 +229,7 @@ engine::RunOptions EngineOptions(const RunRequest& r) {
 
 void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& request,
                       const RunDirectoryOptions& o, RunDirectorySummary* summary) {
-  for (const fs::path& output : engine::LongRunOutputs(request.out)) CheckOutputPath(output);
+  CheckRunOutputs(request);
   engine::RunOptions options = EngineOptions(request);
   options.threads = o.threads;
   options.on_step = o.on_step;

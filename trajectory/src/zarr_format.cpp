@@ -3,6 +3,8 @@
 #include <zlib.h>
 
 #include <cstring>
+#include <fstream>
+#include <set>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -73,42 +75,89 @@ void WritePositions(const Trajectory& t, const fs::path& dir, const ZarrWriteOpt
   }
 }
 
+bool IsChunkName(const std::string& name) {
+  return !name.empty() && name.find_first_not_of("0123456789.") == std::string::npos;
+}
+
+// Whether `dir` holds only the named files and directories (and chunk files when `chunks`).
+bool HoldsOnly(const fs::path& dir, const std::set<std::string>& files,
+               const std::set<std::string>& dirs, bool chunks) {
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec);
+  if (ec) return false;
+  for (const fs::directory_entry& e : it) {
+    const std::string name = e.path().filename().string();
+    const fs::file_status status = e.symlink_status(ec);
+    if (fs::is_directory(status)      ? !dirs.count(name)
+        : fs::is_regular_file(status) ? !files.count(name) && !(chunks && IsChunkName(name))
+                                      : true)
+      return false;
+  }
+  return true;
+}
+
+void WriteStore(const Trajectory& t, const fs::path& tmp, const ZarrWriteOptions& o) {
+  fs::create_directories(tmp / "body");
+  json provenance(t.provenance);
+  WriteText(tmp / ".zgroup", json{{"zarr_format", 2}}.dump());
+  WriteText(tmp / ".zattrs", json{{"@owval",
+                                   {{"producer", "owval"},
+                                    {"provenance", provenance},
+                                    {"time_step_s", t.time_step_s},
+                                    {"log_step", t.log_step},
+                                    {"simulation_scale_m", o.simulation_scale_m},
+                                    {"frames", t.frame_count()},
+                                    {"particles", t.particle_count()}}}}
+                                 .dump(1));
+  WriteText(tmp / "body/.zgroup", json{{"zarr_format", 2}}.dump());
+  WriteText(tmp / "body/.zattrs", json{{"description",
+                                        "positions (T, N, 3) in micrometres; types (N,) Sibernetic "
+                                        "type codes (1.x liquid, 2.x elastic, 3.x boundary); time "
+                                        "(T,) in seconds"}}
+                                      .dump(1));
+  WritePositions(t, tmp / "body/positions", o);
+  Write1d(tmp / "body/types", t.type, "<f4", o.compression_level, json::object());
+  Write1d(tmp / "body/time", t.time_s, "<f8", o.compression_level, json{{"units", "s"}});
+}
+
 }  // namespace
+
+bool IsOwvalZarrStore(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(path, ec))) return false;
+  if (!fs::is_regular_file(fs::symlink_status(path / ".zattrs", ec))) return false;
+  try {
+    std::ifstream in(path / ".zattrs", std::ios::binary);
+    const json attributes = json::parse(in);
+    if (!attributes.is_object() || !attributes.contains("@owval")) return false;
+  } catch (const json::exception&) {
+    return false;
+  }
+  if (!HoldsOnly(path, {".zgroup", ".zattrs"}, {"body"}, false)) return false;
+  if (!HoldsOnly(path / "body", {".zgroup", ".zattrs"}, {"positions", "types", "time"}, false))
+    return false;
+  for (const char* array : {"positions", "types", "time"})
+    if (fs::exists(path / "body" / array) &&
+        !HoldsOnly(path / "body" / array, {".zarray", ".zattrs"}, {}, true))
+      return false;
+  return true;
+}
+
+void CheckZarrOutput(const fs::path& path) {
+  CheckOutputPath(path / ".zattrs");  // the parent is writable; a file named PATH is refused
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_empty(path, ec) && !IsOwvalZarrStore(path))
+    throw InputError(path.string(), 0,
+                     "is a directory but not an OME-Zarr store owval wrote; refusing to replace "
+                     "it (name a new or empty directory)");
+}
 
 void WriteOmeZarr(const Trajectory& t, const fs::path& path, const ZarrWriteOptions& o) {
   t.CheckShape();
-  const fs::path tmp = path.parent_path() / (path.filename().string() + ".partial");
-  fs::remove_all(tmp);
-  try {
-    fs::create_directories(tmp / "body");
-    json provenance(t.provenance);
-    WriteText(tmp / ".zgroup", json{{"zarr_format", 2}}.dump());
-    WriteText(tmp / ".zattrs", json{{"@owval",
-                                     {{"producer", "owval"},
-                                      {"provenance", provenance},
-                                      {"time_step_s", t.time_step_s},
-                                      {"log_step", t.log_step},
-                                      {"simulation_scale_m", o.simulation_scale_m},
-                                      {"frames", t.frame_count()},
-                                      {"particles", t.particle_count()}}}}
-                                   .dump(1));
-    WriteText(tmp / "body/.zgroup", json{{"zarr_format", 2}}.dump());
-    WriteText(tmp / "body/.zattrs",
-              json{{"description",
-                    "positions (T, N, 3) in micrometres; types (N,) Sibernetic "
-                    "type codes (1.x liquid, 2.x elastic, 3.x boundary); time "
-                    "(T,) in seconds"}}
-                  .dump(1));
-    WritePositions(t, tmp / "body/positions", o);
-    Write1d(tmp / "body/types", t.type, "<f4", o.compression_level, json::object());
-    Write1d(tmp / "body/time", t.time_s, "<f8", o.compression_level, json{{"units", "s"}});
-    fs::remove_all(path);
-    fs::rename(tmp, path);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove_all(tmp, ignored);
-    throw;
-  }
+  CheckZarrOutput(path);
+  AtomicDirectory store(path, IsOwvalZarrStore);
+  WriteStore(t, store.temporary_path(), o);
+  store.Commit();
 }
 
 }  // namespace owval

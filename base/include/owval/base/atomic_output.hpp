@@ -4,6 +4,7 @@
 // so an error or Ctrl-C leaves no partial file behind.
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,9 +54,17 @@ class AtomicOutput {
 // is written into a temporary sibling directory, and Commit() puts it in place of the destination,
 // replacing an older one only then, so an interrupted rerun never mixes old and new artifacts. A
 // destroyed AtomicDirectory that was never committed removes its temporary directory.
+// It replaces only a directory that holds nothing or that owval wrote: the constructor (before
+// any work) and Commit() refuse any other with InputError, so a user's own directory named as
+// the output is never deleted.
 class AtomicDirectory {
  public:
+  // Replaces an empty directory or one an AtomicDirectory wrote (marked by DIR/.owval-directory).
   explicit AtomicDirectory(std::filesystem::path destination);
+  // Replaces an empty directory or one `replaceable` accepts (e.g. an owval-written Zarr store);
+  // writes no marker.
+  AtomicDirectory(std::filesystem::path destination,
+                  std::function<bool(const std::filesystem::path&)> replaceable);
   ~AtomicDirectory();
   AtomicDirectory(const AtomicDirectory&) = delete;
   AtomicDirectory& operator=(const AtomicDirectory&) = delete;
@@ -65,14 +74,23 @@ class AtomicDirectory {
   void Commit();
 
  private:
+  // InputError unless the destination is missing, an empty directory or replaceable.
+  void CheckReplaceable() const;
+
   std::filesystem::path destination_;
   std::filesystem::path temporary_;
+  std::function<bool(const std::filesystem::path&)> replaceable_;
   bool committed_ = false;
 };
 
+// The marker of a directory an AtomicDirectory wrote (and may replace).
+std::filesystem::path OwvalDirectoryMarker(const std::filesystem::path& directory);
+
 // Files (or directories) of one command that appear together or not at all, in one directory.
 // Members are finished under temporary names first; Commit() then writes a marker, DIR/
-// .owval-commit, naming them, removes older files of the same names, renames every member into
+// .owval-commit, naming them, removes older files of the same names (a directory only when the
+// member is one too, which its writer checked it may replace; a directory in the way of a file is
+// InputError before anything is removed), renames every member into
 // place and removes the marker. A process stopped between those renames leaves the marker, and
 // every owval reader refuses a file it names (RequireInputFile), so nothing ever reads a new file
 // beside an old or missing sibling. A destroyed group that was never committed removes its

@@ -42,8 +42,16 @@ struct ZarrWriteOptions {
   double simulation_scale_m = 7.39999905e-06;  // metres per configuration unit
   int compression_level = 1;                   // zlib (numcodecs "zlib"), 0 = uncompressed
 };
-// Writes the directory atomically (a temporary sibling renamed when complete).
+// Writes the directory atomically (a temporary sibling renamed when complete). Replaces only an
+// empty directory or an OME-Zarr store owval wrote (IsOwvalZarrStore); InputError otherwise.
 void WriteOmeZarr(const Trajectory& trajectory, const std::filesystem::path& path,
                   const ZarrWriteOptions& options = {});
+
+// An OME-Zarr store as WriteOmeZarr writes it: its root .zattrs has owval's "@owval" block and it
+// holds nothing but owval's groups, arrays and chunks (so replacing it loses nothing else).
+bool IsOwvalZarrStore(const std::filesystem::path& path);
+// Checks before any work that WriteOmeZarr may write `path`: its parent is writable and it is
+// missing, an empty directory or an owval store. InputError naming the path otherwise.
+void CheckZarrOutput(const std::filesystem::path& path);
 
 }  // namespace owval
