@@ -44,11 +44,17 @@ void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunD
                  r.out.c_str());
   }
   if (s.run.interrupted) {
-    std::fprintf(stderr,
-                 "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
-                 "continue with: owval run --resume %s\n",
-                 s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(),
-                 ShellWord(r.out).c_str());
+    if (s.run.checkpointed)
+      std::fprintf(stderr,
+                   "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
+                   "continue with: owval run --resume %s\n",
+                   s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(),
+                   ShellWord(r.out).c_str());
+    else
+      std::fprintf(stderr,
+                   "owval: interrupted after step %zu: partial trajectory in %s (backend %s "
+                   "cannot checkpoint: no --resume)\n",
+                   s.run.steps, r.out.c_str(), s.backend.c_str());
     SetExitCode(128 + StopSignal());  // 130 for SIGINT, 143 for SIGTERM
   } else if (s.stability && !s.stability->pass()) {
     SetExitCode(kExitGateFailed);

@@ -83,6 +83,21 @@ TEST(RunOutputs, AFreshRunDoesNotDeleteAnInterruptedRunsCheckpoint) {
   EXPECT_FALSE(fs::exists(out / "trajectory.h5"));
 }
 
+TEST(RunOutputs, AnInterruptedWcsphRunExits143WithItsPartialTrajectory) {
+  const fs::path out = Scratch() / "wcsph_interrupted";
+  fs::remove_all(out);
+  std::string line = "timeout --preserve-status -s TERM 2 ";
+  line += OWVAL_EXE;
+  line +=
+      " --quiet run hydrostatic_tank --backend wcsph --time 0.2 --log-step 20 -o " + out.string();
+  const Result r = RunCaptured(line);
+  EXPECT_EQ(r.exit_code, 143) << r.err;
+  EXPECT_NE(r.err.find("partial trajectory in " + out.string()), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "position_buffer.partial.txt"));
+  EXPECT_EQ(Owval("inspect " + (out / "trajectory.partial.h5").string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / "checkpoint"));
+}
+
 TEST(ConvertOutputs, OnlyAnOwvalZarrStoreIsReplaced) {
   const fs::path dir = Scratch() / "zarr_replace";
   fs::remove_all(dir);

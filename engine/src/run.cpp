@@ -222,7 +222,8 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
   for (std::size_t k = sum.first_step; k < steps; ++k) {
     if (options.stop_requested && options.stop_requested()) {
       sum.interrupted = true;
-      Checkpoint(solver, frames, sink);
+      sum.checkpointed = solver.can_checkpoint();
+      if (sum.checkpointed) Checkpoint(solver, frames, sink);
       break;
     }
     solver.Step();

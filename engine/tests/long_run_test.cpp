@@ -131,6 +131,28 @@ TEST(LongRun, WcsphCannotCheckpointAndSaysSo) {
   }
 }
 
+TEST(LongRun, AnInterruptedWcsphRunKeepsItsPartialTrajectoryWithoutACheckpoint) {
+  RunOptions o = Demo1Options(0.002, 10);
+  o.backend = "wcsph";
+  std::size_t steps = 0;
+  o.on_step = [&](std::size_t done, std::size_t) { steps = done; };
+  o.stop_requested = [&] { return steps == 25; };
+  LongRunOptions files;
+  files.out = ScratchDir("wcsph_interrupted");
+  SiberneticConfig liquid;
+  liquid.source = "two liquid particles";
+  liquid.box = {0, 100, 0, 100, 0, 100};
+  liquid.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
+  liquid.velocity.assign(2, {0, 0, 0, 0});
+  const RunSummary s = RunToFiles(liquid, o, files);
+  EXPECT_TRUE(s.interrupted);
+  EXPECT_FALSE(s.checkpointed);
+  EXPECT_EQ(s.steps, 25u);
+  EXPECT_EQ(ReadHdf5(files.out / "trajectory.partial.h5").frame_count(), 3u);
+  EXPECT_TRUE(fs::exists(files.out / "position_buffer.partial.txt"));
+  EXPECT_FALSE(fs::exists(CheckpointPath(files.out)));
+}
+
 // The inode of the current checkpoint file (each checkpoint is a new file renamed into place), 0
 // when there is none.
 ino_t CheckpointInode(const fs::path& out) {

@@ -63,6 +63,7 @@ class Pcisph final : public Solver {
   // saved: Refresh rebuilds it from the positions at the start of every step.
   void SaveState(std::string* out) const override;
   void RestoreState(const std::string& state, const std::string& source) override;
+  bool can_checkpoint() const override { return true; }
 
   const ParticleState& state() const { return state_; }
 

@@ -79,6 +79,7 @@ class Xpbd final : public Solver {
   // and the muscle activations; everything else is rebuilt within a step.
   void SaveState(std::string* out) const override;
   void RestoreState(const std::string& state, const std::string& source) override;
+  bool can_checkpoint() const override { return true; }
 
   // The rest density the density constraints use (kg/m³), derived or set.
   double rest_density() const { return rest_density_; }

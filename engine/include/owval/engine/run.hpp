@@ -94,6 +94,7 @@ struct RunSummary {
   bool reference_equivalent = true;   // false when constants differ from Sibernetic's
   bool muscles_driven = false;        // activations came from MuscleSimulation's waves
   bool interrupted = false;           // stop_requested returned true before the last step
+  bool checkpointed = false;          // the interruption left a checkpoint (Solver::can_checkpoint)
   std::size_t first_step = 0;         // > 0 for a resumed run
   std::vector<std::string> warnings;  // e.g. "[physical parameters] parsed but not applied"
   // Per recorded frame, FrameView::step_log: kept by the in-memory Run only (a streaming run's

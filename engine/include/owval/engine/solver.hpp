@@ -78,6 +78,9 @@ class Solver {
   // checkpoint keeps these defaults, which throw InputError "backend X cannot checkpoint".
   virtual void SaveState(std::string* out) const;
   virtual void RestoreState(const std::string& state, const std::string& source);
+  // Whether SaveState works: an interrupted run of a scheme that cannot checkpoint keeps its
+  // partial trajectory and simply leaves no checkpoint.
+  virtual bool can_checkpoint() const { return false; }
 };
 
 // The canonical names of the built-in backends, in the order `owval run --help` lists them.
