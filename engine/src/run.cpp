@@ -226,7 +226,12 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
       if (sum.checkpointed) Checkpoint(solver, frames, sink);
       break;
     }
-    solver.Step();
+    try {
+      solver.Step();
+    } catch (const Cancelled&) {  // stopped within a long step (wcsph's sub-steps): no checkpoint
+      sum.interrupted = true;
+      break;
+    }
     // Sibernetic asks for the next activations after each step; step k + 1 uses call k's.
     if (sum.muscles_driven) {
       const auto signal = MuscleSimulationSignal(double(k));

@@ -48,7 +48,9 @@ const std::vector<BackendEntry>& Backends() {
            throw InputError(
                "backend wcsph integrates with velocity Verlet: it takes no --integrator "
                "(leapfrog is PCISPH's)");
-         return std::make_unique<internal::Wcsph>(c, o.constants, threads);
+         auto solver = std::make_unique<internal::Wcsph>(c, o.constants, threads);
+         solver->set_stop_requested(o.stop_requested);  // polled between its sub-steps
+         return solver;
        }},
   };
   return table;

@@ -233,5 +233,35 @@ TEST(WcsphRun, RefusesElasticParticles) {
   EXPECT_THROW(engine::Run(c, o), InputError);
 }
 
+TEST(WcsphRun, HugeForcesEndAsASimulationFailureInsteadOfNeverFinishing) {
+  RunOptions o;
+  o.backend = "wcsph";
+  o.constants = Millimetre(true);
+  o.constants.gravity = {0, 1e30, 0};  // the safe sub-step underflows: 10^19 sub-steps a step
+  o.duration_s = 0.005;
+  try {
+    engine::Run(Block(5, true), o);
+    FAIL() << "the run finished";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("adaptive time step fell to"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(WcsphRun, AStopRequestedWithinALongStepEndsTheRunThere) {
+  RunOptions o;
+  o.backend = "wcsph";
+  o.constants = Millimetre(true);
+  o.constants.time_step_s = 0.1;  // thousands of sub-steps in each step
+  o.duration_s = 1;
+  int polls = 0;
+  o.stop_requested = [&] { return ++polls > 20; };  // Run polls once a step, wcsph a sub-step
+  RunSummary summary;
+  engine::Run(Block(5, true), o, &summary);
+  EXPECT_TRUE(summary.interrupted);
+  EXPECT_FALSE(summary.checkpointed);
+  EXPECT_LE(summary.steps, 2u);  // stopped within the first steps, not after 20 of them
+}
+
 }  // namespace
 }  // namespace owval::engine::internal

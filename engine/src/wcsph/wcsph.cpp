@@ -383,14 +383,30 @@ void Wcsph::Restore() {
   WriteOutputs();
 }
 
+// A safe sub-step so short that the nominal step would take more than kMaxSubstepsPerStep of
+// them (or that no longer advances the clock) means the forces blew up: the run ends as a
+// simulation failure instead of never finishing.
+void Wcsph::CheckProgress(double safe) const {
+  if (std::isnan(safe)) return;  // a NaN state: Run stops on it with a state dump
+  if (safe >= nominal_dt_ / kMaxSubstepsPerStep && s_.time_s + safe > s_.time_s) return;
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "wcsph: the adaptive time step fell to " << safe << " s at step " << step_
+      << " (more than " << kMaxSubstepsPerStep << " sub-steps for the step of " << nominal_dt_
+      << " s): the forces blew up (check --set values such as gravity)";
+  throw SimulationError(msg.str());
+}
+
 // One nominal step: adaptive sub-steps up to step_ × time_step_s (step 0 only evaluates).
 void Wcsph::Step() {
   const double target = double(step_) * nominal_dt_;
   clock_.Start();
   while (step_ > 0 && s_.time_s < target) {
     const double remaining = target - s_.time_s;
+    if (stop_requested_ && stop_requested_()) throw Cancelled();
     const double safe = SafeDt();
     stats_.dt_safe_s = safe;
+    CheckProgress(safe);
     const bool try_optimistic = p_.optimistic_dt && cooldown_ == 0;
     double dt = try_optimistic ? p_.optimistic_factor * safe : safe;
     // The rest of the nominal step in equal parts no longer than dt: no sliver of a last step.

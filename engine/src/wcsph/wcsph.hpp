@@ -35,6 +35,7 @@
 //           by dynamic particles in SPH methods. CMC 5(3) (2007) 173-184.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,12 @@ class Wcsph final : public Solver {
   std::string TakeStepLog() override;
   void EnablePhaseTiming() override { clock_.Enable(); }
   std::vector<PhaseTime> phase_seconds() const override { return clock_.seconds(); }
+  // Polled between sub-steps: when it returns true, Step() throws Cancelled (Run stops there, as
+  // between steps). May be empty.
+  void set_stop_requested(std::function<bool()> stop) { stop_requested_ = std::move(stop); }
+  // A safe sub-step this many times shorter than the nominal step is a blow-up, not a run that
+  // can finish (huge forces: hours for one step): Step() throws SimulationError.
+  static constexpr double kMaxSubstepsPerStep = 1e5;
 
   // ---- For tests and measurements ----
   struct Stats {
@@ -138,6 +145,8 @@ class Wcsph final : public Solver {
   void AccelerateAvx512(std::size_t i);
   void Reorder();
   double SafeDt() const;
+  // SimulationError when `safe` is too short for the step to finish (kMaxSubstepsPerStep).
+  void CheckProgress(double safe) const;
   double MaxDensityVariation() const;
   float Pressure(float rho) const;
   void WriteOutputs();
@@ -167,6 +176,7 @@ class Wcsph final : public Solver {
   std::vector<float> out_pressure_, out_density_, muscles_;
   Stats stats_;
   std::size_t step_ = 0, cooldown_ = 0;
+  std::function<bool()> stop_requested_;
   // Since the last TakeStepLog.
   std::size_t log_substeps_ = 0, log_rollbacks_ = 0;
   double log_dt_min_ = 0, log_dt_max_ = 0, log_variation_max_ = 0;
