@@ -41,6 +41,7 @@ void RunReconcile(const PredictArgs& a) {
       predict::Prediction::FromJson(ReadJsonFile(a.prediction), a.prediction);
   predict::ReconcileOptions options;
   for (const std::string& t : a.tolerances) options.AddTolerance(t);
+  predict::CheckTolerances(p, options);                      // before the trajectory is opened
   const auto frames = OpenTrajectoryArgument(a.trajectory);  // frame by frame
   const predict::Reconciliation r = predict::Reconcile(p, *frames, options);
   if (!a.out.empty()) WriteFileAtomically(a.out, r.ToJson().dump(2) + "\n");

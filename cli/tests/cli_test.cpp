@@ -154,6 +154,21 @@ TEST(CliPredict, ReconcileNamesTheQuarterFactor) {
   EXPECT_NE(r.out.find("0.25 factor"), std::string::npos) << r.out;
 }
 
+TEST(CliPredict, ReconcileRefusesAToleranceForAnUnknownQuantity) {
+  const fs::path p = Scratch() / "p_tolerance.json";
+  ASSERT_EQ(Owval("predict one_sprig -o " + p.string()).exit_code, 0);
+  const std::string reconcile = "reconcile " + p.string() + " " + kOneSprig + " --tolerance ";
+  const Result misspelt = Owval(reconcile + "equilibrum=0.001");
+  EXPECT_EQ(misspelt.exit_code, 2) << misspelt.out;
+  EXPECT_EQ(misspelt.err.find('\n'), misspelt.err.size() - 1) << "one line: " << misspelt.err;
+  EXPECT_NE(misspelt.err.find("unknown quantity 'equilibrum'"), std::string::npos) << misspelt.err;
+  EXPECT_NE(misspelt.err.find("half_amplitude"), std::string::npos) << misspelt.err;  // known
+  const Result nameless = Owval(reconcile + "=0.001");
+  EXPECT_EQ(nameless.exit_code, 2) << nameless.out;
+  EXPECT_NE(nameless.err.find("the quantity is missing"), std::string::npos) << nameless.err;
+  EXPECT_EQ(Owval(reconcile + "half_amplitude=0.5").exit_code, 0);
+}
+
 TEST(CliFit, ExternalCommandModeFitsOneSprigThroughOwvalRun) {
   const fs::path dir = Scratch() / "fit_external";
   const std::string command =

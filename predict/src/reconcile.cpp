@@ -274,7 +274,23 @@ Reconciliation Reconcile(const Prediction& p, const Trajectory& trajectory,
   return Reconcile(p, *frames, o);
 }
 
+void CheckTolerances(const Prediction& p, const ReconcileOptions& o) {
+  std::string gated;
+  for (const PredictedQuantity& q : p.predictions)
+    if (q.tolerance_kind != ToleranceKind::kInformative)
+      gated += (gated.empty() ? "" : ", ") + q.quantity;
+  for (const auto& [name, value] : o.tolerances) {
+    const PredictedQuantity* q = p.Find(name);
+    if (q && q->tolerance_kind != ToleranceKind::kInformative) continue;
+    throw InputError("--tolerance " + name + "=...: " +
+                     (q ? "quantity " + name + " is informative, not gated"
+                        : "unknown quantity '" + name + "'") +
+                     "; the prediction's gated quantities are " + (gated.empty() ? "none" : gated));
+  }
+}
+
 Reconciliation Reconcile(const Prediction& p, FrameSource& t, const ReconcileOptions& o) {
+  CheckTolerances(p, o);
   const Signal s = TrackedSignal(p, t);
   Reconciliation r;
   r.predictor = p.predictor;
@@ -327,6 +343,8 @@ void ReconcileOptions::AddTolerance(const std::string& text) {
   } catch (const std::exception&) {
     throw InputError("--tolerance " + text + ": expected a number >= 0 or QUANTITY=NUMBER");
   }
+  if (eq == 0)
+    throw InputError("--tolerance " + text + ": expected QUANTITY=NUMBER, the quantity is missing");
   if (eq == std::string::npos)
     tolerance = value;
   else

@@ -182,6 +182,16 @@ TEST(Reconcile, ToleranceOptionsOverrideThePrediction) {
       ReconcileJson(PredictFor(scenarios::OneSprig({}), true), t, loose)["pass"].get<bool>());
 }
 
+TEST(Reconcile, RefusesAToleranceForAQuantityItDoesNotGate) {
+  const nlohmann::json p = PredictFor(scenarios::OneSprig({}));
+  const Trajectory t = ReadTrajectory(kBundledOneSprig);
+  ReconcileOptions misspelt;
+  misspelt.tolerances["equilibrum"] = 1e-3;
+  EXPECT_THROW(ReconcileJson(p, t, misspelt), InputError);
+  ReconcileOptions nameless;
+  EXPECT_THROW(nameless.AddTolerance("=0.001"), InputError);
+}
+
 TEST(Reconcile, RefusesAPredictionWithoutTrackOrQuantities) {
   const Trajectory t = ReadTrajectory(kBundledOneSprig);
   EXPECT_THROW(ReconcileJson(nlohmann::json::object(), t), InputError);

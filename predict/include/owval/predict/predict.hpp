@@ -41,10 +41,15 @@ struct ReconcileOptions {
   std::optional<double> tolerance;           // replaces every gated quantity's tolerance
   std::map<std::string, double> tolerances;  // per quantity name (wins over `tolerance`)
 
-  // "VALUE" (every gated quantity) or "QUANTITY=VALUE", VALUE a number >= 0: InputError quoting
-  // the text otherwise.
+  // "VALUE" (every gated quantity) or "QUANTITY=VALUE", VALUE a number >= 0 and QUANTITY not
+  // empty: InputError quoting the text otherwise.
   void AddTolerance(const std::string& text);
 };
+
+// Every quantity named in options.tolerances is a gated quantity of the prediction; InputError
+// naming the first that is not and listing the gated ones otherwise (a misspelt name would
+// silently leave the gate at its default). Reconcile checks it first; callers may check earlier.
+void CheckTolerances(const Prediction& prediction, const ReconcileOptions& options);
 
 // Measures each predicted quantity on the tracked signal of `trajectory` (the particle or group
 // centroid and axis recorded in the prediction) and compares: per-quantity gaps, pass flags,
