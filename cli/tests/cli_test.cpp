@@ -169,6 +169,20 @@ TEST(CliPredict, ReconcileRefusesAToleranceForAnUnknownQuantity) {
   EXPECT_EQ(Owval(reconcile + "half_amplitude=0.5").exit_code, 0);
 }
 
+TEST(CliPredict, APredictionThatIsNotFiniteIsRefusedNamingTheConstant) {
+  for (const char* set : {"time_step_s=1", "elasticity_coefficient=0"}) {
+    const fs::path p = Scratch() / "p_not_finite.json";
+    fs::remove(p);
+    const Result r = Owval("predict one_sprig --set " + std::string(set) + " -o " + p.string());
+    EXPECT_EQ(r.exit_code, 2) << set << ": " << r.out;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+    const std::string name = std::string(set).substr(0, std::string(set).find('='));
+    EXPECT_NE(r.err.find("not finite"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(name + " = "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(p));
+  }
+}
+
 TEST(CliFit, ExternalCommandModeFitsOneSprigThroughOwvalRun) {
   const fs::path dir = Scratch() / "fit_external";
   const std::string command =

@@ -1,5 +1,6 @@
 #include "owval/predict/predict.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -56,6 +57,26 @@ std::string ChoosePredictor(const engine::SiberneticConfig& c) {
                        "liquid and no elastic particles");
 }
 
+namespace {
+
+// A prediction that is NaN or infinite (a constant outside the formula's domain: time_step_s = 1
+// puts omega*dt/2 past asin's, elasticity_coefficient = 0 gives no oscillation) cannot be
+// reconciled: InputError naming the quantity and the constants that differ from the defaults.
+void RequireFinite(const Prediction& p, const engine::SiberneticConfig& c,
+                   const engine::PhysicsConstants& k) {
+  for (const PredictedQuantity& q : p.predictions) {
+    if (std::isfinite(q.value)) continue;
+    const std::string changed = k.DifferencesFromDefaults();
+    std::ostringstream msg;
+    msg << "prediction " << q.quantity << " is not finite (" << q.value << ") "
+        << (changed.empty() ? "for this configuration"
+                            : "with the constants changed by --set: " + changed);
+    throw InputError(c.source, 0, msg.str());
+  }
+}
+
+}  // namespace
+
 Prediction Predict(const engine::SiberneticConfig& c, const engine::PhysicsConstants& k,
                    const PredictOptions& o) {
   const std::string predictor = o.predictor.empty() ? ChoosePredictor(c) : o.predictor;
@@ -88,6 +109,7 @@ Prediction Predict(const engine::SiberneticConfig& c, const engine::PhysicsConst
   if (!k.DifferencesFromDefaults().empty())
     p.notes.push_back("constants differ from Sibernetic's defaults: " +
                       k.DifferencesFromDefaults());
+  RequireFinite(p, c, k);
   return p;
 }
 
