@@ -57,6 +57,8 @@ void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunD
                    s.run.steps, r.out.c_str(), s.backend.c_str());
     SetExitCode(128 + StopSignal());  // 130 for SIGINT, 143 for SIGTERM
   } else if (s.stability && !s.stability->pass()) {
+    // --quiet silences progress, never the reason for exit 1.
+    std::fprintf(stderr, "owval: %s\n", s.stability->FailureLine().c_str());
     SetExitCode(kExitGateFailed);
   }
 }

@@ -183,6 +183,18 @@ TEST(CliPredict, APredictionThatIsNotFiniteIsRefusedNamingTheConstant) {
   }
 }
 
+TEST(CliRun, AQuietRunThatFailsTheStabilityGateStillSaysWhy) {
+  const fs::path out = Scratch() / "stability_quiet";
+  fs::remove_all(out);
+  const Result r = Owval(
+      "run one_sprig --set gravity_y=-1e5 --stability --time 0.004 "
+      "--log-step 10 -o " +
+      out.string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  EXPECT_NE(r.err.find("stability gate failed: "), std::string::npos) << r.err;
+}
+
 TEST(CliFit, ExternalCommandModeFitsOneSprigThroughOwvalRun) {
   const fs::path dir = Scratch() / "fit_external";
   const std::string command =

@@ -180,6 +180,24 @@ std::string StabilityReport::ToTable() const {
   return s.str();
 }
 
+std::string StabilityReport::FailureLine() const {
+  if (pass()) return "";
+  std::ostringstream s;
+  s << "stability gate failed:";
+  const char* separator = " ";
+  auto add = [&](const char* name, const ViolationCount& v) {
+    if (v.count == 0) return;
+    s << separator << v.count << " " << name;
+    if (v.first_frame) s << " (first at frame " << *v.first_frame << ")";
+    separator = ", ";
+  };
+  add("NaN/Inf particle-frames", non_finite);
+  add("outside-box particle-frames", outside_box);
+  add("blow-up frames", blow_up);
+  add("density-out-of-range particle-frames", density_out_of_range);
+  return s.str();
+}
+
 IncompressibilityMonitor::IncompressibilityMonitor(const Trajectory& header, std::size_t frames,
                                                    bool has_density,
                                                    const IncompressibilityOptions& o)

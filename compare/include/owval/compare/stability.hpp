@@ -46,6 +46,9 @@ struct StabilityReport {
   bool pass() const;
   nlohmann::json ToJson() const;
   std::string ToTable() const;
+  // One line saying why the gate failed (each violated check, its count and first frame), for
+  // --quiet runs that print no table; "" when it passed.
+  std::string FailureLine() const;
 };
 
 StabilityReport CheckStability(const Trajectory& trajectory, const StabilityOptions& options = {});
