@@ -156,12 +156,16 @@ void AtomicOutput::CommitAs(const fs::path& destination) {
 
 fs::path OwvalDirectoryMarker(const fs::path& directory) { return directory / ".owval-directory"; }
 
+void MarkOwvalDirectory(const fs::path& directory) {
+  std::ofstream(OwvalDirectoryMarker(directory)) << "written by owval; owval replaces it whole\n";
+}
+
 AtomicDirectory::AtomicDirectory(fs::path destination)
     : AtomicDirectory(std::move(destination), [](const fs::path& existing) {
         std::error_code error;
         return fs::is_regular_file(OwvalDirectoryMarker(existing), error);
       }) {
-  std::ofstream(OwvalDirectoryMarker(temporary_)) << "written by owval; owval replaces it whole\n";
+  MarkOwvalDirectory(temporary_);
 }
 
 AtomicDirectory::AtomicDirectory(fs::path destination,

@@ -194,6 +194,16 @@ void Prepare(Context& c) {
   }
 }
 
+// A report directory owval may replace: one it marked, or one with a whole report's layout
+// (index.html, checklist.json and prediction.json), as owval wrote reports before the marker.
+bool IsOwvalReport(const fs::path& existing) {
+  std::error_code error;
+  if (fs::is_regular_file(OwvalDirectoryMarker(existing), error)) return true;
+  for (const char* name : {"index.html", "checklist.json", "prediction.json"})
+    if (!fs::is_regular_file(existing / name, error)) return false;
+  return true;
+}
+
 }  // namespace
 
 ScenarioReference MakeScenarioReference(const std::string& name, const fs::path& data_dir) {
@@ -220,8 +230,9 @@ void Run(const Options& options, Summary* summary) {
   Context c(options, summary);
   Prepare(c);
   // Every artifact lands in a temporary sibling; the report replaces an older one only whole.
-  AtomicDirectory report(options.out_dir);
+  AtomicDirectory report(options.out_dir, IsOwvalReport);
   c.dir = report.temporary_path();
+  MarkOwvalDirectory(c.dir);
   Predict(c);
   Reference(c);
   Inspect(c);

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <fstream>
 #include <set>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/engine/gradient.hpp"
@@ -112,6 +114,30 @@ TEST(Pipeline, XpbdCandidateFeedsItemSevenWithGradcheck) {
   EXPECT_EQ(ReadTrajectory(o.out_dir / "candidate.h5").provenance.at("producer"),
             "owval engine xpbd");
   fs::remove_all(o.out_dir);
+}
+
+// owval wrote reports without a marker before it refused to replace other directories: such a
+// report (make demo's reports/one_sprig) is still replaced, a directory of a user's files is not.
+TEST(Pipeline, ReplacesAnEarlierOwvalReportButNotAUsersDirectory) {
+  Options o;
+  o.scenario = "free_fall";
+  o.data_dir = OWVAL_SOURCE_DIR;
+  o.max_video_frames = 10;
+  o.quiet = true;
+  const fs::path base = fs::temp_directory_path() / ("owval_replace_" + std::to_string(::getpid()));
+  o.out_dir = base / "earlier_report";
+  fs::create_directories(o.out_dir);
+  for (const char* name : {"index.html", "checklist.json", "prediction.json"})
+    std::ofstream(o.out_dir / name) << "{}";
+  Summary s;
+  pipeline::Run(o, &s);
+  EXPECT_TRUE(fs::exists(OwvalDirectoryMarker(o.out_dir)));
+  o.out_dir = base / "users";
+  fs::create_directories(o.out_dir);
+  std::ofstream(o.out_dir / "notes.txt") << "mine";
+  EXPECT_THROW(pipeline::Run(o, &s), InputError);
+  EXPECT_TRUE(fs::exists(o.out_dir / "notes.txt"));
+  fs::remove_all(base);
 }
 
 TEST(Pipeline, UnknownScenarioWritesNothing) {

@@ -85,6 +85,8 @@ class AtomicDirectory {
 
 // The marker of a directory an AtomicDirectory wrote (and may replace).
 std::filesystem::path OwvalDirectoryMarker(const std::filesystem::path& directory);
+// Writes that marker into `directory` (for an AtomicDirectory built with its own predicate).
+void MarkOwvalDirectory(const std::filesystem::path& directory);
 
 // Files (or directories) of one command that appear together or not at all, in one directory.
 // Members are finished under temporary names first; Commit() then writes a marker, DIR/
