@@ -55,6 +55,26 @@ class Checklist : public ::testing::Test {
 
   static void Write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
+  // `sides` of d (reference.h5, candidate.h5) replaced by one_sprig run with ARGS.
+  static void ReplaceWithRun(const fs::path& d, const std::string& args,
+                             std::initializer_list<const char*> sides) {
+    const fs::path run = d.string() + "_run";
+    ASSERT_EQ(Owval("run one_sprig --no-fields " + args + " --out " + run.string()).exit_code, 0);
+    for (const char* side : sides)
+      fs::copy_file(run / "trajectory.h5", d / side, fs::copy_options::overwrite_existing);
+  }
+  static constexpr const char* kFailingCandidate = "--set elasticity_coefficient=3.3e8";
+
+  // frames/ of d made again from its trajectories at 0, 15, 100 and 200, with FLAGS.
+  static void Reframe(const fs::path& d, const std::string& flags = "") {
+    fs::remove_all(d / "frames");
+    ASSERT_EQ(
+        Owval("frames " + (d / "reference.h5").string() + " " + (d / "candidate.h5").string() +
+              " --at 0,15,100,200 " + flags + " -o " + (d / "frames").string())
+            .exit_code,
+        0);
+  }
+
   static void EditJson(const fs::path& file, const std::function<void(nlohmann::json&)>& edit) {
     nlohmann::json j = nlohmann::json::parse(Slurp(file));
     edit(j);
@@ -240,17 +260,8 @@ TEST_F(Checklist, Item10ReconcilesThePredictionWithTheReference) {
 // particle that never moves: the checklist tracks the caller's quantity, not frames.json's.
 TEST_F(Checklist, APullRequestCannotChooseTheTrackedParticle) {
   const fs::path d = Copy("chosen_track");
-  const fs::path run = Scratch() / "chosen_track_run";
-  ASSERT_EQ(
-      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
-          .exit_code,
-      0);
-  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
-  fs::remove_all(d / "frames");
-  ASSERT_EQ(Owval("frames " + (d / "reference.h5").string() + " " + (d / "candidate.h5").string() +
-                  " --at 0,15,100,200 --track-particle 1 --no-gate -o " + (d / "frames").string())
-                .exit_code,
-            0);
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"candidate.h5"}));
+  ASSERT_NO_FATAL_FAILURE(Reframe(d, "--track-particle 1 --no-gate"));
   auto j = Judge(d, 1);
   EXPECT_EQ(j["verdict"], "not ready");
   EXPECT_FALSE(ItemPasses(j, 5));
@@ -271,9 +282,7 @@ TEST_F(Checklist, APullRequestCannotChooseTheTrackedParticle) {
 // candidate covers a tenth of the reference.
 TEST_F(Checklist, ACandidateThatCoversPartOfTheReferenceIsNotReady) {
   const fs::path d = Copy("short_candidate");
-  const fs::path run = Scratch() / "short_candidate_run";
-  ASSERT_EQ(Owval("run one_sprig --no-fields --time 0.005 --out " + run.string()).exit_code, 0);
-  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, "--time 0.005", {"candidate.h5"}));
   const auto j = Judge(d, 1);
   EXPECT_EQ(j["verdict"], "not ready");
   EXPECT_TRUE(ItemPasses(j, 5));  // frames 0, 15, 100 and 200 agree
@@ -285,18 +294,8 @@ TEST_F(Checklist, ACandidateThatCoversPartOfTheReferenceIsNotReady) {
 TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
   EXPECT_EQ(Judge(Ready(), 0, "--scenario one_sprig")["verdict"], "ready");
   const fs::path d = Copy("own_reference");
-  const fs::path run = Scratch() / "own_reference_run";
-  ASSERT_EQ(
-      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
-          .exit_code,
-      0);
-  for (const char* side : {"reference.h5", "candidate.h5"})
-    fs::copy_file(run / "trajectory.h5", d / side, fs::copy_options::overwrite_existing);
-  fs::remove_all(d / "frames");
-  ASSERT_EQ(Owval("frames " + (d / "reference.h5").string() + " " + (d / "candidate.h5").string() +
-                  " --at 0,15,100,200 -o " + (d / "frames").string())
-                .exit_code,
-            0);
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"reference.h5", "candidate.h5"}));
+  ASSERT_NO_FATAL_FAILURE(Reframe(d));
   const auto j = Judge(d, 1, "--scenario one_sprig");
   EXPECT_EQ(j["verdict"], "unreviewable");
   EXPECT_FALSE(ItemPasses(j, 2));
@@ -325,12 +324,7 @@ TEST_F(Checklist, Item10TakesTheScenariosTolerancesWhenGivenAScenario) {
 
 TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {
   const fs::path d = Copy("stale_parity");
-  const fs::path run = Scratch() / "stale_parity_run";
-  ASSERT_EQ(
-      Owval("run one_sprig --no-fields --set elasticity_coefficient=3.3e8 --out " + run.string())
-          .exit_code,
-      0);
-  fs::copy_file(run / "trajectory.h5", d / "candidate.h5", fs::copy_options::overwrite_existing);
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"candidate.h5"}));
   const auto j = Judge(d, 1);  // parity.json from the ready run still says pass
   EXPECT_EQ(j["verdict"], "not ready");
   EXPECT_NE(j["parity_note"].get<std::string>().find("stale"), std::string::npos);
