@@ -123,10 +123,12 @@ class FileSink : public FrameSink {
     if (o_.on_frame) o_.on_frame(f);
   }
 
-  void Checkpoint(std::size_t steps, std::size_t frames, const std::string& state) override {
+  void Checkpoint(std::size_t steps, std::size_t frames, const std::string& state,
+                  bool stopping) override {
     {
       CheckpointFile c{o_.invocation, fingerprint_, steps, frames, {}, {}};
-      for (auto& w : writers_) c.writers.push_back(w->Checkpoint());
+      for (auto& w : writers_)
+        c.writers.push_back(stopping ? w->StopCheckpoint() : w->Checkpoint());
       WriteCheckpoint(CheckpointPath(o_.out), c, state);
     }
     // The checkpoint's buffers (solver state, pending frames: megabytes) are freed; give the

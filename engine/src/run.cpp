@@ -171,10 +171,10 @@ Trajectory Header(const SiberneticConfig& config, const RunOptions& options,
   return t;
 }
 
-void Checkpoint(const Solver& solver, std::size_t frames, FrameSink* sink) {
+void Checkpoint(const Solver& solver, std::size_t frames, FrameSink* sink, bool stopping) {
   std::string state;
   solver.SaveState(&state);
-  sink->Checkpoint(solver.steps_done(), frames, state);
+  sink->Checkpoint(solver.steps_done(), frames, state, stopping);
 }
 
 }  // namespace
@@ -223,7 +223,7 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
     if (options.stop_requested && options.stop_requested()) {
       sum.interrupted = true;
       sum.checkpointed = solver.can_checkpoint();
-      if (sum.checkpointed) Checkpoint(solver, frames, sink);
+      if (sum.checkpointed) Checkpoint(solver, frames, sink, /*stopping=*/true);
       break;
     }
     try {
@@ -247,7 +247,7 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
     }
     if (options.on_step) options.on_step(k + 1, steps);
     if (options.checkpoint_every > 0 && (k + 1) % options.checkpoint_every == 0 && k + 1 < steps)
-      Checkpoint(solver, frames, sink);
+      Checkpoint(solver, frames, sink, /*stopping=*/false);
   }
   sum.steps = solver.steps_done();
   sum.frames = frames;

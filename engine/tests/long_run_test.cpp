@@ -5,6 +5,7 @@
 
 #include <sys/stat.h>
 
+#include <map>
 #include <random>
 
 #include "long_run_support.hpp"
@@ -74,6 +75,66 @@ TEST(LongRun, InterruptedThenResumedEqualsUninterruptedByteForByte) {
   EXPECT_EQ(resumed.frames, 50u);
   ExpectSameOutputs(whole, cut);
   EXPECT_FALSE(fs::exists(cut / "trajectory.partial.h5"));
+}
+
+// Runs demo1 for 500 steps (50 frames) into `dir`, stopped (the SIGINT/SIGTERM path: a stop
+// checkpoint, then the outputs finished as partial files) after each step of `stops` in turn and
+// resumed; checkpoints every `every` steps (0: none but the stops').
+void RunStoppedAndResumed(const fs::path& dir, std::size_t every,
+                          const std::vector<std::size_t>& stops) {
+  const SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  RunOptions o = Demo1Options(0.01, 10);
+  o.checkpoint_every = every;
+  std::size_t steps = 0, stop = 0;
+  o.on_step = [&](std::size_t done, std::size_t) { steps = done; };
+  o.stop_requested = [&] { return steps == stop; };
+  LongRunOptions files;
+  files.out = dir;
+  for (std::size_t at : stops) {
+    stop = at;
+    const RunSummary s = RunToFiles(config, o, files);
+    ASSERT_TRUE(s.interrupted);
+    ASSERT_EQ(s.steps, at);
+    ASSERT_EQ(ReadHdf5(dir / "trajectory.partial.h5").frame_count(), (at + 9) / 10);
+    files.resume = true;
+  }
+  o.stop_requested = nullptr;
+  EXPECT_EQ(RunToFiles(config, o, files).first_step, stops.back());
+}
+
+// Stopping by a signal finished the HDF5 file in place (partial mark, frames since the
+// checkpoint) after a checkpoint at the stop that closed and reopened it: the resumed file had
+// the uninterrupted one's datasets, not its bytes. Stops at a periodic checkpoint's step, between
+// two, before the first, twice, and without periodic checkpoints.
+TEST(LongRun, StoppedHdf5FileResumedEqualsUninterruptedFileByteForByte) {
+  // Checkpoints close and reopen the file: an uninterrupted run's layout depends on them.
+  const SiberneticConfig config = ReadSiberneticConfig(kDemo1);
+  std::map<std::size_t, fs::path> uninterrupted;
+  for (std::size_t every : {0, 100}) {
+    RunOptions o = Demo1Options(0.01, 10);
+    o.checkpoint_every = every;
+    LongRunOptions files;
+    files.out = uninterrupted[every] = ScratchDir("bytes_whole" + std::to_string(every));
+    RunToFiles(config, o, files);
+  }
+  const std::vector<std::pair<std::size_t, std::vector<std::size_t>>> cases = {
+      {100, {300}}, {100, {337}}, {100, {60}}, {100, {137, 420}}, {0, {337}}, {0, {137, 420}}};
+  int k = 0;
+  for (const auto& [every, stops] : cases) {
+    const fs::path cut = ScratchDir("bytes_cut" + std::to_string(k++));
+    SCOPED_TRACE("checkpoints every " + std::to_string(every) + " steps, stopped after step " +
+                 std::to_string(stops.front()) + (stops.size() > 1 ? " and more" : ""));
+    RunStoppedAndResumed(cut, every, stops);
+    const fs::path& whole = uninterrupted[every];
+    for (const char* output : {"trajectory.h5", "position_buffer.txt"})
+      EXPECT_TRUE(Bytes(whole / output) == Bytes(cut / output))
+          << output << " differs: " << fs::file_size(whole / output) << " bytes uninterrupted, "
+          << (fs::exists(cut / output) ? fs::file_size(cut / output) : 0) << " resumed";
+    for (const auto& entry : fs::directory_iterator(cut))  // nothing but the two outputs
+      EXPECT_TRUE(entry.path().filename() == "trajectory.h5" ||
+                  entry.path().filename() == "position_buffer.txt")
+          << entry.path();
+  }
 }
 
 TEST(LongRun, ResumeRefusesAnotherConfiguration) {
@@ -198,6 +259,41 @@ TEST(LongRunProcess, KilledPastACheckpointThenResumedEqualsUninterrupted) {
   ExpectSameOutputs(whole, killed);
   for (const auto& entry : fs::directory_iterator(killed))  // no temporary left behind
     EXPECT_NE(entry.path().filename().string().rfind(".", 0), 0u) << entry.path();
+}
+
+// SIGTERM (exit 143: a stop checkpoint, the outputs finished as partial files) past a checkpoint,
+// then --resume: the files equal an uninterrupted run's byte for byte, as after a SIGKILL (the
+// HDF5 file was 1-2 kB longer: same datasets, other layout), and nothing else is left.
+TEST(LongRunProcess, SigtermPastACheckpointThenResumedEqualsUninterruptedByteForByte) {
+  const fs::path whole = ScratchDir("cli_term_whole"), stopped = ScratchDir("cli_term");
+  auto args = [&](const fs::path& out) {
+    return std::vector<std::string>{
+        "run",        kDemo1.string(),      "--time", "0.05", "--log-step", "20", "--out",
+        out.string(), "--checkpoint-every", "250"};
+  };
+  ASSERT_EQ(RunOwval(args(whole), whole.string() + ".log").exit_code, 0);
+  std::random_device seed;
+  const int delay_ms = std::uniform_int_distribution<int>(0, 300)(seed);
+  SCOPED_TRACE("stopped " + std::to_string(delay_ms) + " ms after the first checkpoint");
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = Start(args(stopped), stopped.string() + ".log");
+  ASSERT_TRUE(WaitFor([&] { return CheckpointInode(stopped) != 0; }, 120));
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  ::kill(pid, SIGTERM);
+  const Finished f = Wait(pid, start);
+  ASSERT_EQ(f.exit_code, 143) << "the run ended before the signal";
+  ASSERT_TRUE(fs::exists(stopped / "trajectory.partial.h5"));
+  const Finished resumed =
+      RunOwval({"run", "--resume", stopped.string()}, stopped.string() + ".2.log");
+  ASSERT_EQ(resumed.exit_code, 0) << Bytes(stopped.string() + ".2.log");
+  for (const char* output : {"trajectory.h5", "position_buffer.txt"})
+    EXPECT_TRUE(Bytes(whole / output) == Bytes(stopped / output))
+        << output << " differs: " << fs::file_size(whole / output) << " bytes uninterrupted, "
+        << (fs::exists(stopped / output) ? fs::file_size(stopped / output) : 0) << " resumed";
+  for (const auto& entry : fs::directory_iterator(stopped))  // no temporary or partial file left
+    EXPECT_TRUE(entry.path().filename() == "trajectory.h5" ||
+                entry.path().filename() == "position_buffer.txt")
+        << entry.path();
 }
 
 // SIGINT: exit 130, a readable partial trajectory under names that say so, a checkpoint, and

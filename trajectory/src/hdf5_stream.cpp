@@ -18,6 +18,19 @@
 namespace owval::internal {
 namespace {
 
+// Copies the first `bytes` of `from` to `to`; false (and no `to`) when it cannot.
+bool CopyPrefix(const std::filesystem::path& from, const std::filesystem::path& to,
+                std::uint64_t bytes) {
+  std::error_code error;
+  std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing, error);
+  if (!error && std::filesystem::file_size(to, error) < bytes && !error)
+    error = std::make_error_code(std::errc::io_error);
+  if (!error) std::filesystem::resize_file(to, bytes, error);
+  if (!error) return true;
+  std::filesystem::remove(to, error);
+  return false;
+}
+
 // One extendible dataset [frames, particles(, components)] and its buffered frames.
 struct Stream {
   hid_t set = -1;
@@ -50,7 +63,9 @@ class Hdf5Writer : public TrajectoryWriter {
   }
 
   // Continues `file` (a checkpointed run's): datasets shrunk to the checkpoint's whole chunks,
-  // the partial mark removed, the pending frames buffered again.
+  // the partial mark removed, the pending frames buffered again. A stop checkpoint's (no pending
+  // frames) is the file its last periodic checkpoint left: ResumeHdf5Writer appends the frames
+  // since.
   Hdf5Writer(const std::filesystem::path& destination, const TrajectoryHeader& header,
              const Hdf5WriteOptions& options, const WriterCheckpoint& checkpoint,
              const std::filesystem::path& file)
@@ -63,6 +78,12 @@ class Hdf5Writer : public TrajectoryWriter {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     PrepareHdf5();
     out_.Adopt(file);
+    // The file as a checkpoint left it (not a partial one): Abort() can keep it again.
+    if (file.filename() == checkpoint.file) {
+      checkpoint_bytes_ = checkpoint.bytes;
+      checkpoint_file_frames_ = checkpoint.file_frames;
+      superseded_ = PartialPath(destination);  // what Abort() left besides it, if anything
+    }
     positions_.values_per_frame = particles_ * 3;
     if (header.velocities) velocities_.values_per_frame = particles_ * 3;
     if (header.density) density_.values_per_frame = particles_;
@@ -73,6 +94,7 @@ class Hdf5Writer : public TrajectoryWriter {
     Shrink(time_);
     if (H5Aexists(file_, "partial") > 0 && H5Adelete(file_, "partial") < 0)
       Fail("remove the partial mark");
+    if (checkpoint.pending.empty()) return;  // a stop checkpoint's
     Unpack(checkpoint.pending);
     if (written_ + times_.size() != checkpoint.frames)
       throw InputError(name_, 0, "cannot resume: the checkpoint's frame counts disagree");
@@ -106,6 +128,7 @@ class Hdf5Writer : public TrajectoryWriter {
     Flush();
     Finish();
     out_.Commit();
+    RemoveSuperseded();
   }
 
   void FinishInto(OutputGroup* group) override {
@@ -113,10 +136,21 @@ class Hdf5Writer : public TrajectoryWriter {
     Flush();
     Finish();
     group->Adopt(&out_);
+    RemoveSuperseded();
   }
 
+  // The file is finished in place as the partial one. When a checkpoint was taken, its file is
+  // first copied as it stands on disk up to the checkpoint's length (later metadata is still in
+  // memory, later chunks lie past that length): the checkpoint's state under the checkpoint's
+  // name, which --resume continues as after a SIGKILL, so the result equals an uninterrupted
+  // run's byte for byte (finishing the file in place moves its metadata: datasets equal, bytes
+  // not). Costs one copy of the file; without room for it, --resume says what is missing.
   void Abort() override {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+    const std::filesystem::path checkpointed = out_.temporary_path();
+    std::filesystem::path kept = checkpointed;
+    kept += ".checkpoint";
+    const bool keep = checkpoint_bytes_ > 0 && CopyPrefix(checkpointed, kept, checkpoint_bytes_);
     Flush();
     const int one = 1;
     Handle space(H5Screate(H5S_SCALAR), H5Sclose);
@@ -125,9 +159,14 @@ class Hdf5Writer : public TrajectoryWriter {
     if (!attr.valid() || H5Awrite(attr, H5T_NATIVE_INT, &one) < 0) Fail("write attribute partial");
     Finish();
     out_.CommitAs(PartialPath(out_.destination()));
+    std::error_code ignored;
+    if (keep) std::filesystem::rename(kept, checkpointed, ignored);
   }
 
   std::size_t frames_written() const override { return written_ + times_.size(); }
+
+  // Removes `partial` once the output is complete (Close, FinishInto).
+  void Supersede(const std::filesystem::path& partial) { superseded_ = partial; }
 
   WriterCheckpoint Checkpoint() override {
     const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
@@ -137,12 +176,33 @@ class Hdf5Writer : public TrajectoryWriter {
     c.file_frames = written_;
     c.pending = Pack();
     CloseHandles();
+    c.bytes = checkpoint_bytes_ = std::filesystem::file_size(out_.temporary_path());
+    checkpoint_file_frames_ = written_;
     OpenExisting();
     out_.KeepOnFailure();
     return c;
   }
 
+  // The file is left as the last Checkpoint() left it (a checkpoint now would close and reopen
+  // it where an uninterrupted run does not, and lay it out differently); no pending frames: those
+  // since file_frames are read back from the partial file Abort() writes (ResumeHdf5Writer).
+  // Without an earlier checkpoint (bytes 0), --resume writes a new file.
+  WriterCheckpoint StopCheckpoint() override {
+    WriterCheckpoint c;
+    c.file = out_.temporary_path().filename().string();
+    c.frames = frames_written();
+    c.file_frames = checkpoint_file_frames_;
+    c.bytes = checkpoint_bytes_;
+    return c;
+  }
+
  private:
+  // A resumed file is complete: the partial one an interruption left beside it goes.
+  void RemoveSuperseded() {
+    std::error_code ignored;
+    if (!superseded_.empty()) std::filesystem::remove(superseded_, ignored);
+  }
+
   std::vector<Stream*> Streams() {
     std::vector<Stream*> all;
     for (Stream* s : {&positions_, &velocities_, &density_, &pressure_})
@@ -358,7 +418,35 @@ class Hdf5Writer : public TrajectoryWriter {
   hid_t file_ = -1, time_ = -1;
   Stream positions_, velocities_, density_, pressure_;
   std::vector<double> times_;
+  // The file's length and frames at the last checkpoint (0: none, or a partial file adopted).
+  std::uint64_t checkpoint_bytes_ = 0, checkpoint_file_frames_ = 0;
+  std::filesystem::path superseded_;  // a resumed writer's partial file, removed once complete
 };
+
+// Appends frames [first, last) of the partial file an interrupted run left.
+void AppendFramesOf(const std::filesystem::path& partial, std::size_t first, std::size_t last,
+                    const TrajectoryHeader& header, TrajectoryWriter* writer) {
+  Hdf5FrameReader in(partial);
+  const std::string name = partial.string();
+  if (in.header().type.size() != header.type.size() || in.frame_count() < last)
+    throw InputError(name, 0,
+                     "cannot resume: holds " + std::to_string(in.frame_count()) +
+                         " frames, the checkpoint " + std::to_string(last));
+  const std::size_t n = header.type.size();
+  std::vector<float> positions(3 * n), velocities, density, pressure;
+  if (header.velocities) velocities.resize(3 * n);
+  if (header.density) density.resize(n);
+  if (header.pressure) pressure.resize(n);
+  for (std::size_t f = first; f < last; ++f) {
+    const double time_s = in.ReadFrame(f, positions.data());
+    if (header.velocities) in.ReadField("velocities", f, velocities.data());
+    if (header.density) in.ReadField("density", f, density.data());
+    if (header.pressure) in.ReadField("pressure", f, pressure.data());
+    writer->AppendFrame(time_s, positions.data(), velocities.empty() ? nullptr : velocities.data(),
+                        density.empty() ? nullptr : density.data(),
+                        pressure.empty() ? nullptr : pressure.data());
+  }
+}
 
 }  // namespace
 
@@ -372,8 +460,31 @@ std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& 
                                                    const TrajectoryHeader& header,
                                                    const Hdf5WriteOptions& options,
                                                    const WriterCheckpoint& checkpoint) {
-  return std::make_unique<Hdf5Writer>(destination, header, options, checkpoint,
-                                      CheckpointedFile(destination, checkpoint));
+  if (!checkpoint.pending.empty())  // a periodic checkpoint's (or an older owval's)
+    return std::make_unique<Hdf5Writer>(destination, header, options, checkpoint,
+                                        CheckpointedFile(destination, checkpoint));
+  // A stop checkpoint's (Hdf5Writer::StopCheckpoint): the last periodic checkpoint's file (or a
+  // new one), then the frames since, from the partial file.
+  const std::filesystem::path partial = PartialPath(destination);
+  if (!std::filesystem::is_regular_file(partial))
+    throw InputError(partial.string(), 0,
+                     "cannot resume: missing (it holds the frames since the last checkpoint)");
+  std::unique_ptr<Hdf5Writer> writer;
+  if (checkpoint.bytes == 0) {
+    writer = std::make_unique<Hdf5Writer>(destination, header, options);
+  } else {
+    const std::filesystem::path file = destination.parent_path() / checkpoint.file;
+    std::error_code error;
+    if (checkpoint.file.empty() || checkpoint.file.find('/') != std::string::npos ||
+        std::filesystem::file_size(file, error) < checkpoint.bytes || error)
+      throw InputError(file.string(), 0,
+                       "cannot resume: missing or shorter than the checkpoint's " +
+                           std::to_string(checkpoint.bytes) + " bytes");
+    writer = std::make_unique<Hdf5Writer>(destination, header, options, checkpoint, file);
+  }
+  AppendFramesOf(partial, checkpoint.file_frames, checkpoint.frames, header, writer.get());
+  writer->Supersede(partial);
+  return writer;
 }
 
 }  // namespace owval::internal

@@ -80,10 +80,11 @@ class FrameSink {
   // parallel uses as many, leaving the cores a one-thread run does not use to others).
   virtual void Begin(const Trajectory& header, int threads) = 0;
   virtual void Frame(const FrameView& frame) = 0;
-  // Every RunOptions::checkpoint_every steps, and when a stop is requested: steps done, frames
-  // recorded so far and Solver::SaveState's blob. Default: ignored.
+  // Every RunOptions::checkpoint_every steps, and when a stop is requested (`stopping`: the run
+  // ends after it): steps done, frames recorded so far and Solver::SaveState's blob. Default:
+  // ignored.
   virtual void Checkpoint(std::size_t /*steps_done*/, std::size_t /*frames*/,
-                          const std::string& /*solver_state*/) {}
+                          const std::string& /*solver_state*/, bool /*stopping*/) {}
 };
 
 struct RunSummary {

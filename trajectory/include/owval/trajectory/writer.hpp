@@ -51,9 +51,11 @@ struct TrajectoryHeader {
 struct WriterCheckpoint {
   std::string file;               // the file being written, name only (beside the destination)
   std::uint64_t frames = 0;       // frames appended before the checkpoint
-  std::uint64_t bytes = 0;        // text: the file's length at the checkpoint
+  std::uint64_t bytes = 0;        // the file's length at the checkpoint
   std::uint64_t file_frames = 0;  // HDF5: frames in the datasets (whole chunks only)
-  std::string pending;            // HDF5: the frames after those, not yet in the file (binary)
+  // HDF5: the frames after those, not yet in the file (binary); empty in a StopCheckpoint's,
+  // whose frames after file_frames are in the partial file.
+  std::string pending;
 };
 
 struct TrajectoryWriterOptions {
@@ -82,6 +84,11 @@ class TrajectoryWriter {
   // chunks in it: later frames are written into new chunks only). Afterwards the temporary
   // outlives an uncommitted writer, for ResumeTrajectoryWriter.
   virtual WriterCheckpoint Checkpoint() = 0;
+  // The checkpoint of a run that stops (Abort() follows): ResumeTrajectoryWriter then continues
+  // as if the run had not stopped, byte for byte. HDF5 keeps the last Checkpoint()'s file state
+  // and reads the frames since back from the partial file (closing and reopening the file here
+  // would lay it out unlike an uninterrupted run's).
+  virtual WriterCheckpoint StopCheckpoint() { return Checkpoint(); }
 };
 
 std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,
@@ -91,8 +98,9 @@ std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::pa
 // Continues the output a checkpoint describes: checkpoint.file beside `destination`, or
 // PartialPath(destination) when an interrupted run renamed it, cut back to the checkpoint
 // (text truncated, HDF5 datasets shrunk, the `partial` mark removed), its pending frames
-// buffered again. InputError naming the file when neither exists or it is shorter than the
-// checkpoint says.
+// buffered again. After an HDF5 StopCheckpoint: checkpoint.file as the periodic checkpoint
+// before it left it (or a new file), then the frames since, read from PartialPath(destination).
+// InputError naming the file when neither exists or it is shorter than the checkpoint says.
 std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(
     const std::filesystem::path& destination, const TrajectoryHeader& header,
     const WriterCheckpoint& checkpoint, const TrajectoryWriterOptions& options = {});
