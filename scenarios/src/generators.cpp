@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/scenarios/generators.hpp"
 
 namespace owval::scenarios {
@@ -42,11 +43,32 @@ float Positive(const Parameters& p, const char* name, const char* generator) {
   return static_cast<float>(v);
 }
 
+// The lattice spacing r0_cu, in (0, 2h]: 2h (6.68 cu with Sibernetic's h) is the neighbour
+// grid's cell and beyond the kernels' reach, so particles of a sparser lattice never interact (and
+// 1e30 made a box no grid can cover).
+double Spacing(const Parameters& p, const char* generator) {
+  const double v = p.at("r0_cu"), most = 2 * engine::PhysicsConstants{}.h_cu;
+  if (!(v > 0 && v <= most))
+    throw InputError(std::string(generator) + ": --param r0_cu=" + FormatNumber(v) +
+                     " is not a lattice spacing in (0, " + FormatNumber(most) +
+                     "] cu (2h, the kernels' reach)");
+  return v;
+}
+
+// A height of the moving particle: inside the box [0, ymax] that `owval run` requires.
+float HeightInBox(const Parameters& p, const char* name, double ymax, const char* generator) {
+  const double v = p.at(name);
+  if (!(v >= 0 && v <= ymax))
+    throw InputError(std::string(generator) + ": --param " + name + "=" + FormatNumber(v) +
+                     " puts the particle outside the simulation box (y from 0 to " +
+                     FormatNumber(ymax) + " cu)");
+  return float(v);
+}
+
 WallOptions CubicWalls(const Parameters& p, const char* generator) {
   WallOptions w;
   w.sites_x = w.sites_y = w.sites_z = Count(p, "box_sites", 3, generator);
-  w.r0_cu = p.at("r0_cu");
-  Positive(p, "r0_cu", generator);
+  w.r0_cu = Spacing(p, generator);
   w.reference_edge_normals = p.at("reference_edge_normals") != 0;
   return w;
 }
@@ -92,7 +114,8 @@ engine::SiberneticConfig OneSprig(const Parameters& given) {
   engine::SiberneticConfig c;
   c.source = "owval generator one_sprig";
   const float centre = Middle(w, w.sites_x);
-  AddParticle(&c, centre, float(p.at("start_y_cu")), centre, type);
+  AddParticle(&c, centre, HeightInBox(p, "start_y_cu", w.r0_cu * w.sites_y, "one_sprig"), centre,
+              type);
   AddBoxWalls(w, &c);
   const std::size_t anchor = FindWallParticle(c, centre, TopWallY(w), centre);
   EmptyConnections(1, &c);
@@ -109,7 +132,8 @@ engine::SiberneticConfig FreeFall(const Parameters& given) {
   engine::SiberneticConfig c;
   c.source = "owval generator free_fall";
   const float centre = Middle(w, w.sites_x);
-  AddParticle(&c, centre, float(p.at("start_y_cu")), centre, 1.1f);
+  AddParticle(&c, centre, HeightInBox(p, "start_y_cu", w.r0_cu * w.sites_y, "free_fall"), centre,
+              1.1f);
   AddBoxWalls(w, &c);
   return c;
 }
@@ -163,8 +187,7 @@ engine::SiberneticConfig LiquidColumn(const Parameters& given) {
   WallOptions w;
   w.sites_x = w.sites_z = Count(p, "sites_xz", 3, "liquid_column");
   w.sites_y = Count(p, "sites_y", 3, "liquid_column");
-  w.r0_cu = p.at("r0_cu");
-  Positive(p, "r0_cu", "liquid_column");
+  w.r0_cu = Spacing(p, "liquid_column");
   w.reference_edge_normals = p.at("reference_edge_normals") != 0;
   const int layers = Count(p, "layers", 1, "liquid_column");
   if (layers > w.sites_y - 2)
@@ -232,7 +255,7 @@ engine::SiberneticConfig HydrostaticTank(const Parameters& given) {
                                      {"wall_layers", 3},
                                      {"headroom_layers", 4}},
                                     name);
-  Positive(p, "r0_cu", name);
+  Spacing(p, name);
   const int layers = Count(p, "layers", 1, name), walls = Count(p, "wall_layers", 1, name);
   const Tank t{Count(p, "sites_x", 1, name), Count(p, "sites_z", 1, name),
                walls + layers + Count(p, "headroom_layers", 0, name), walls, p.at("r0_cu")};
@@ -254,7 +277,7 @@ engine::SiberneticConfig DamBreak(const Parameters& given) {
                                      {"wall_layers", 3},
                                      {"headroom_layers", 4}},
                                     name);
-  Positive(p, "r0_cu", name);
+  Spacing(p, name);
   const int a = Count(p, "column_sites", 1, name), walls = Count(p, "wall_layers", 1, name);
   const double ratio = p.at("height_ratio");
   if (!(ratio > 0 && ratio <= 100)) throw InputError("dam_break: height_ratio must be in (0, 100]");

@@ -145,6 +145,37 @@ TEST(Generators, RefuseUnknownParametersAndImpossibleGeometry) {
   EXPECT_THROW(Generate("tornado", {}), InputError);
 }
 
+// one_sprig start_y_cu=1000 wrote a file `owval run` refused (outside the box), and
+// r0_cu=1e30 one whose box no neighbour grid covers: refused here, naming the parameter.
+TEST(Generators, RefuseAParticleOutsideTheBoxAndALatticeSpacingPastTheKernel) {
+  auto error = [](const char* generator, const Parameters& p) -> std::string {
+    try {
+      Generate(generator, p);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error("one_sprig", {{"start_y_cu", 1000}}),
+            "one_sprig: --param start_y_cu=1000 puts the particle outside the simulation box (y "
+            "from 0 to 33.4 cu)");
+  for (double y : {-1.0, 1000.0, std::nan("")})
+    EXPECT_NE(error("free_fall", {{"start_y_cu", y}}).find("--param start_y_cu="),
+              std::string::npos)
+        << y;
+  EXPECT_EQ(error("one_sprig", {{"start_y_cu", 33.4}}), "no error");
+  for (const char* generator : {"one_sprig", "free_fall", "hanging_chain", "liquid_column",
+                                "hydrostatic_tank", "dam_break"}) {
+    EXPECT_NE(error(generator, {{"r0_cu", 1e30}})
+                  .find("--param r0_cu=1e+30 is not a lattice spacing "
+                        "in (0, 6.68] cu"),
+              std::string::npos)
+        << generator << ": " << error(generator, {{"r0_cu", 1e30}});
+    EXPECT_NE(error(generator, {{"r0_cu", 0}}), "no error") << generator;
+  }
+  EXPECT_EQ(error("free_fall", {{"r0_cu", 6.68}, {"start_y_cu", 25}}), "no error");
+}
+
 TEST(WcsphTanks, DamBreakColumnIsTwiceAsHighAsWideAndWallsAreThreeLayers) {
   const engine::SiberneticConfig c = DamBreak({});
   EXPECT_EQ(c.liquid_count(), 16u * 32u * 6u);
