@@ -135,13 +135,16 @@ void ValidateBox(const Box& b, const std::string& name) {
   const std::size_t cells = NeighbourGridCells(b, defaults.h_cu);
   const std::size_t limit = std::min<std::size_t>(std::numeric_limits<int>::max(),
                                                   MemoryBudgetBytes() / kNeighbourGridBytesPerCell);
+  // NeighbourGridCells saturates: SIZE_MAX means "more than it can count", not that number.
+  const std::string count =
+      cells == std::numeric_limits<std::size_t>::max() ? "more than 10^19" : std::to_string(cells);
   if (cells > limit)
-    throw InputError(
-        name, 0,
-        "[simulation box] " + std::to_string(b.xmax) + " x " + std::to_string(b.ymax) + " x " +
-            std::to_string(b.zmax) + " cu needs a neighbour grid of " + std::to_string(cells) +
-            " cells (2h = " + std::to_string(2 * defaults.h_cu) + " cu each), over the limit of " +
-            std::to_string(limit) + " (memory budget, --max-memory)");
+    throw InputError(name, 0,
+                     "[simulation box] " + std::to_string(b.xmax) + " x " + std::to_string(b.ymax) +
+                         " x " + std::to_string(b.zmax) + " cu needs a neighbour grid of " + count +
+                         " cells (2h = " + std::to_string(2 * defaults.h_cu) +
+                         " cu each), over the limit of " + std::to_string(limit) +
+                         " (memory budget, --max-memory)");
 }
 
 // [membranes] and [particleMemIndex]: every index names something that exists.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 
 #include <string>
 
@@ -128,6 +129,18 @@ TEST(ConfigHostile, RefusesABoxWhoseNeighbourGridExceedsTheBudget) {
             std::string::npos);
   EXPECT_EQ(ErrorOf(Config("0\n100\n0\n100\n0\n100\n", "[end]\n")), "no error");
   SetMemoryBudgetBytes(0);
+}
+
+// A box no count of cells holds (r0_cu = 1e30 in a generator) was said to need
+// "18446744073709551615 cells": the saturated count, printed as a number.
+TEST(ConfigHostile, ABoxPastCountingSaysSoInsteadOfASaturatedCellCount) {
+  Box box;
+  box.xmax = box.ymax = box.zmax = 2e31f;
+  EXPECT_EQ(NeighbourGridCells(box, 3.34), std::numeric_limits<std::size_t>::max());
+  const std::string error = ErrorOf(Config("0\n2e31\n0\n2e31\n0\n2e31\n", "[end]\n"));
+  EXPECT_NE(error.find("needs a neighbour grid of more than 10^19 cells"), std::string::npos)
+      << error;
+  EXPECT_EQ(error.find("18446744073709551615"), std::string::npos) << error;
 }
 
 TEST(ConfigHostile, RefusesAnInvertedBox) {
