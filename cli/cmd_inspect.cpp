@@ -32,8 +32,9 @@ void SetUp(CLI::App& app) {
   cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
       ->required();
   AddTrackFlags(cmd, &args->track, "", "Measured");
-  cmd->add_option("--from", args->start_s, "Window start (s)");
-  cmd->add_option("--to", args->end_s, "Window end (s)");
+  // NaN or a negative time was taken as "no bound": the whole window, silently.
+  cmd->add_option("--from", args->start_s, "Window start (s)")->check(NonNegative());
+  cmd->add_option("--to", args->end_s, "Window end (s)")->check(NonNegative());
   cmd->add_option("--layout", args->layout, "Text layout: auto, opencl or native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));
   cmd->add_flag("--json", args->json, "Machine-readable output");

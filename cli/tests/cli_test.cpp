@@ -49,6 +49,18 @@ TEST(Cli, InspectJsonReportsTheOneSprigPeriod) {
   EXPECT_NE(j["layout"].get<std::string>().find("opencl"), std::string::npos);
 }
 
+// `--from nan` (or a negative time) was read as "no bound": exit 0 over the whole window.
+TEST(Cli, InspectRefusesANonFiniteOrNegativeWindowBound) {
+  for (const char* flag : {"--from", "--to"})
+    for (const char* value : {"nan", "inf", "-1"}) {
+      const Result r = Owval("inspect " + kOneSprig + " " + flag + " " + value);
+      EXPECT_EQ(r.exit_code, 2) << flag << " " << value;
+      EXPECT_EQ(r.err, "owval: usage: " + std::string(flag) + ": expected a number >= 0, found '" +
+                           value + "' (see --help)\n");
+    }
+  EXPECT_EQ(Owval("inspect " + kOneSprig + " --from 0 --to 0.001").exit_code, 0);
+}
+
 TEST(Cli, MissingFileIsOneLineExitTwo) {
   const Result r = Owval("inspect /nonexistent/position_buffer.txt");
   EXPECT_EQ(r.exit_code, 2);
