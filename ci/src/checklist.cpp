@@ -130,10 +130,27 @@ std::string DifferenceFromScenarioReference(FrameSource& got, const Trajectory& 
   return "";
 }
 
+// Why an owval run may not stand as the reference, or empty: its provenance says it is not
+// reference-equivalent (another scheme, or constants changed; a candidate copied over the
+// reference). Sibernetic's own files carry no such record.
+std::string NotReferenceEquivalent(const Trajectory& header) {
+  const auto& provenance = header.provenance;
+  const auto equivalent = provenance.find("reference_equivalent");
+  if (equivalent == provenance.end() || equivalent->second == "true") return "";
+  const auto producer = provenance.find("producer"), constants = provenance.find("constants");
+  return "made by " + (producer != provenance.end() ? producer->second : "owval") +
+         ", not reference-equivalent" +
+         (constants != provenance.end() ? " (constants: " + constants->second + ")" : "");
+}
+
 void CheckReference(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
-  if (!e.options.scenario_reference) {
-    item->detail += "; that it is the scenario's reference: NOT CHECKED (pass --scenario NAME)";
+  if (!e.options.scenario_reference) {  // only the file's own record to go by
+    const std::string why = NotReferenceEquivalent(e.reference->header());
+    if (!why.empty()) item->pass = false;
+    item->detail += why.empty() ? "; that it is the scenario's reference: NOT CHECKED (pass "
+                                  "--scenario NAME)"
+                                : "; not a reference: " + why;
     return;
   }
   if (!item->pass) return;

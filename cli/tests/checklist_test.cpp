@@ -296,6 +296,12 @@ TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
   const fs::path d = Copy("own_reference");
   ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"reference.h5", "candidate.h5"}));
   ASSERT_NO_FATAL_FAILURE(Reframe(d));
+  // Without a scenario, the reference's own record gives it away: changed constants.
+  const auto own = Judge(d, 1);
+  EXPECT_EQ(own["verdict"], "unreviewable");
+  EXPECT_NE(own["items"][1]["detail"].get<std::string>().find("not reference-equivalent"),
+            std::string::npos)
+      << own["items"][1].dump();
   const auto j = Judge(d, 1, "--scenario one_sprig");
   EXPECT_EQ(j["verdict"], "unreviewable");
   EXPECT_FALSE(ItemPasses(j, 2));
