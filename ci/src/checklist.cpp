@@ -433,9 +433,8 @@ ChecklistItem Evaluate(Evidence& e, const ItemSpec& spec) {
 // A quantity that does not move in the reference agrees with any candidate that leaves it
 // alone (a wall particle, scale 1 cu): its frame gate is no evidence.
 void CheckTrackedMotion(ChecklistReport* r) {
-  const std::vector<double>& series = r->parity->reference_series;
-  const auto [low, high] = std::minmax_element(series.begin(), series.end());
-  r->tracked_moves = series.size() >= 2 && *high > *low;
+  const compare::SignalMetrics& reference = r->parity->reference_metrics;  // over the common window
+  r->tracked_moves = reference.maximum > reference.minimum;
   if (!r->tracked_moves)
     r->parity_note = r->parity->subject +
                      " does not move in the reference: its frame gate is no evidence (track a "

@@ -42,11 +42,11 @@ void Done(Context& c, const std::string& name, bool applicable, const std::strin
     c.options.on_phase(name + ": " + (applicable ? "" : "not applicable: ") + outcome);
 }
 
-engine::RunOptions RunOptionsFor(const Context& c, engine::Integrator integrator,
+engine::RunOptions RunOptionsFor(const scenarios::Scenario& scenario, engine::Integrator integrator,
                                  const std::string& backend = "pcisph") {
   engine::RunOptions o;
-  o.duration_s = c.scenario.duration_s;
-  o.log_step = c.scenario.log_step;
+  o.duration_s = scenario.duration_s;
+  o.log_step = scenario.log_step;
   o.integrator = integrator;
   o.backend = backend;
   return o;
@@ -72,11 +72,7 @@ ScenarioReference ReferenceOf(const scenarios::Scenario& scenario,
   if (!scenario.reference.empty())
     return {ReadTrajectory(scenario.reference),
             "bundled Sibernetic OpenCL run (" + scenario.reference.filename().string() + ")"};
-  engine::RunOptions o;
-  o.duration_s = scenario.duration_s;
-  o.log_step = scenario.log_step;
-  o.integrator = engine::Integrator::kSemiImplicitEuler;
-  return {engine::Run(config, o),
+  return {engine::Run(config, RunOptionsFor(scenario, engine::Integrator::kSemiImplicitEuler)),
           "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)"};
 }
 
@@ -104,7 +100,7 @@ void Candidate(Context& c) {
   } else {
     const bool leapfrog = c.options.integrator == engine::Integrator::kLeapfrog;
     const std::string backend = engine::CanonicalBackend(c.options.backend);
-    c.candidate = engine::Run(c.config, RunOptionsFor(c, c.options.integrator, backend));
+    c.candidate = engine::Run(c.config, RunOptionsFor(c.scenario, c.options.integrator, backend));
     c.evidence.candidate_source =
         backend == "pcisph" ? std::string("owval engine on the CPU, PCISPH, ") +
                                   (leapfrog ? "leapfrog" : "semi-implicit Euler") + " integrator"
