@@ -180,16 +180,7 @@ void Validate(const SiberneticConfig& c, const std::string& name, bool box_seen,
                      "wrong particle count: " + std::to_string(c.position.size()) +
                          " [position] rows but " + std::to_string(c.velocity.size()) +
                          " [velocity] rows");
-  for (std::size_t i = 0; i < c.position.size(); ++i) {
-    // Sibernetic's kernels take the class as (int)w and know 1, 2 and 3 only; any other class
-    // would move as none of them (and (int) of 1e30 is undefined).
-    const float type = c.position[i][3];
-    if (!(type >= 1.0f && type < 4.0f))
-      throw InputError(name, 0,
-                       "row " + std::to_string(i) + " of [position] has type " +
-                           FormatNumber(type) +
-                           ": expected 1.x (liquid), 2.x (elastic) or 3.x (boundary)");
-  }
+  // Every [position] row's type was checked where it was read (CheckTypeCode).
   const std::size_t elastic = c.elastic_count();
   for (std::size_t i = 0; i < elastic; ++i)
     if (KindOf(c.position[i][3]) != ParticleKind::kElastic)
