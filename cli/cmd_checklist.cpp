@@ -26,10 +26,10 @@ void RunChecklistCommand(const ChecklistArgs& a) {
   if (!a.scenario.empty() || !a.manifest.empty()) options.track = parity.track;
   options.git_range = a.git_range;
   if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  pipeline::ScenarioReference reference;  // its temporary file lives until the checklist is done
   if (!a.scenario.empty()) {
-    pipeline::ScenarioReference reference = pipeline::MakeScenarioReference(a.scenario, DataDir());
-    options.scenario_reference =
-        std::make_shared<const Trajectory>(std::move(reference.trajectory));
+    reference = pipeline::MakeScenarioReference(a.scenario, DataDir());
+    options.scenario_reference = reference.file;
     options.scenario_reference_source = reference.source;
     options.scenario_prediction = pipeline::MakeScenarioPrediction(a.scenario, DataDir());
   }

@@ -12,6 +12,7 @@
 #include "owval/sgd/finite_difference.hpp"
 #include "owval/sgd/gradcheck.hpp"
 #include "owval/sgd/targets.hpp"
+#include "trajectory_files.hpp"
 
 namespace owval::pipeline {
 namespace fs = std::filesystem;
@@ -61,8 +62,9 @@ std::vector<sgd::Parameter> Parameters(const nlohmann::json& fit, const std::str
 // The targets' values measured on the reference; empty optional with `why` when one cannot be.
 std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohmann::json& fit,
                                                 std::string* why) {
-  const std::vector<double> series = f.scenario.track.Series(f.reference);
-  const compare::SignalMetrics m = compare::MeasureSignal(f.reference.time_s, series);
+  const TrackedSeries reference = ReadTrackedSeries(f.dir / "reference.h5", f.scenario.track);
+  const std::vector<double>& series = reference.value;
+  const compare::SignalMetrics m = compare::MeasureSignal(reference.time_s, series);
   const auto [lo, hi] = std::minmax_element(series.begin(), series.end());
   const double range = *hi - *lo > 0 ? *hi - *lo : 1.0;
   std::vector<sgd::Target> targets;
@@ -139,11 +141,14 @@ bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
   if (kind != "spring_period_vs_log_k")
     throw InputError("scenarios/manifests/" + f.scenario.name + ".json", 0,
                      "\"fd_test\": expected spring_period_vs_log_k");
-  const std::vector<sgd::Parameter> k = {{"elasticity_coefficient", 3e8, true}};
-  const sgd::Simulator simulate = sgd::EngineSimulator(f.config, RunOptionsFor(f), k);
   auto period = [&](double log_k) {
-    const Trajectory t = simulate({std::exp(log_k)});
-    const auto m = compare::MeasureSignal(t.time_s, f.scenario.track.Series(t));
+    // The run sgd::EngineSimulator makes (one thread, positions only), keeping only the
+    // tracked quantity instead of every frame.
+    engine::RunOptions options = RunOptionsFor(f);
+    options.threads = 1;
+    sgd::SetConstant(&options.constants, "elasticity_coefficient", std::exp(log_k));
+    const TrackedSeries t = RunTrackedSeries(f.config, options, f.scenario.track);
+    const auto m = compare::MeasureSignal(t.time_s, t.value);
     if (!m.period_s)
       throw InputError("finite-difference test: no oscillation at k = " +
                        std::to_string(std::exp(log_k)));

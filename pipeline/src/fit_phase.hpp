@@ -19,8 +19,9 @@ namespace owval::pipeline {
 struct FitPhase {
   const scenarios::Scenario& scenario;
   const engine::SiberneticConfig& config;
-  const Trajectory& reference;
-  std::filesystem::path dir;  // the report directory (reference.h5 is already in it)
+  // The report directory; reference.h5 is already in it, and the targets are measured on its
+  // tracked quantity, read frame by frame.
+  std::filesystem::path dir;
   bool quiet = false;
   std::string backend = "pcisph";  // the candidate's scheme: the fit runs it
 };

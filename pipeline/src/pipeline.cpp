@@ -12,20 +12,25 @@
 #include "owval/reports/pipeline_report.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
+#include "trajectory_files.hpp"
 
 namespace owval::pipeline {
 namespace fs = std::filesystem;
 namespace {
 
-// Everything the phases share: the scenario, the directory, both trajectories and what each
-// phase produced for the report.
+// Everything the phases share: the scenario, the directory and what each phase produced for the
+// report. The trajectories are reference.h5 and candidate.h5 in the directory, written as they
+// are produced and read frame by frame (memory O(particles), whatever the run's length).
 struct Context {
   Context(const Options& o, Summary* s) : options(o), dir(o.out_dir), summary(s) {}
   const Options& options;
   scenarios::Scenario scenario;
   engine::SiberneticConfig config;
   fs::path dir;
-  Trajectory reference, candidate;
+  // The scenario's own reference for the checklist: the bundled file, or reference.h5 when the
+  // engine made it here.
+  fs::path scenario_reference;
   predict::Prediction prediction;
   reports::PipelineEvidence evidence;
   Summary* summary;
@@ -67,25 +72,41 @@ void Predict(Context& c) {
        std::to_string(c.prediction.predictions.size()) + " quantities in prediction.json");
 }
 
-ScenarioReference ReferenceOf(const scenarios::Scenario& scenario,
-                              const engine::SiberneticConfig& config) {
-  if (!scenario.reference.empty())
-    return {ReadTrajectory(scenario.reference),
-            "bundled Sibernetic OpenCL run (" + scenario.reference.filename().string() + ")"};
-  return {engine::Run(config, RunOptionsFor(scenario, engine::Integrator::kSemiImplicitEuler)),
-          "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)"};
+std::string BundledSource(const scenarios::Scenario& scenario) {
+  return "bundled Sibernetic OpenCL run (" + scenario.reference.filename().string() + ")";
+}
+const char* const kEngineReferenceSource =
+    "owval engine, PCISPH, semi-implicit Euler (reproduces Sibernetic's OpenCL run)";
+
+engine::RunOptions ReferenceRunOptions(const scenarios::Scenario& scenario) {
+  return RunOptionsFor(scenario, engine::Integrator::kSemiImplicitEuler);
 }
 
+std::unique_ptr<FrameSource> OpenQuietly(const fs::path& file) {
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  return OpenFrameSource(file, quiet);
+}
+
+// reference.h5, streamed from the bundled file or from the engine as it runs.
 void Reference(Context& c) {
-  ScenarioReference reference = ReferenceOf(c.scenario, c.config);
-  c.reference = std::move(reference.trajectory);
-  c.evidence.reference_source = reference.source;
-  WriteHdf5(c.reference, c.dir / "reference.h5");
+  const fs::path reference = c.dir / "reference.h5";
+  if (!c.scenario.reference.empty()) {
+    TextReadOptions read;
+    read.quiet = c.options.quiet;
+    CopyTrajectoryFile(c.scenario.reference, reference, read);
+    c.scenario_reference = c.scenario.reference;
+    c.evidence.reference_source = BundledSource(c.scenario);
+  } else {
+    RunIntoFile(c.config, ReferenceRunOptions(c.scenario), reference);
+    c.scenario_reference = reference;
+    c.evidence.reference_source = kEngineReferenceSource;
+  }
   Done(c, "2 reference", true, "reference.h5 from " + c.evidence.reference_source);
 }
 
 void Inspect(Context& c) {
-  c.evidence.reconcile = predict::Reconcile(c.prediction, c.reference);
+  c.evidence.reconcile = predict::Reconcile(c.prediction, *OpenQuietly(c.dir / "reference.h5"));
   WriteJson(c.dir / "reconcile.json", c.evidence.reconcile.ToJson());
   WriteFileAtomically(c.dir / "reconcile.md", predict::ReconcileMarkdown(c.evidence.reconcile));
   c.summary->prediction_holds = c.evidence.reconcile.pass;
@@ -94,26 +115,30 @@ void Inspect(Context& c) {
                                    : "a predicted quantity misses the reference (reconcile.md)");
 }
 
+// candidate.h5, streamed from the given file or from the engine as it runs.
 void Candidate(Context& c) {
+  const fs::path candidate = c.dir / "candidate.h5";
   if (!c.options.candidate.empty()) {
     c.evidence.candidate_source = "given trajectory " + c.options.candidate.string();
+    TextReadOptions read;
+    read.quiet = c.options.quiet;
+    CopyTrajectoryFile(c.options.candidate, candidate, read);
   } else {
     const bool leapfrog = c.options.integrator == engine::Integrator::kLeapfrog;
     const std::string backend = engine::CanonicalBackend(c.options.backend);
-    c.candidate = engine::Run(c.config, RunOptionsFor(c.scenario, c.options.integrator, backend));
+    RunIntoFile(c.config, RunOptionsFor(c.scenario, c.options.integrator, backend), candidate);
     c.evidence.candidate_source =
         backend == "pcisph" ? std::string("owval engine on the CPU, PCISPH, ") +
                                   (leapfrog ? "leapfrog" : "semi-implicit Euler") + " integrator"
                             : "owval engine on the CPU, backend " + backend;
   }
-  WriteHdf5(c.candidate, c.dir / "candidate.h5");
   Done(c, "4 candidate", true, "candidate.h5 from " + c.evidence.candidate_source);
 }
 
-std::vector<std::size_t> SampleFrames(const Context& c) {
+std::vector<std::size_t> SampleFrames(const Context& c, std::size_t reference_frames) {
   std::vector<std::size_t> at;
   for (std::size_t f : c.scenario.sample_frames)
-    at.push_back(std::min<std::size_t>(f, c.reference.frame_count() - 1));
+    at.push_back(std::min<std::size_t>(f, reference_frames - 1));
   at.erase(std::unique(at.begin(), at.end()), at.end());
   return at;
 }
@@ -125,10 +150,16 @@ void Render(Context& c) {
   o.title = c.scenario.name;
   o.tracking = c.scenario.track;
   o.quiet = c.options.quiet;
-  const render::VideoSummary video =
-      render::RenderSideBySide(c.reference, c.candidate, o, c.dir / "sxs.mp4");
-  c.evidence.frames =
-      render::RenderFrames(c.reference, c.candidate, SampleFrames(c), o, c.dir / "frames");
+  render::VideoSummary video;
+  {
+    const auto reference = OpenQuietly(c.dir / "reference.h5");
+    const auto candidate = OpenQuietly(c.dir / "candidate.h5");
+    video = render::RenderSideBySide(*reference, *candidate, o, c.dir / "sxs.mp4");
+  }
+  const auto reference = OpenQuietly(c.dir / "reference.h5");
+  const auto candidate = OpenQuietly(c.dir / "candidate.h5");
+  c.evidence.frames = render::RenderFrames(
+      *reference, *candidate, SampleFrames(c, reference->frame_count()), o, c.dir / "frames");
   Done(c, "6 render", true,
        "sxs.mp4 (" + std::to_string(video.frames) + " frames) and " +
            std::to_string(c.evidence.frames["frames"].size()) + " labelled frames");
@@ -138,7 +169,8 @@ void Compare(Context& c) {
   compare::ParityOptions o;
   o.track = c.scenario.track;
   o.gates = c.scenario.gates;
-  c.summary->parity = compare::CompareTrajectories(c.reference, c.candidate, o);
+  c.summary->parity = compare::CompareFrameSources(*OpenQuietly(c.dir / "reference.h5"),
+                                                   *OpenQuietly(c.dir / "candidate.h5"), o);
   c.evidence.parity = c.summary->parity;
   WriteJson(c.dir / "parity.json", c.summary->parity.ToJson());
   WriteFileAtomically(c.dir / "parity.md", c.summary->parity.ToMarkdown());
@@ -151,7 +183,7 @@ void Checklist(Context& c) {
   ci::ChecklistOptions o;
   o.gates = c.scenario.gates;
   o.track = c.scenario.track;
-  o.scenario_reference = std::make_shared<const Trajectory>(c.reference);
+  o.scenario_reference = c.scenario_reference;
   o.scenario_reference_source = c.evidence.reference_source;
   o.scenario_prediction = c.prediction;
   c.summary->checklist = ci::RunChecklist(c.dir, o);
@@ -180,13 +212,14 @@ void Prepare(Context& c) {
   if (backend != "pcisph" && c.options.integrator != engine::Integrator::kSemiImplicitEuler)
     throw InputError("pipeline: backend " + backend +
                      " takes no integrator (leapfrog is PCISPH's)");
-  if (!c.options.candidate.empty()) {
-    c.candidate = ReadTrajectory(c.options.candidate);
-    if (c.candidate.particle_count() != c.config.particle_count())
+  if (!c.options.candidate.empty()) {  // its header and every frame checked, one at a time
+    const auto candidate = OpenQuietly(c.options.candidate);
+    if (candidate->particle_count() != c.config.particle_count())
       throw InputError(c.options.candidate.string(), 0,
-                       "has " + std::to_string(c.candidate.particle_count()) +
+                       "has " + std::to_string(candidate->particle_count()) +
                            " particles; scenario " + c.scenario.name + " has " +
                            std::to_string(c.config.particle_count()));
+    for (std::size_t f = 0; f < candidate->frame_count(); ++f) candidate->Frame(f);
   }
 }
 
@@ -204,7 +237,22 @@ bool IsOwvalReport(const fs::path& existing) {
 
 ScenarioReference MakeScenarioReference(const std::string& name, const fs::path& data_dir) {
   const scenarios::Scenario scenario = scenarios::LoadScenario(name, data_dir);
-  return ReferenceOf(scenario, scenarios::GenerateConfig(scenario));
+  if (!scenario.reference.empty()) return {scenario.reference, BundledSource(scenario), nullptr};
+  // The engine's run streamed into a scratch directory, removed with the last copy of the result.
+  fs::path scratch = fs::temp_directory_path() / "owval-reference-XXXXXX";
+  std::string pattern = scratch.string();
+  if (!mkdtemp(pattern.data()))
+    throw EnvironmentError("cannot create a temporary directory under " +
+                           fs::temp_directory_path().string());
+  std::shared_ptr<const fs::path> owner(new fs::path(pattern), [](const fs::path* dir) {
+    std::error_code ignored;
+    fs::remove_all(*dir, ignored);
+    delete dir;
+  });
+  engine::RunOptions positions_only = ReferenceRunOptions(scenario);
+  positions_only.record_fields = false;  // item 2 compares positions
+  RunIntoFile(scenarios::GenerateConfig(scenario), positions_only, *owner / "reference.h5");
+  return {*owner / "reference.h5", kEngineReferenceSource, owner};
 }
 
 predict::Prediction MakeScenarioPrediction(const std::string& name, const fs::path& data_dir) {
@@ -233,7 +281,7 @@ void Run(const Options& options, Summary* summary) {
   Reference(c);
   Inspect(c);
   Candidate(c);
-  FitPhase fit{c.scenario, c.config, c.reference, c.dir, options.quiet, options.backend};
+  FitPhase fit{c.scenario, c.config, c.dir, options.quiet, options.backend};
   const std::string fit_outcome = RunFit(fit, &c.evidence.fit);
   Done(c, "5 fit", c.evidence.fit.has_value(), fit_outcome);
   std::string fd_outcome;

@@ -12,6 +12,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/engine/gradient.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -138,6 +139,38 @@ TEST(Pipeline, ReplacesAnEarlierOwvalReportButNotAUsersDirectory) {
   EXPECT_THROW(pipeline::Run(o, &s), InputError);
   EXPECT_TRUE(fs::exists(o.out_dir / "notes.txt"));
   fs::remove_all(base);
+}
+
+// A scenario without a bundled run: its reference for `owval checklist --scenario` is the engine's
+// run streamed into a temporary file, frame for frame the in-memory run's positions, removed once
+// the last copy of the result is gone.
+TEST(Pipeline, AnEngineMadeScenarioReferenceIsATemporaryFile) {
+  fs::path scratch;
+  {
+    const ScenarioReference reference = MakeScenarioReference("free_fall", OWVAL_SOURCE_DIR);
+    ASSERT_NE(reference.scratch, nullptr);
+    scratch = *reference.scratch;
+    EXPECT_EQ(reference.file.parent_path(), scratch);
+    const scenarios::Scenario scenario = scenarios::LoadScenario("free_fall", OWVAL_SOURCE_DIR);
+    engine::RunOptions o;
+    o.duration_s = scenario.duration_s;
+    o.log_step = scenario.log_step;
+    o.record_fields = false;
+    const Trajectory expected = engine::Run(scenarios::GenerateConfig(scenario), o);
+    const Trajectory got = ReadTrajectory(reference.file);
+    EXPECT_GT(got.frame_count(), 1u);
+    EXPECT_EQ(got.time_s, expected.time_s);
+    EXPECT_EQ(got.positions, expected.positions);
+    EXPECT_FALSE(got.has_velocities());
+    const ScenarioReference copy = reference;
+    EXPECT_TRUE(fs::exists(copy.file));
+  }
+  EXPECT_FALSE(scratch.empty());
+  EXPECT_FALSE(fs::exists(scratch));
+  // A bundled run is named as it is, nothing made.
+  const ScenarioReference bundled = MakeScenarioReference("one_sprig", OWVAL_SOURCE_DIR);
+  EXPECT_EQ(bundled.scratch, nullptr);
+  EXPECT_EQ(bundled.file.filename(), "position_buffer.txt");
 }
 
 TEST(Pipeline, UnknownScenarioWritesNothing) {

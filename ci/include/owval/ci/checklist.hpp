@@ -6,7 +6,6 @@
 // prediction's order before the runs is checked in the git history where one is given. Renders
 // the verdict as a Markdown comment. File names and rules: docs/checklist.md.
 #include <filesystem>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -27,10 +26,11 @@ struct ChecklistOptions {
   // empty: particle 0 y. Never frames/frames.json's: a pull request cannot choose the particle
   // that happens to agree (frames.json must label this track, else item 5 fails).
   std::optional<Track> track;
-  // The scenario's own reference, when the caller names a scenario
+  // The scenario's own reference, a trajectory file, when the caller names a scenario
   // (pipeline::MakeScenarioReference): item 2 holds the directory's reference to it, frame for
-  // frame, else a pull request could judge its candidate against a reference of its own making.
-  std::shared_ptr<const Trajectory> scenario_reference;
+  // frame (both read frame by frame), else a pull request could judge its candidate against a
+  // reference of its own making. Empty: no scenario.
+  std::filesystem::path scenario_reference;
   std::string scenario_reference_source;  // what it is, for the report
   // The scenario's own prediction (its predictor on its configuration), when the caller names a
   // scenario: item 10 reconciles with its tolerances and needs its gated quantities and track,

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,11 +69,14 @@ void Run(const Options& options, Summary* summary);
 
 // A built-in scenario's reference, as phase 2 makes it: the bundled Sibernetic OpenCL run its
 // manifest names, else owval's PCISPH engine (semi-implicit Euler, which reproduces Sibernetic's
-// run) over the manifest's duration and log step. The checklist holds a directory's
-// reference.h5 to it (`owval checklist DIR --scenario NAME`).
+// run) over the manifest's duration and log step, streamed into a temporary HDF5 file (positions
+// only) that is removed when the last copy of the ScenarioReference goes. The checklist holds a
+// directory's reference.h5 to it frame by frame (`owval checklist DIR --scenario NAME`), so
+// memory stays O(particles) whatever the scenario's length.
 struct ScenarioReference {
-  Trajectory trajectory;
-  std::string source;  // "bundled Sibernetic OpenCL run (position_buffer.txt)"
+  std::filesystem::path file;  // a trajectory file, to read with OpenFrameSource
+  std::string source;          // "bundled Sibernetic OpenCL run (position_buffer.txt)"
+  std::shared_ptr<const std::filesystem::path> scratch;  // the engine run's directory, or null
 };
 ScenarioReference MakeScenarioReference(const std::string& scenario,
                                         const std::filesystem::path& data_dir);

@@ -1,0 +1,39 @@
+#pragma once
+// The pipeline's trajectories live in files, never whole in memory (memory O(particles),
+// whatever the run's length): runs and copies are written frame by frame as they are produced,
+// and every phase reads them back frame by frame (trajectory/frame_source.hpp).
+#include <filesystem>
+#include <vector>
+
+#include "owval/engine/run.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/track.hpp"
+
+namespace owval::pipeline {
+
+// Runs the engine, appending each frame to `destination` (owval HDF5, or Sibernetic text, by its
+// extension) with the fields the run records. The file appears only when the run completes; an
+// exception (bad input, NaN) leaves nothing.
+engine::RunSummary RunIntoFile(const engine::SiberneticConfig& config,
+                               const engine::RunOptions& options,
+                               const std::filesystem::path& destination);
+
+// Writes the trajectory file `source` (any format OpenFrameSource reads) into `destination`,
+// frame by frame, with the per-frame fields the source holds: what WriteHdf5(ReadTrajectory())
+// wrote, without holding the trajectory.
+void CopyTrajectoryFile(const std::filesystem::path& source,
+                        const std::filesystem::path& destination, const TextReadOptions& read = {});
+
+// One tracked value a frame and the frames' times: all that fits, predictions and rms targets
+// need of a trajectory (one double a frame).
+struct TrackedSeries {
+  std::vector<double> time_s;
+  std::vector<double> value;
+};
+// Read frame by frame. InputError when the track names nothing in the file.
+TrackedSeries ReadTrackedSeries(const std::filesystem::path& file, const Track& track);
+// An engine run's tracked series, measured as each frame is produced (no file, no fields).
+TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
+                               const engine::RunOptions& options, const Track& track);
+
+}  // namespace owval::pipeline
