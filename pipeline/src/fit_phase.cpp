@@ -71,8 +71,11 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
   for (const auto& t : fit.value("targets", nlohmann::json::array())) {
     const std::string metric = t.value("metric", std::string());
     const double weight = t.value("weight", 1.0);
-    if (metric == "rms") {
-      targets.push_back({"rms", 0, range, weight, (f.dir / "reference.h5").string(), nullptr});
+    if (metric == "rms") {  // the reference's followed particles only, read frame by frame
+      const fs::path file = f.dir / "reference.h5";
+      targets.push_back(
+          {"rms", 0, range, weight, file.string(),
+           std::make_shared<const Trajectory>(ReadKeepingTracked(file, f.scenario.track))});
       continue;
     }
     const std::optional<double> value = metric == "period"           ? m.period_s
@@ -88,6 +91,22 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
   return targets;
 }
 
+// sgd::EngineSimulator's runs (one thread: evaluations run concurrently; positions only), each
+// keeping only the particles the track follows instead of every frame of every particle.
+sgd::Simulator TrackedSimulator(const FitPhase& f, const std::vector<sgd::Parameter>& parameters) {
+  engine::RunOptions base = RunOptionsFor(f);
+  base.threads = 1;
+  for (const sgd::Parameter& p : parameters)
+    sgd::SetConstant(&base.constants, p.name, p.start);  // an unknown name fails now
+  return [config = f.config, base, parameters,
+          track = f.scenario.track](const std::vector<double>& values) {
+    engine::RunOptions options = base;
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+      sgd::SetConstant(&options.constants, parameters[i].name, values[i]);
+    return RunKeepingTracked(config, options, track);
+  };
+}
+
 }  // namespace
 
 std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) {
@@ -101,7 +120,7 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
   const auto targets = Targets(f, spec, &why);
   if (evidence.parameters.empty() || !targets || targets->empty())
     return why.empty() ? "the manifest's \"fit\" has no parameters or targets" : why;
-  const Track& tracking = f.scenario.track;
+  const Track& tracking = f.scenario.track;  // KeptTrack(tracking) reads the kept particles
   const nlohmann::json targets_json = sgd::TargetsToJson(*targets, tracking);
   const fs::path history = f.dir / "fit" / "history.json";
   sgd::FitOptions options;
@@ -111,10 +130,10 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
     with_targets["targets"] = targets_json;
     WriteFileAtomically(history, with_targets.dump(2) + "\n");
   };
-  sgd::Fit(options, evidence.parameters,
-           sgd::MakeObjective(sgd::EngineSimulator(f.config, RunOptionsFor(f), evidence.parameters),
-                              tracking, *targets),
-           &evidence.summary);
+  sgd::Fit(
+      options, evidence.parameters,
+      sgd::MakeObjective(TrackedSimulator(f, evidence.parameters), KeptTrack(tracking), *targets),
+      &evidence.summary);
   const nlohmann::json j =
       sgd::ToJson(options, evidence.parameters, evidence.summary, targets_json);
   WriteFileAtomically(history, j.dump(2) + "\n");

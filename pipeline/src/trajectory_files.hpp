@@ -36,4 +36,14 @@ TrackedSeries ReadTrackedSeries(const std::filesystem::path& file, const Track& 
 TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
                                const engine::RunOptions& options, const Track& track);
 
+// What a fit needs of a run: every frame of only the particles the track follows (the particle,
+// or its group's members in file order), 12 bytes a followed particle a frame. KeptTrack(track)
+// reads from it the whole trajectory's tracked values, by the same arithmetic.
+Trajectory RunKeepingTracked(const engine::SiberneticConfig& config,
+                             const engine::RunOptions& options, const Track& track);
+// The same from a trajectory file, frame by frame.
+Trajectory ReadKeepingTracked(const std::filesystem::path& file, const Track& track);
+// The track re-pointed at the kept particles (a group is every kept particle).
+Track KeptTrack(const Track& track);
+
 }  // namespace owval::pipeline
