@@ -150,14 +150,10 @@ void Render(Context& c) {
   o.title = c.scenario.name;
   o.tracking = c.scenario.track;
   o.quiet = c.options.quiet;
-  render::VideoSummary video;
-  {
-    const auto reference = OpenQuietly(c.dir / "reference.h5");
-    const auto candidate = OpenQuietly(c.dir / "candidate.h5");
-    video = render::RenderSideBySide(*reference, *candidate, o, c.dir / "sxs.mp4");
-  }
   const auto reference = OpenQuietly(c.dir / "reference.h5");
   const auto candidate = OpenQuietly(c.dir / "candidate.h5");
+  const render::VideoSummary video =
+      render::RenderSideBySide(*reference, *candidate, o, c.dir / "sxs.mp4");
   c.evidence.frames = render::RenderFrames(
       *reference, *candidate, SampleFrames(c, reference->frame_count()), o, c.dir / "frames");
   Done(c, "6 render", true,
