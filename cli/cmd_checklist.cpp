@@ -13,7 +13,7 @@ namespace {
 
 struct ChecklistArgs {
   std::string directory;
-  std::string scenario, manifest, git_range;
+  std::string scenario, manifest, reference, git_range;
   std::string markdown;
   bool json = false;
 };
@@ -29,9 +29,12 @@ void RunChecklistCommand(const ChecklistArgs& a) {
   pipeline::ScenarioReference reference;  // its temporary file lives until the checklist is done
   if (!a.scenario.empty()) {
     reference = pipeline::MakeScenarioReference(a.scenario, DataDir());
-    options.scenario_reference = reference.file;
-    options.scenario_reference_source = reference.source;
+    options.caller_reference = reference.file;
+    options.caller_reference_source = a.scenario + "'s " + reference.source;
     options.scenario_prediction = pipeline::MakeScenarioPrediction(a.scenario, DataDir());
+  } else if (!a.reference.empty()) {
+    options.caller_reference = a.reference;
+    options.caller_reference_source = a.reference;
   }
   const ci::ChecklistReport report = ci::RunChecklist(a.directory, options);
   if (!a.markdown.empty()) WriteFileAtomically(a.markdown, report.ToMarkdown());
@@ -51,8 +54,10 @@ void SetUp(CLI::App& app) {
   cmd->footer(
       "Verdict: ready (exit 0) when all ten items and the parity gate pass; incomplete but not "
       "blocking (exit 0) when only items 7-10 fail; not ready (exit 1) when item 1, 4, 5, 6 or "
-      "the parity gate fails; unreviewable (exit 1) when item 2 or 3 fails. Gate thresholds come "
-      "from --scenario or --manifest (else DD001's defaults), never from the directory itself.");
+      "the parity gate fails; unreviewable (exit 1) when item 2 or 3 fails. Item 2 needs the "
+      "caller's reference (--scenario or --reference): the directory's own could be its "
+      "candidate. Gate thresholds come from --scenario or --manifest (else DD001's defaults), "
+      "never from the directory itself.");
   cmd->add_option("directory", args->directory, "PR artifact directory (see docs/checklist.md)")
       ->required();
   auto* scenario = cmd->add_option("--scenario", args->scenario,
@@ -60,6 +65,10 @@ void SetUp(CLI::App& app) {
                                    "directory's reference must be the scenario's)");
   cmd->add_option("--manifest", args->manifest,
                   "Scenario manifest JSON whose track and gates apply")
+      ->excludes(scenario);
+  cmd->add_option("--reference", args->reference,
+                  "Trajectory the directory's reference must be (another scenario's trusted run, "
+                  "e.g. ../shared/reference/demo1/position_buffer.txt)")
       ->excludes(scenario);
   cmd->add_option("--git-range", args->git_range,
                   "BASE..HEAD: check that prediction.json was committed before the trajectories");

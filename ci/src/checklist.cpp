@@ -28,8 +28,8 @@ struct Evidence {
   // not pick the particle that happens to agree), else the default particle 0 y.
   Track track;
   std::string track_source;
-  // options.scenario_reference, opened before any item (unreadable: InputError, exit 2).
-  std::unique_ptr<FrameSource> scenario_reference;
+  // options.caller_reference, opened before any item (unreadable: InputError, exit 2).
+  std::unique_ptr<FrameSource> caller_reference;
 };
 
 using Check = void (*)(Evidence& e, ChecklistItem* item);
@@ -104,26 +104,26 @@ void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
   if (!item->pass) item->detail += " (expected at least 2 frames)";
 }
 
-// Why the directory's reference is not the scenario's, or empty: the same particles and frame
+// Why the directory's reference is not the caller's, or empty: the same particles and frame
 // times, every position within 1e-3 cu (a text file prints six or seven digits; another run
 // differs by far more).
 // Both are read frame by frame, side by side.
-std::string DifferenceFromScenarioReference(FrameSource& got, FrameSource& scenario) {
+std::string DifferenceFromCallersReference(FrameSource& got, FrameSource& wanted) {
   const Trajectory& header = got.header();
-  const Trajectory& expected = scenario.header();
+  const Trajectory& expected = wanted.header();
   if (header.particle_count() != expected.particle_count())
-    return std::to_string(header.particle_count()) + " particles, the scenario's has " +
+    return std::to_string(header.particle_count()) + " particles, the caller's reference has " +
            std::to_string(expected.particle_count());
   if (header.frame_count() != expected.frame_count())
-    return std::to_string(header.frame_count()) + " frames, the scenario's has " +
+    return std::to_string(header.frame_count()) + " frames, the caller's reference has " +
            std::to_string(expected.frame_count());
   const std::size_t values = 3 * expected.particle_count();
   for (std::size_t f = 0; f < expected.frame_count(); ++f) {
     if (std::abs(header.time_s[f] - expected.time_s[f]) > 1e-9 + 1e-6 * expected.time_s[f])
       return "frame " + std::to_string(f) + " is at " + FormatNumber(header.time_s[f]) +
-             " s, the scenario's at " + FormatNumber(expected.time_s[f]) + " s";
+             " s, the caller's reference at " + FormatNumber(expected.time_s[f]) + " s";
     const FrameRef frame = got.Frame(f);
-    const FrameRef reference = scenario.Frame(f);
+    const FrameRef reference = wanted.Frame(f);
     const float* x = frame.trajectory.position(frame.frame, 0);
     const float* y = reference.trajectory.position(reference.frame, 0);
     for (std::size_t k = 0; k < values; ++k)
@@ -150,21 +150,24 @@ std::string NotReferenceEquivalent(const Trajectory& header) {
 
 void CheckReference(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
-  if (!e.scenario_reference) {  // only the file's own record to go by
+  if (!e.caller_reference) {
+    // The directory's own reference file could be its candidate under another name: without a
+    // reference from the caller, the parity gate would judge the candidate against itself.
+    item->pass = false;
     const std::string why = NotReferenceEquivalent(e.reference->header());
-    if (!why.empty()) item->pass = false;
-    item->detail += why.empty() ? "; that it is the scenario's reference: NOT CHECKED (pass "
-                                  "--scenario NAME)"
-                                : "; not a reference: " + why;
+    item->detail +=
+        "; not checked against a reference of the caller's: pass --scenario NAME or "
+        "--reference FILE" +
+        (why.empty() ? std::string() : " (and its own record says: " + why + ")");
     return;
   }
   if (!item->pass) return;
-  const std::string why = DifferenceFromScenarioReference(*e.reference, *e.scenario_reference);
+  const std::string why = DifferenceFromCallersReference(*e.reference, *e.caller_reference);
   item->pass = why.empty();
   item->detail +=
       why.empty()
-          ? "; the scenario's reference (" + e.options.scenario_reference_source + ")"
-          : "; NOT the scenario's reference (" + e.options.scenario_reference_source + "): " + why;
+          ? "; the caller's reference (" + e.options.caller_reference_source + ")"
+          : "; NOT the caller's reference (" + e.options.caller_reference_source + "): " + why;
 }
 void CheckCandidate(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), e.candidate, item);
@@ -523,8 +526,8 @@ ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& 
              TryOpen(FirstExisting(directory, {"candidate.h5", "candidate.txt"})),
              options.track.value_or(Track{}),
              options.track ? "the caller's, from --scenario or --manifest"
-                           : "the default: give --scenario or --manifest for a scenario's"};
-  if (!options.scenario_reference.empty()) e.scenario_reference = Open(options.scenario_reference);
+                           : "the default: give --scenario or --manifest for a scenario's",
+             options.caller_reference.empty() ? nullptr : Open(options.caller_reference)};
   ChecklistReport r;
   r.directory = directory;
   for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(e, spec));

@@ -40,17 +40,37 @@ TEST(ChecklistUnit, AnEmptyDirectoryIsNotReadyAndSaysWhy) {
   for (const ChecklistItem& i : r.items) EXPECT_FALSE(i.pass) << i.number;
 }
 
+// The caller's reference: one_sprig's bundled Sibernetic run.
+ChecklistOptions WithReference() {
+  ChecklistOptions options;
+  options.caller_reference = kOneSprig;
+  options.caller_reference_source = kOneSprig.string();
+  return options;
+}
+
 TEST(ChecklistUnit, IdenticalTrajectoriesPassParityButMissingEvidenceBlocks) {
   const fs::path dir = Fresh("identical");
   fs::copy_file(kOneSprig, dir / "reference.txt");
   fs::copy_file(kOneSprig, dir / "candidate.txt");
-  const ChecklistReport r = RunChecklist(dir);
+  const ChecklistReport r = RunChecklist(dir, WithReference());
   ASSERT_TRUE(r.parity);
   EXPECT_TRUE(r.parity_pass());
   EXPECT_TRUE(Item(r, 2).pass);   // the reference trajectory
   EXPECT_TRUE(Item(r, 3).pass);   // the candidate trajectory
   EXPECT_FALSE(Item(r, 1).pass);  // no prediction.json: blocking
   EXPECT_EQ(r.verdict, Verdict::kNotReady);
+}
+
+// The same directory without a reference of the caller's: nothing says reference.txt is not the
+// candidate under another name.
+TEST(ChecklistUnit, WithoutTheCallersReferenceItemTwoFails) {
+  const fs::path dir = Fresh("no_callers_reference");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  const ChecklistReport r = RunChecklist(dir);
+  EXPECT_FALSE(Item(r, 2).pass);
+  EXPECT_NE(Item(r, 2).detail.find("--reference FILE"), std::string::npos) << Item(r, 2).detail;
+  EXPECT_EQ(r.verdict, Verdict::kUnreviewable);
 }
 
 TEST(ChecklistUnit, AMalformedPredictionFailsItemOneNamingTheField) {

@@ -46,8 +46,18 @@ class Checklist : public ::testing::Test {
     return d;
   }
 
+  // The checklist's report on dir, judged against the ready run's reference (one_sprig's
+  // bundled Sibernetic run) unless FLAGS name the scenario.
   static nlohmann::json Judge(const fs::path& dir, int expected_exit,
                               const std::string& flags = "") {
+    const bool scenario = flags.find("--scenario") != std::string::npos;
+    return JudgeAlone(
+        dir, expected_exit,
+        flags + (scenario ? "" : " --reference " + (Ready() / "reference.h5").string()));
+  }
+  // The same with only FLAGS: no reference of the caller's unless they give one.
+  static nlohmann::json JudgeAlone(const fs::path& dir, int expected_exit,
+                                   const std::string& flags = "") {
     const Result r = Owval("checklist " + dir.string() + " --json " + flags);
     EXPECT_EQ(r.exit_code, expected_exit) << r.out << r.err;
     return nlohmann::json::parse(r.out);
@@ -93,8 +103,43 @@ TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
   EXPECT_TRUE(j["parity"]["pass"].get<bool>());
   // Item 1's order cannot be seen in a plain directory, and the report says so.
   EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("NOT CHECKED"), std::string::npos);
-  // Nor, without a scenario, whose reference it is.
-  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("NOT CHECKED"), std::string::npos);
+  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("the caller's reference"),
+            std::string::npos)
+      << j["items"][1].dump();
+}
+
+// Without --scenario or --reference nothing says the directory's reference is the reference:
+// item 2 fails and names the two flags.
+TEST_F(Checklist, WithoutTheCallersReferenceItIsUnreviewable) {
+  const auto j = JudgeAlone(Ready(), 1);
+  EXPECT_EQ(j["verdict"], "unreviewable");
+  EXPECT_FALSE(ItemPasses(j, 2));
+  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("--scenario NAME or --reference FILE"),
+            std::string::npos)
+      << j["items"][1].dump();
+}
+
+// A failing candidate (k = 3.3e8) copied over the reference as text, which carries no record of
+// what made it, with frames, video and prediction made from the pair: everything agrees with
+// everything, and only the caller's reference tells.
+TEST_F(Checklist, ACandidateCopiedOverTheReferenceIsUnreviewable) {
+  const fs::path d = Copy("copied_reference");
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"candidate.h5"}));
+  fs::remove(d / "reference.h5");
+  ASSERT_EQ(Owval("convert " + (d / "candidate.h5").string() + " " + (d / "reference.txt").string())
+                .exit_code,
+            0);
+  fs::remove_all(d / "frames");
+  ASSERT_EQ(Owval("frames " + (d / "reference.txt").string() + " " + (d / "candidate.h5").string() +
+                  " --at 0,15,100,200 -o " + (d / "frames").string())
+                .exit_code,
+            0);
+  EXPECT_EQ(JudgeAlone(d, 1)["verdict"], "unreviewable");
+  const auto j = Judge(d, 1);
+  EXPECT_EQ(j["verdict"], "unreviewable");
+  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("NOT the caller's reference"),
+            std::string::npos)
+      << j["items"][1].dump();
 }
 
 TEST_F(Checklist, Item1FailsOnAnEmptyPrediction) {
@@ -188,7 +233,7 @@ TEST_F(Checklist, Item4FailsOnADamagedVideo) {
     const std::string zeros(5000, '\0');
     video.write(zeros.data(), std::streamsize(zeros.size()));
   }
-  const Result r = Owval("checklist " + d.string() + " --json");
+  const Result r = Owval("checklist " + d.string() + " --json --scenario one_sprig");
   EXPECT_EQ(r.exit_code, 1);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_FALSE(ItemPasses(j, 4));
@@ -296,8 +341,8 @@ TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
   const fs::path d = Copy("own_reference");
   ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"reference.h5", "candidate.h5"}));
   ASSERT_NO_FATAL_FAILURE(Reframe(d));
-  // Without a scenario, the reference's own record gives it away: changed constants.
-  const auto own = Judge(d, 1);
+  // Without the caller's reference, the report also repeats the file's own record.
+  const auto own = JudgeAlone(d, 1);
   EXPECT_EQ(own["verdict"], "unreviewable");
   EXPECT_NE(own["items"][1]["detail"].get<std::string>().find("not reference-equivalent"),
             std::string::npos)
@@ -305,8 +350,9 @@ TEST_F(Checklist, WithAScenarioTheReferenceMustBeTheScenarios) {
   const auto j = Judge(d, 1, "--scenario one_sprig");
   EXPECT_EQ(j["verdict"], "unreviewable");
   EXPECT_FALSE(ItemPasses(j, 2));
-  EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("NOT the scenario's reference"),
-            std::string::npos)
+  EXPECT_NE(
+      j["items"][1]["detail"].get<std::string>().find("NOT the caller's reference (one_sprig's"),
+      std::string::npos)
       << j["items"][1].dump();
 }
 

@@ -143,15 +143,15 @@ TEST(CliPipeline, OneSprigProducesAReadyDirectoryAndMissingVideoMakesItNotReady)
   for (const char* f :
        {"prediction.json", "reference.h5", "candidate.h5", "sxs.mp4", "frames/frames.json",
         "fit/history.json", "fd_tests.json", "parameters.json", "changes.md", "reconcile.json",
-        "index.html", "index.md", "parity.json"})
+        "index.html", "index.md", "parity.json", "scenario"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
-  const Result ready = Owval("checklist " + dir.string() + " --json");
+  const Result ready = Owval("checklist " + dir.string() + " --json --scenario one_sprig");
   EXPECT_EQ(ready.exit_code, 0);
   const auto verdict = nlohmann::json::parse(ready.out);
   EXPECT_EQ(verdict["verdict"], "ready");
   for (const auto& item : verdict["items"]) EXPECT_TRUE(item["pass"].get<bool>()) << item.dump();
   fs::remove(dir / "sxs.mp4");
-  const Result missing = Owval("checklist " + dir.string());
+  const Result missing = Owval("checklist " + dir.string() + " --scenario one_sprig");
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.out.find("not ready"), std::string::npos) << missing.out;
 }

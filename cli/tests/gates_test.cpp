@@ -38,7 +38,8 @@ TEST(Gates, PipelineWithAStifferSpringCandidateIsNotReadyNamingItem5AndParity) {
                            "--candidate " + OneSprigRun("3.3e8").string());
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_NE(run.out.find("not ready"), std::string::npos) << run.out;
-  const Result check = Owval("checklist " + dir.string() + " --json");
+  const Result check =
+      Owval("checklist " + dir.string() + " --json --reference " + (dir / "reference.h5").string());
   EXPECT_EQ(check.exit_code, 1);
   const auto j = nlohmann::json::parse(check.out);
   EXPECT_EQ(j["verdict"], "not ready");

@@ -179,8 +179,8 @@ void Checklist(Context& c) {
   ci::ChecklistOptions o;
   o.gates = c.scenario.gates;
   o.track = c.scenario.track;
-  o.scenario_reference = c.scenario_reference;
-  o.scenario_reference_source = c.evidence.reference_source;
+  o.caller_reference = c.scenario_reference;
+  o.caller_reference_source = c.scenario.name + "'s " + c.evidence.reference_source;
   o.scenario_prediction = c.prediction;
   c.summary->checklist = ci::RunChecklist(c.dir, o);
   c.summary->checklist.directory = c.options.out_dir;  // where it lands, not the temporary
@@ -191,6 +191,9 @@ void Checklist(Context& c) {
 }
 
 void WriteDocuments(Context& c) {
+  // The checklist bot's `--scenario` (.github/workflows/checklist.yml reads it): the reference
+  // the pull request is judged against is this built-in scenario's, not the directory's.
+  WriteFileAtomically(c.dir / "scenario", c.scenario.name + "\n");
   const reports::Document index = reports::PipelineIndex(c.evidence);
   WriteFileAtomically(c.dir / "index.md", index.Markdown());
   WriteFileAtomically(c.dir / "index.html", index.Html());

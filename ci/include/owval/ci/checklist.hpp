@@ -26,12 +26,13 @@ struct ChecklistOptions {
   // empty: particle 0 y. Never frames/frames.json's: a pull request cannot choose the particle
   // that happens to agree (frames.json must label this track, else item 5 fails).
   std::optional<Track> track;
-  // The scenario's own reference, a trajectory file, when the caller names a scenario
-  // (pipeline::MakeScenarioReference): item 2 holds the directory's reference to it, frame for
-  // frame (both read frame by frame), else a pull request could judge its candidate against a
-  // reference of its own making. Empty: no scenario.
-  std::filesystem::path scenario_reference;
-  std::string scenario_reference_source;  // what it is, for the report
+  // The caller's reference, a trajectory file: a named scenario's own
+  // (pipeline::MakeScenarioReference) or one the caller trusts (--reference). Item 2 holds the
+  // directory's reference to it, frame for frame (both read frame by frame). Empty: item 2
+  // fails, since a pull request could judge its candidate against a reference of its own making
+  // (its candidate under another name).
+  std::filesystem::path caller_reference;
+  std::string caller_reference_source;  // what it is, for the report
   // The scenario's own prediction (its predictor on its configuration), when the caller names a
   // scenario: item 10 reconciles with its tolerances and needs its gated quantities and track,
   // so prediction.json cannot loosen or drop what it is judged on.
@@ -53,7 +54,7 @@ enum class Verdict {
   kReady,         // all ten items and the parity gate pass
   kIncomplete,    // only items 7-10 missing or failing: not blocking
   kNotReady,      // item 1, 4, 5 or 6 missing or failing, or the parity gate fails
-  kUnreviewable,  // item 2 or 3 missing or failing
+  kUnreviewable,  // item 2 or 3 missing or failing (item 2 also without the caller's reference)
 };
 const char* VerdictName(Verdict verdict);
 
