@@ -10,19 +10,30 @@
 namespace owval::engine::internal {
 namespace {
 
-// One group's rows, one per lane: each slot's push (λ updated), summed slot by slot from +0.
+// LoadPoints for the points at points + offset[l], each offset three times the point's index:
+// one indexed load a point, where LoadPoints' 3·index takes two more instructions.
+__attribute__((target("avx2,fma"))) inline void LoadPointsAt(const float* points,
+                                                             const std::int32_t* offset, __m256* x,
+                                                             __m256* y, __m256* z) {
+  const float* at[8];
+  for (int l = 0; l < 8; ++l) at[l] = points + offset[l];
+  LoadPoints(at, x, y, z);
+}
+
+// One group's rows, one per lane: each slot's push (λ updated unless `keep_lambda` is false:
+// a substep's only pass, whose λ nothing reads), summed slot by slot from +0.
 __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
-    const float* start, const std::int32_t* lane_particle, const std::int32_t* partner,
+    const float* start, const std::int32_t* lane_offset, const std::int32_t* partner_offset,
     std::size_t first, std::size_t last, const float* rest_cu, const float* alpha_tilde,
-    float* lambda, bool first_pass, float sum[3][8]) {
+    float* lambda, bool first_pass, bool keep_lambda, float sum[3][8]) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
   const __m256 sign = _mm256_set1_ps(-0.0f);
   __m256 ax, ay, az;
-  LoadPoints(start, lane_particle, &ax, &ay, &az);
+  LoadPointsAt(start, lane_offset, &ax, &ay, &az);
   __m256 sx = zero, sy = zero, sz = zero;
   for (std::size_t s = first; s < last; s += 8) {
     __m256 bx, by, bz;
-    LoadPoints(start, partner + s, &bx, &by, &bz);
+    LoadPointsAt(start, partner_offset + s, &bx, &by, &bz);
     const __m256 dx = _mm256_sub_ps(ax, bx), dy = _mm256_sub_ps(ay, by), dz = _mm256_sub_ps(az, bz);
     // Norm: (d0·d0 + d1·d1) + d2·d2, each product rounded.
     const __m256 length = _mm256_sqrt_ps(_mm256_add_ps(
@@ -35,8 +46,9 @@ __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
     const __m256 numerator = _mm256_sub_ps(_mm256_xor_ps(_mm256_sub_ps(length, rest), sign),
                                            _mm256_mul_ps(alpha, old_lambda));
     const __m256 dlambda = _mm256_div_ps(numerator, _mm256_add_ps(one, alpha));
-    _mm256_storeu_ps(lambda + s,
-                     _mm256_blendv_ps(old_lambda, _mm256_add_ps(old_lambda, dlambda), taken));
+    if (keep_lambda)
+      _mm256_storeu_ps(lambda + s,
+                       _mm256_blendv_ps(old_lambda, _mm256_add_ps(old_lambda, dlambda), taken));
     const __m256 step = _mm256_div_ps(dlambda, length);
     sx = _mm256_add_ps(sx, _mm256_and_ps(taken, _mm256_mul_ps(step, dx)));
     sy = _mm256_add_ps(sy, _mm256_and_ps(taken, _mm256_mul_ps(step, dy)));
@@ -69,7 +81,7 @@ BondLanes::BondLanes(const std::vector<Bond>& bonds, const std::vector<std::size
   group_slot_.push_back(slot_bond_.size());
   alpha_tilde_.assign(slot_bond_.size(), -1.0f);
   lambda_.assign(slot_bond_.size(), 0.0f);
-  for (std::int32_t i : lane_particle_) lane_point_.push_back(std::max(0, i));
+  for (std::int32_t i : lane_particle_) lane_offset_.push_back(3 * std::max(0, i));
 }
 
 // Rows `order` (indices into row_first) as groups of eight, longest rows first.
@@ -94,7 +106,8 @@ void BondLanes::AddGroups(const std::vector<Bond>& bonds, const std::vector<std:
         const bool used = k < lane_length[l];
         const std::size_t b = lane_first[l] + k;
         slot_bond_.push_back(used ? std::int32_t(b) : -1);
-        slot_partner_.push_back(used ? bonds[b].partner : std::max(0, lane_particle_.back()));
+        slot_partner_offset_.push_back(
+            3 * (used ? bonds[b].partner : std::max(0, lane_particle_.back())));
         rest_cu_.push_back(used ? bonds[b].rest_cu : 0.0f);
       }
   }
@@ -108,11 +121,12 @@ void BondLanes::SetCompliance(const float* alpha_tilde) {
 void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first,
                      std::size_t first_group, std::size_t last_group) {
   static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "points are three packed floats");
+  const bool keep_lambda = !(first && p == nullptr);  // a later pass reads λ
   for (std::size_t g = first_group; g < last_group; ++g) {
     float sum[3][kLanes];
-    GroupPushesAvx2(start[0].data(), &lane_point_[g * kLanes], slot_partner_.data(), group_slot_[g],
-                    group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(), lambda_.data(), first,
-                    sum);
+    GroupPushesAvx2(start[0].data(), &lane_offset_[g * kLanes], slot_partner_offset_.data(),
+                    group_slot_[g], group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(),
+                    lambda_.data(), first, keep_lambda, sum);
     for (int l = 0; l < kLanes; ++l) {
       const std::int32_t i = lane_particle_[g * kLanes + std::size_t(l)];
       if (i < 0) continue;
@@ -170,6 +184,40 @@ __attribute__((target("avx2,fma"))) void UpdateVelocityAvx2(std::size_t values, 
     const float position = x[k] + move;
     remainder[k] = move - (position - x[k]);
     x[k] = p[k] = position;
+  }
+}
+
+__attribute__((target("avx2,fma"))) void UpdateAndPredictAvx2(
+    std::size_t values, float h, float to_cu, float scale, const float* correction,
+    const float* acceleration, float* v, float* x, float* remainder, float* p_copy) {
+  const __m256 hv = _mm256_set1_ps(h), to_cu_v = _mm256_set1_ps(to_cu),
+               scale_v = _mm256_set1_ps(scale);
+  std::size_t k = 0;
+  for (; k + 8 <= values; k += 8) {
+    const __m256 change =
+        _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(correction + k), scale_v), hv);
+    const __m256 velocity = _mm256_add_ps(_mm256_loadu_ps(v + k), change);
+    const __m256 start = _mm256_loadu_ps(x + k);
+    const __m256 move = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v),
+                                      _mm256_loadu_ps(remainder + k));
+    const __m256 position = _mm256_add_ps(start, move);
+    _mm256_storeu_ps(remainder + k, _mm256_sub_ps(move, _mm256_sub_ps(position, start)));
+    _mm256_storeu_ps(x + k, position);
+    const __m256 next_velocity =
+        _mm256_add_ps(velocity, _mm256_mul_ps(hv, _mm256_loadu_ps(acceleration + k)));
+    _mm256_storeu_ps(v + k, next_velocity);
+    _mm256_storeu_ps(
+        p_copy + k,
+        _mm256_add_ps(position, _mm256_mul_ps(_mm256_mul_ps(hv, next_velocity), to_cu_v)));
+  }
+  for (; k < values; ++k) {
+    v[k] = v[k] + correction[k] * scale / h;
+    const float move = h * v[k] * to_cu + remainder[k];
+    const float position = x[k] + move;
+    remainder[k] = move - (position - x[k]);
+    x[k] = position;
+    v[k] += h * acceleration[k];
+    p_copy[k] = x[k] + h * v[k] * to_cu;
   }
 }
 

@@ -45,7 +45,8 @@ class BondLanes {
   // correction[particle] (set to it on the first pass), the substep's sum of pushes unrounded by
   // p's ulp, and to p[particle] unless p is null (a substep's last pass: nothing reads it). The
   // first pass of a substep's solve reads λ = 0 for every bond (no reset needed); later passes read
-  // the λ the previous one left. Needs AVX2 and FMA (UseAvx2() or UseAvx512()).
+  // the λ the previous one left (a pass that is both first and last stores none). Needs AVX2 and
+  // FMA (UseAvx2() or UseAvx512()).
   void Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first) {
     Pass(start, p, correction, first, 0, groups());
   }
@@ -66,12 +67,13 @@ class BondLanes {
   void AddGroups(const std::vector<Bond>& bonds, const std::vector<std::size_t>& row_first,
                  std::vector<std::size_t>* rows);
 
-  std::vector<std::size_t> part_group_;      // part t's groups: [part_group_[t], [t + 1])
-  std::vector<std::int32_t> slot_bond_;      // per slot: the bond, or −1
-  std::vector<std::int32_t> slot_partner_;   // per slot: the partner (the row's particle if none)
-  std::vector<std::int32_t> lane_particle_;  // per group lane: the row's particle, or −1
-  std::vector<std::int32_t> lane_point_;     // the same with −1 as 0 (a point to load)
-  std::vector<std::size_t> group_slot_;      // group g's slots: [group_slot_[g], [g + 1])
+  std::vector<std::size_t> part_group_;            // part t's groups: [part_group_[t], [t + 1])
+  std::vector<std::int32_t> slot_bond_;            // per slot: the bond, or −1
+  std::vector<std::int32_t> slot_partner_offset_;  // per slot: 3 × the partner (or the row's
+                                                   // particle if none), its x's float in p
+  std::vector<std::int32_t> lane_particle_;        // per group lane: the row's particle, or −1
+  std::vector<std::int32_t> lane_offset_;  // 3 × the lane's particle, −1 as 0 (a point to load)
+  std::vector<std::size_t> group_slot_;    // group g's slots: [group_slot_[g], [g + 1])
   std::vector<float> rest_cu_, alpha_tilde_, lambda_;
 };
 
@@ -93,5 +95,11 @@ void PredictAvx2(std::size_t values, float h, float to_cu, const float* accelera
                  const float* x, float* p, float* p_copy);
 void UpdateVelocityAvx2(std::size_t values, float h, float to_cu, float scale,
                         const float* correction, float* v, float* x, float* p, float* remainder);
+// UpdateVelocityAvx2 then PredictAvx2 for the next substep in one sweep, each value's operations
+// the two functions' in their order, without writing p (a substep with one pass reads only its
+// start positions, `p_copy`; the substeps' last update writes p).
+void UpdateAndPredictAvx2(std::size_t values, float h, float to_cu, float scale,
+                          const float* correction, const float* acceleration, float* v, float* x,
+                          float* remainder, float* p_copy);
 
 }  // namespace owval::engine::internal

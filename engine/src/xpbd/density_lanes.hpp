@@ -18,6 +18,10 @@ struct DensityLanes {
   const Neighbour* neighbours;  // kSlots per particle, empty slots (−1) at the end
   const std::int32_t* moving;   // per particle: −1 moving, 0 fixed
   DensityKernel<float> kernel;
+  // The moving particles [moving_first, moving_end) when they are one block of the
+  // configuration (a neighbour is then tested by two compares), or moving_end = moving_first
+  // (the table `moving` is gathered).
+  std::int32_t moving_first = 0, moving_end = 0;
 };
 
 // A group's record per slot, kRecord floats: the lanes' neighbours as ints (the index of a

@@ -202,7 +202,8 @@ void Xpbd<T>::Step() {
       BondComplianceOf(h);
       for (int pass = 0; pass < m; ++pass) {
         if (bond_shares_.empty()) {
-          for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
+          if (!BondSubstepsInLanes(h, inner))
+            for (int substep = 0; substep < inner; ++substep) BondSubstep(h);
         } else {
           SharedBondSubsteps(h, inner);
         }
@@ -221,9 +222,11 @@ void Xpbd<T>::Step() {
 // the positions' change.
 template <typename T>
 void Xpbd<T>::Substep(T h) {
-  for (std::int32_t i : state_.moving) wall_normal_[i] = {0, 0, 0};
+  for (std::int32_t i : state_.moving) {  // only moving particles' λ are read
+    wall_normal_[i] = {0, 0, 0};
+    density_lambda_[i] = 0;
+  }
   Predict(h);
-  std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
   std::fill(bond_lambda_.begin(), bond_lambda_.end(), T(0));
   for (int pass = 0; pass < parameters_.iterations; ++pass) {
     ProjectDensity(h);
@@ -354,13 +357,45 @@ bool Xpbd<T>::BondSubstepInLanes(T h, T to_cu, T scale, bool predict) {
   }
 }
 
+// The split scheme's `substeps` bond substeps of h as BondSubstep computes them in lanes, when
+// the float solver has them, the moving particles are one block and a substep has one pass (the
+// default): each substep's velocity update and the next one's prediction in one sweep of the
+// particles (UpdateAndPredictAvx2: the same operations on each value), and p written by the
+// last update only (a one-pass substep reads its start positions, never p). False otherwise.
+template <typename T>
+bool Xpbd<T>::BondSubstepsInLanes(T h, int substeps) {
+  if constexpr (!std::is_same_v<T, float>) {
+    return false;
+  } else {
+    if (!bond_lanes_ || !moving_block_ || parameters_.iterations != 1 || substeps < 1) return false;
+    const float to_cu = 1.0f / float(k_.scale), scale = float(k_.scale);
+    const std::size_t first = std::size_t(state_.moving.front()), values = 3 * state_.moving.size();
+    float *v = v_[first].data(), *x = x_[first].data(), *p = p_[first].data();
+    float *start = bond_start_[first].data(), *remainder = position_remainder_[first].data();
+    const float *acceleration = held_acceleration_.front().data(),
+                *correction = bond_correction_[first].data();
+    PredictAvx2(values, h, to_cu, acceleration, v, x, p, start);
+    for (int substep = 0; substep < substeps; ++substep) {
+      bond_lanes_->Pass(bond_start_.data(), nullptr, bond_correction_.data(), true);
+      if (substep + 1 < substeps)
+        UpdateAndPredictAvx2(values, h, to_cu, scale, correction, acceleration, v, x, remainder,
+                             start);
+      else
+        UpdateVelocityAvx2(values, h, to_cu, scale, correction, v, x, p, remainder);
+    }
+    return true;
+  }
+}
+
 // The split scheme's correction over H = dt/m: the density constraints (compliance α/H², as
 // PBF projects them once per step [MM13]) and the walls on the bond substeps' positions, the
 // correction's displacement added to the velocity as Δp·s/H, then the contact velocity pass.
 template <typename T>
 void Xpbd<T>::Correct(T H) {
-  for (std::int32_t i : state_.moving) wall_normal_[i] = {0, 0, 0};
-  std::fill(density_lambda_.begin(), density_lambda_.end(), T(0));
+  for (std::int32_t i : state_.moving) {  // only moving particles' λ are read
+    wall_normal_[i] = {0, 0, 0};
+    density_lambda_[i] = 0;
+  }
   for (int pass = 0; pass < parameters_.iterations; ++pass) {
     ProjectDensity(H);
     ProjectBoundaries();
@@ -493,8 +528,9 @@ void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
     lane_slots_.resize(groups);
     const std::int32_t last = std::int32_t(p_.size()) - 1;
     const float last_point[4] = {p_[last][0], p_[last][1], p_[last][2], 0.0f};
-    const DensityLanes in{p_[0].data(),   last,   last_point, state_.neighbours.data(),
-                          moving_.data(), kernel_};
+    DensityLanes in{p_[0].data(),   last,   last_point, state_.neighbours.data(),
+                    moving_.data(), kernel_};
+    if (moving_block_) in.moving_first = moving.front(), in.moving_end = moving.back() + 1;
     const auto lanes_of = [&](std::size_t g, std::int32_t particle[8]) {
       const std::size_t lanes = std::min<std::size_t>(8, moving.size() - 8 * g);
       for (std::size_t l = 0; l < 8; ++l) particle[l] = moving[8 * g + std::min(l, lanes - 1)];

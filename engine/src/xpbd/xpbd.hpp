@@ -115,6 +115,7 @@ class Xpbd final : public Solver {
   void ShareBondSubsteps();
   void SharedBondSubsteps(T h, int substeps);
   bool BondSubstepInLanes(T h, T to_cu, T scale, bool predict);
+  bool BondSubstepsInLanes(T h, int substeps);
   void Correct(T h);
   void Predict(T h);
   void ProjectDensity(T h);
