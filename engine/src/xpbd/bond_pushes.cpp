@@ -22,7 +22,7 @@ __attribute__((target("avx2,fma"))) inline void LoadPointsAt(const float* points
 
 // One group's rows, one per lane: each slot's push (λ updated unless `keep_lambda` is false:
 // a substep's only pass, whose λ nothing reads), summed slot by slot from +0.
-__attribute__((target("avx2,fma"))) void GroupPushesAvx2(
+__attribute__((target("avx2,fma"))) inline void GroupPushesAvx2(
     const float* start, const std::int32_t* lane_offset, const std::int32_t* partner_offset,
     std::size_t first, std::size_t last, const float* rest_cu, const float* alpha_tilde,
     float* lambda, bool first_pass, bool keep_lambda, float sum[3][8]) {
@@ -57,6 +57,41 @@ __attribute__((target("avx2,fma"))) void GroupPushesAvx2(
   _mm256_storeu_ps(sum[0], sx);
   _mm256_storeu_ps(sum[1], sy);
   _mm256_storeu_ps(sum[2], sz);
+}
+
+// Pass's groups [first_group, last_group) in one function with the vector code, so that each
+// group's sums go from registers straight to its particles' corrections.
+struct Groups {
+  const float* start;
+  const std::int32_t *lane_particle, *lane_offset, *partner_offset;
+  const std::size_t* group_slot;
+  const float *rest_cu, *alpha_tilde;
+  float* lambda;
+};
+
+__attribute__((target("avx2,fma"))) void PassGroupsAvx2(const Groups& in, Vec3<float>* p,
+                                                        Vec3<float>* correction, bool first,
+                                                        std::size_t first_group,
+                                                        std::size_t last_group) {
+  constexpr std::size_t kLanes = BondLanes::kLanes;
+  const bool keep_lambda = !(first && p == nullptr);  // a later pass reads λ
+  for (std::size_t g = first_group; g < last_group; ++g) {
+    float sum[3][kLanes];
+    GroupPushesAvx2(in.start, &in.lane_offset[g * kLanes], in.partner_offset, in.group_slot[g],
+                    in.group_slot[g + 1], in.rest_cu, in.alpha_tilde, in.lambda, first, keep_lambda,
+                    sum);
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const std::int32_t i = in.lane_particle[g * kLanes + l];
+      if (i < 0) continue;
+      if (first) {
+        correction[i] = {sum[0][l], sum[1][l], sum[2][l]};
+      } else {
+        for (int a = 0; a < 3; ++a) correction[i][a] = correction[i][a] + sum[a][l];
+      }
+      if (p != nullptr)
+        for (int a = 0; a < 3; ++a) p[i][a] += sum[a][l];
+    }
+  }
 }
 
 }  // namespace
@@ -121,21 +156,10 @@ void BondLanes::SetCompliance(const float* alpha_tilde) {
 void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* correction, bool first,
                      std::size_t first_group, std::size_t last_group) {
   static_assert(sizeof(Vec3<float>) == 3 * sizeof(float), "points are three packed floats");
-  const bool keep_lambda = !(first && p == nullptr);  // a later pass reads λ
-  for (std::size_t g = first_group; g < last_group; ++g) {
-    float sum[3][kLanes];
-    GroupPushesAvx2(start[0].data(), &lane_offset_[g * kLanes], slot_partner_offset_.data(),
-                    group_slot_[g], group_slot_[g + 1], rest_cu_.data(), alpha_tilde_.data(),
-                    lambda_.data(), first, keep_lambda, sum);
-    for (int l = 0; l < kLanes; ++l) {
-      const std::int32_t i = lane_particle_[g * kLanes + std::size_t(l)];
-      if (i < 0) continue;
-      for (int a = 0; a < 3; ++a)
-        correction[i][a] = first ? sum[a][l] : correction[i][a] + sum[a][l];
-      if (p != nullptr)
-        for (int a = 0; a < 3; ++a) p[i][a] += sum[a][l];
-    }
-  }
+  const Groups in{
+      start[0].data(),    lane_particle_.data(), lane_offset_.data(), slot_partner_offset_.data(),
+      group_slot_.data(), rest_cu_.data(),       alpha_tilde_.data(), lambda_.data()};
+  PassGroupsAvx2(in, p, correction, first, first_group, last_group);
 }
 
 __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h, float to_cu,
