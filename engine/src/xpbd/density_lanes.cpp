@@ -41,8 +41,9 @@ __attribute__((target("avx2,fma"))) void Slot(const DensityLanes& in, __m256i sl
   *moving = _mm256_castsi256_ps(_mm256_and_si256(yes, moving_j));
 }
 
-__attribute__((target("avx2,fma"))) void Load(const DensityLanes& in, const std::int32_t index[8],
-                                              __m256* x, __m256* y, __m256* z) {
+__attribute__((target("avx2,fma"))) inline void Load(const DensityLanes& in,
+                                                     const std::int32_t index[8], __m256* x,
+                                                     __m256* y, __m256* z) {
   const float* at[8];
   for (int l = 0; l < 8; ++l)
     at[l] = index[l] == in.last ? in.last_point : in.points + 3 * std::size_t(index[l]);
