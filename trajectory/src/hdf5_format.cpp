@@ -17,6 +17,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/contained.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/input_file.hpp"
 #include "owval/base/mapped_file.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -259,6 +260,25 @@ void CheckFinite(const char* dataset, std::size_t first, const std::string& path
                          " is not finite (NaN or Inf)");
 }
 
+// A code KindOf would read as boundary though Sibernetic knows no such particle (1.4e6, 0, -3).
+void CheckTypeCodes(const std::vector<float>& type, const std::string& path) {
+  const auto bad = std::find_if_not(type.begin(), type.end(), IsSiberneticTypeCode);
+  if (bad != type.end())
+    throw InputError(path, 0,
+                     "HDF5: /type row " + std::to_string(bad - type.begin()) + " is " +
+                         FormatNumber(*bad) + ": " + kExpectedTypeCode);
+}
+
+// Names the frame, particle and coordinate of the first non-finite position.
+void CheckFinitePositions(const Trajectory& t, const std::string& path) {
+  const std::size_t first = FirstNonFinite(t.positions);
+  if (first == std::string::npos) return;
+  const std::size_t particles = t.particle_count();
+  throw InputError(path, 0,
+                   internal::NonFinitePositionMessage(first / (particles * 3),
+                                                      first / 3 % particles, first % 3));
+}
+
 }  // namespace
 
 namespace {
@@ -300,6 +320,13 @@ Trajectory ReadHdf5InProcess(const std::string& name, std::uintmax_t file_bytes,
 
 namespace internal {
 
+std::string NonFinitePositionMessage(std::size_t frame, std::size_t particle,
+                                     std::size_t coordinate) {
+  const char axis[] = {"xyz"[coordinate % 3], '\0'};
+  return "HDF5: /positions of frame " + std::to_string(frame) + ", particle " +
+         std::to_string(particle) + " (" + axis + ") is not finite (NaN or Inf)";
+}
+
 void DryRunHdf5Contained(const std::string& path) {
   const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   SilenceHdf5Errors();
@@ -312,6 +339,7 @@ Trajectory ReadHdf5Metadata(const std::string& path) {
   const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
   CheckFinite("type", FirstNonFinite(t.type), path);
+  CheckTypeCodes(t.type, path);
   CheckFinite("time", FirstNonFinite(t.time_s), path);
   return t;
 }
@@ -328,8 +356,9 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
   internal::DryRunHdf5Contained(name);
   Trajectory t = ReadHdf5InProcess(name, std::filesystem::file_size(path), false);
   CheckFinite("type", FirstNonFinite(t.type), name);
+  CheckTypeCodes(t.type, name);
   CheckFinite("time", FirstNonFinite(t.time_s), name);
-  CheckFinite("positions", FirstNonFinite(t.positions), name);
+  CheckFinitePositions(t, name);
   return t;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::internal {
@@ -118,6 +119,15 @@ class TextCursor {
   std::string name_;
   std::size_t line_;
 };
+
+// A row's type code, on every row (later frames' too): Sibernetic's 1.x, 2.x or 3.x only. KindOf
+// would read 1.4e6 as boundary, and 1e30 as a boundary particle the header did not count.
+inline float ReadTypeCode(TextCursor& in) {
+  const float type = in.Number<float>("particle type");
+  if (!IsSiberneticTypeCode(type))
+    in.Fail("particle type " + FormatNumber(type) + ": " + kExpectedTypeCode);
+  return type;
+}
 
 struct Header {
   Box box;

@@ -157,7 +157,7 @@ struct Row {
 Row ParseRow(TextCursor& in) {
   Row r{};
   r.x = in.Number<float>("x"), r.y = in.Number<float>("y"), r.z = in.Number<float>("z");
-  r.type = in.Number<float>("particle type");
+  r.type = ReadTypeCode(in);
   in.EndOfLine("particle type");
   return r;
 }

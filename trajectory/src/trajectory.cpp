@@ -14,6 +14,8 @@ ParticleKind KindOf(float type_code) {
   return ParticleKind::kBoundary;
 }
 
+bool IsSiberneticTypeCode(float type_code) { return type_code >= 1.0f && type_code < 4.0f; }
+
 const char* KindName(ParticleKind kind) {
   switch (kind) {
     case ParticleKind::kLiquid:

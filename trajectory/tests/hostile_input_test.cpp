@@ -18,8 +18,10 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval {
 namespace {
@@ -106,10 +108,35 @@ TEST(HostileText, RefusesANanTimeStep) {
 }
 
 TEST(HostileText, AHugeTypeCodeIsNotCastToInt) {
-  // 1e30 is finite: it reads as a boundary code (C truncation has no answer), and the counts
-  // then disagree with the header.
-  EXPECT_NE(ParseError(Header("0\n1\n0\n") + "1\t2\t3\t1e30\n").find("wrong particle counts"),
-            std::string::npos);
+  // 1e30 is finite: it is refused where it is read (C truncation has no answer).
+  EXPECT_EQ(ParseError(Header("0\n1\n0\n") + "1\t2\t3\t1e30\n"),
+            "pb.txt:12: particle type 1e+30: expected a type 1.x (liquid), 2.x (elastic) or 3.x "
+            "(boundary)");
+}
+
+// A type of 1.4e6 (or 0, or -3) was read as boundary, and passed when the header counted it so;
+// Sibernetic knows 1.x, 2.x and 3.x only. Refused in the first frame and in later ones, by the
+// whole-file and the frame-by-frame readers alike.
+TEST(HostileText, RefusesATypeCodeSiberneticDoesNotKnow) {
+  const std::string first = Header("1\n0\n1\n") + "1\t1\t1\t2.1\n6\t6\t6\t1400000\n";
+  const std::string expected =
+      "pb.txt:13: particle type 1.4e+06: expected a type 1.x (liquid), 2.x (elastic) or 3.x "
+      "(boundary)";
+  EXPECT_EQ(ParseError(first + "1\t1\t1\t2.1\n"), expected);
+  const std::string later = Header("1\n0\n1\n") + "1\t1\t1\t2.1\n6\t6\t6\t3\n1\t1\t1\t0\n";
+  EXPECT_EQ(ParseError(later),
+            "pb.txt:14: particle type 0: expected a type 1.x (liquid), 2.x (elastic) or 3.x "
+            "(boundary)");
+  const fs::path path = TempPath("badtype.txt");
+  std::ofstream(path) << first + "1\t1\t1\t2.1\n";
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  try {
+    OpenFrameSource(path, quiet)->Frame(0);
+    ADD_FAILURE() << "the stream read type 1.4e6";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + expected.substr(6));
+  }
 }
 
 // One moving particle and many boundary particles: each 8-byte row of a later frame costs a whole
@@ -228,12 +255,41 @@ TEST(HostileHdf5, RefusesNanPositionsAndTypes) {
   const fs::path positions = TempPath("nanpos.h5");
   WriteHdf5(t, positions);
   EXPECT_EQ(ReadError(positions),
-            positions.string() + ": HDF5: /positions value 7 is not finite (NaN or Inf)");
+            positions.string() +
+                ": HDF5: /positions of frame 0, particle 2 (y) is not finite (NaN or Inf)");
+  try {  // the frame-by-frame reader names the same place
+    OpenFrameSource(positions)->Frame(0);
+    ADD_FAILURE() << "the stream read a NaN";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              positions.string() +
+                  ": HDF5: /positions of frame 0, particle 2 (y) is not finite (NaN or Inf)");
+  }
   t = Small();
   t.type[1] = std::numeric_limits<float>::quiet_NaN();
   const fs::path types = TempPath("nantype.h5");
   WriteHdf5(t, types);
   EXPECT_EQ(ReadError(types), types.string() + ": HDF5: /type value 1 is not finite (NaN or Inf)");
+}
+
+// /type 1.4e6 read as boundary: only Sibernetic's codes 1.x, 2.x and 3.x are read, by the
+// whole-file and the frame-by-frame readers, naming the row.
+TEST(HostileHdf5, RefusesATypeCodeSiberneticDoesNotKnow) {
+  for (float code : {1.4e6f, 0.0f, 4.0f, -3.0f}) {
+    Trajectory t = Small();
+    t.type[2] = code;
+    const fs::path path = TempPath("badtype.h5");
+    WriteHdf5(t, path);
+    const std::string expected = path.string() + ": HDF5: /type row 2 is " + FormatNumber(code) +
+                                 ": expected a type 1.x (liquid), 2.x (elastic) or 3.x (boundary)";
+    EXPECT_EQ(ReadError(path), expected);
+    try {
+      OpenFrameSource(path);
+      ADD_FAILURE() << "the stream read type " << code;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+  }
 }
 
 // Was a 16.8 GB allocation from a 2 KB file: /time declares 2^31 values, none stored.

@@ -16,6 +16,13 @@ enum class ParticleKind { kLiquid = 1, kElastic = 2, kBoundary = 3 };
 
 // The kind of a type code such as 2.1 (C truncation, as Sibernetic does).
 ParticleKind KindOf(float type_code);
+// Whether Sibernetic knows the code: 1.x liquid, 2.x elastic, 3.x boundary. Its kernels take
+// (int)type and handle 1, 2 and 3 only; KindOf reads any other value as boundary, so readers
+// refuse it first (the engine's configuration reader does the same, CheckTypeCode).
+bool IsSiberneticTypeCode(float type_code);
+// What a refused type code's message says was expected.
+inline constexpr const char* kExpectedTypeCode =
+    "expected a type 1.x (liquid), 2.x (elastic) or 3.x (boundary)";
 const char* KindName(ParticleKind kind);
 
 // Simulation box in configuration units.
