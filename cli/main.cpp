@@ -152,6 +152,9 @@ int main(int argc, char** argv) {
   } catch (const owval::SimulationError& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitGateFailed;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "owval: error: %s\n", owval::DescribeFilesystemError(e).c_str());
+    return owval::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "owval: error: %s\n", e.what());
     return owval::kExitBadInput;

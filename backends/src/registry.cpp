@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/base/json_file.hpp"
 
 namespace owval::backends {
@@ -48,7 +49,7 @@ RegistryOptions RegistryOptionsFromEnvironment(const fs::path& file) {
 fs::path RegistryFile(const RegistryOptions& o) {
   std::error_code ec;
   if (!o.file.empty()) {
-    if (!fs::is_regular_file(o.file, ec)) throw InputError(o.file.string(), 0, "no such file");
+    RequireInputFile(o.file, "a backends file (JSON: docs/backends.md)");
     return o.file;
   }
   if (fs::is_regular_file(o.current_directory / "owval-backends.json", ec))

@@ -120,6 +120,30 @@ TEST(Registry, PrecedenceFlagThenCurrentDirectoryThenXdg) {
   EXPECT_THROW(LoadRegistry(o), InputError);
 }
 
+// `backends list --backends X` said "X: no such file" for a directory and an empty file too:
+// each is named with what --backends expects.
+TEST(Registry, ABackendsFlagThatIsNoBackendsFileSaysWhatWasExpected) {
+  const fs::path dir = Scratch("registry_flag");
+  fs::create_directories(dir / "folder");
+  Write(dir / "empty.json", "");
+  Write(dir / "list.json", "[1, 2]");
+  const std::string expected = "expected a backends file (JSON: docs/backends.md)";
+  for (const auto& [name, message] : std::vector<std::pair<std::string, std::string>>{
+           {"missing.json", "cannot open file (missing), " + expected},
+           {"folder", "is a directory, " + expected},
+           {"empty.json", "is empty; expected a JSON document"},
+           {"list.json", "expected {\"backends\": {NAME: {...}}}"}}) {
+    RegistryOptions o;
+    o.file = dir / name;
+    try {
+      LoadRegistry(o);
+      ADD_FAILURE() << name;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), (dir / name).string() + ": " + message);
+    }
+  }
+}
+
 TEST(Registry, FindsAliasesAndNamesTheKnownOnes) {
   const Registry r = ParseRegistry(
       nlohmann::json::parse(R"({"backends": {"opencl": {"command": "./S -f {config}"}}})"),

@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 
 #include <atomic>
 #include <sstream>
@@ -44,7 +45,7 @@ fs::path TemporarySibling(const fs::path& destination) {
 
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
-  if (!destination_.parent_path().empty()) fs::create_directories(destination_.parent_path());
+  CreateOutputDirectories(destination_.parent_path());
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -58,7 +59,9 @@ AtomicOutput::~AtomicOutput() {
 std::ofstream& AtomicOutput::stream() {
   if (!stream_.is_open()) {
     stream_.open(temporary_, std::ios::binary | (append_ ? std::ios::app : std::ios::trunc));
-    if (!stream_) throw InputError(destination_.string(), 0, "cannot open for writing");
+    if (!stream_)  // errno names why (ofstream does not); the temporary is not the user's name
+      throw InputError(destination_.string(), 0,
+                       std::string("cannot open for writing: ") + std::strerror(errno));
   }
   return stream_;
 }
@@ -175,7 +178,10 @@ AtomicDirectory::AtomicDirectory(fs::path destination,
       replaceable_(std::move(replaceable)) {
   CheckReplaceable();
   SweepStaleTemporaries(destination_);
-  fs::create_directories(temporary_);
+  CreateOutputDirectories(destination_.parent_path());
+  std::error_code error;
+  fs::create_directory(temporary_, error);  // a sibling: errors name the destination
+  if (error) throw InputError(destination_.string(), 0, "cannot be created: " + error.message());
 }
 
 void AtomicDirectory::CheckReplaceable() const {

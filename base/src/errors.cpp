@@ -19,6 +19,16 @@ InputError::InputError(const std::string& message) : std::runtime_error(OneLine(
 EnvironmentError::EnvironmentError(const std::string& message)
     : std::runtime_error(OneLine(message)) {}
 
+std::string DescribeFilesystemError(const std::filesystem::filesystem_error& error) {
+  // what() is "filesystem error: OPERATION: REASON [PATH1] [PATH2]": keep OPERATION: REASON.
+  std::string what = error.what();
+  const std::string prefix = "filesystem error: ";
+  if (what.rfind(prefix, 0) == 0) what.erase(0, prefix.size());
+  if (const auto bracket = what.find(" ["); bracket != std::string::npos) what.erase(bracket);
+  const std::string path = error.path1().string();
+  return OneLine(path.empty() ? what : path + ": " + what);
+}
+
 SimulationError::SimulationError(const std::string& message)
     : std::runtime_error(OneLine(message)) {}
 

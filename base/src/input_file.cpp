@@ -19,33 +19,35 @@ bool NamedByCommitMarker(const fs::path& path) {
   return false;
 }
 
-void RequireRegularFile(const fs::path& path) {
+// expected: what the caller reads ("a regular file", "a backends file (JSON, docs/backends.md)").
+void RequireRegularFile(const fs::path& path, const std::string& expected) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   const std::string name = path.string();
+  const std::string want = ", expected " + expected;
   switch (status.type()) {
     case fs::file_type::regular:
       return;
     case fs::file_type::not_found:
-      throw InputError(name, 0, "cannot open file (missing)");
+      throw InputError(name, 0, "cannot open file (missing)" + want);
     case fs::file_type::directory:
-      throw InputError(name, 0, "is a directory, expected a regular file");
+      throw InputError(name, 0, "is a directory" + want);
     case fs::file_type::fifo:
-      throw InputError(name, 0, "is a FIFO (named pipe), expected a regular file");
+      throw InputError(name, 0, "is a FIFO (named pipe)" + want);
     case fs::file_type::block:
     case fs::file_type::character:
-      throw InputError(name, 0, "is a device, expected a regular file");
+      throw InputError(name, 0, "is a device" + want);
     case fs::file_type::socket:
-      throw InputError(name, 0, "is a socket, expected a regular file");
+      throw InputError(name, 0, "is a socket" + want);
     default:
-      throw InputError(name, 0, "cannot open file (unreadable or not a regular file)");
+      throw InputError(name, 0, "cannot open file (unreadable or not a regular file)" + want);
   }
 }
 
 }  // namespace
 
-void RequireInputFile(const fs::path& path) {
-  RequireRegularFile(path);
+void RequireInputFile(const fs::path& path, const std::string& expected) {
+  RequireRegularFile(path, expected);
   if (NamedByCommitMarker(path))
     throw InputError(path.string(), 0,
                      "incomplete: the command that wrote it stopped while moving its outputs into "

@@ -20,6 +20,9 @@ std::string WithoutExceptionTag(const std::string& what) {
 }  // namespace
 
 nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
+  // nlohmann's "unexpected end of input; expected '[', '{', or a literal" for an empty file
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw InputError(name, 0, "is empty; expected a JSON document");
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {

@@ -167,7 +167,7 @@ TEST(OutputPath, MissingDirectoriesOfARelativePathCanBeCreated) {
   EXPECT_EQ(CheckError("index.html"), "no error");
   std::ofstream("plain") << "x";
   EXPECT_EQ(CheckError("plain/sub/index.html"),
-            "plain/sub/index.html: cannot be written: plain is not a directory");
+            "plain/sub: cannot be created: plain is not a directory");
   fs::create_directory("taken");
   EXPECT_EQ(CheckError("taken"), "taken: is a directory; expected a file to write");
   fs::current_path(before);
@@ -185,6 +185,59 @@ TEST(OutputPath, AFolderThatRefusesNewFilesIsRefusedEvenToRoot) {
   const fs::path dir = Fresh("probe");
   EXPECT_EQ(CheckError(dir / "x.json"), "no error");
   EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// `owval run CONFIG -o /proc/x`, `frames ... -o /proc/x`, `predict -o /proc/x/p.json` printed
+// libstdc++'s "filesystem error: cannot create directories: No such file or directory [/proc/x]"
+// or named position_buffer.txt, and `convert IN /sys/x.zarr` named a path inside the store: every
+// check and every writer names the outermost directory it must create, and what stops it.
+TEST(OutputPath, AMissingDirectoryIsNamedWithWhatStopsIt) {
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  const std::string expected = "/proc/owval_x: cannot be created: /proc ";
+  std::string error = CheckError("/proc/owval_x/y/position_buffer.txt");
+  EXPECT_EQ(error.rfind(expected, 0), 0u) << error;
+  EXPECT_EQ(error.find("No such file"), std::string::npos) << error;  // /proc exists
+  try {
+    AtomicOutput out("/proc/owval_x/p.json");
+    ADD_FAILURE() << "an output under /proc";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what();
+  }
+  for (const char* zarr : {"/proc/owval_x", "/proc/owval_x/a.zarr"}) {
+    try {
+      CheckOutputDirectory(zarr);
+      ADD_FAILURE() << zarr;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what();
+    }
+  }
+  const fs::path dir = Fresh("directory");
+  std::ofstream(dir / "plain") << "x";
+  try {
+    CheckOutputDirectory(dir / "plain");
+    ADD_FAILURE() << "a file taken for a directory";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "plain").string() + ": exists and is not a directory; expected a directory");
+  }
+  EXPECT_NO_THROW(CheckOutputDirectory(dir / "new.zarr"));
+  EXPECT_NO_THROW(CreateOutputDirectories(dir / "a" / "b"));
+  EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
+  try {
+    CreateOutputDirectories(dir / "plain" / "sub");
+    ADD_FAILURE() << "a directory under a file";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "plain" / "sub").string() + ": cannot be created: " +
+                                         (dir / "plain").string() + " is not a directory");
+  }
+}
+
+// The CLI's last resort for a filesystem_error no check foresaw: the path first, one line.
+TEST(OutputPath, AFilesystemErrorIsDescribedPathFirst) {
+  const fs::filesystem_error e("cannot create directories", "/proc/x",
+                               std::make_error_code(std::errc::no_such_file_or_directory));
+  EXPECT_EQ(DescribeFilesystemError(e),
+            "/proc/x: cannot create directories: No such file or directory");
 }
 
 // fit and frames left an empty output folder behind when they failed with exit 2.

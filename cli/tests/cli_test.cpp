@@ -499,6 +499,29 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
     EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
   }
+}  // run -o /proc/x named position_buffer.txt, frames/predict/scenario generate -o /proc/x...
+// printed libstdc++'s "filesystem error: cannot create directories: ... [/proc/x]", convert to
+// /sys/x.zarr named a file inside the store: one line naming the directory the user typed and
+// what stops it (/proc takes no new entries), exit 2.
+TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
+  if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  const std::string traj =
+      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
+          .string();
+  for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
+           {"run one_sprig --time 0.0001 -o /proc/owval_x", "/proc/owval_x"},
+           {"run one_sprig --time 0.0001 -o /proc/owval_x/y", "/proc/owval_x"},
+           {"frames " + traj + " " + traj + " --at 0 -o /proc/owval_x", "/proc/owval_x"},
+           {"predict one_sprig -o /proc/owval_x/p.json", "/proc/owval_x"},
+           {"scenario generate one_sprig -o /proc/owval_x/c.txt", "/proc/owval_x"},
+           {"convert " + traj + " /proc/owval_x.zarr", "/proc/owval_x.zarr"}}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.rfind("owval: error: " + named + ": cannot be created: /proc ", 0), 0u)
+        << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  }
 }  // render --max-frames 0 rendered every frame, undocumented. 0 is the default and means no cap
 // (as "0: full tape", "0: never" on other flags): the help says so.
 TEST(Cli, MaxFramesHelpSaysZeroIsEveryFrame) {

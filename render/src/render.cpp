@@ -608,7 +608,8 @@ nlohmann::json RenderFrames(FrameSource& refs, FrameSource& cands,
   SideBySideFrame compose(refs.Frame(0), options);
   nlohmann::json entries = nlohmann::json::array();
   MissingDirectories created(out_dir);  // a failure leaves no empty folder it made
-  std::filesystem::create_directories(out_dir);
+  CreateOutputDirectories(
+      out_dir);         // InputError naming out_dir and why, not a raw filesystem_error
   OutputGroup written;  // the PNGs and frames.json appear together (a rerun never mixes)
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::size_t fr = frames[k], fc = partners[k];

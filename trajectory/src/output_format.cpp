@@ -12,7 +12,10 @@ void CheckTrajectoryOutput(const std::filesystem::path& path) {
                          "': owval writes .h5/.hdf5 (HDF5), .txt (Sibernetic text), .wcon (WCON) "
                          "and .zarr (OME-Zarr)");
   // An OME-Zarr store is a directory: only its parent must be writable.
-  CheckOutputPath(ext == ".zarr" ? path / ".zattrs" : path);
+  if (ext == ".zarr")
+    CheckOutputDirectory(path);
+  else
+    CheckOutputPath(path);
 }
 
 }  // namespace owval

@@ -144,7 +144,7 @@ bool IsOwvalZarrStore(const fs::path& path) {
 }
 
 void CheckZarrOutput(const fs::path& path) {
-  CheckOutputPath(path / ".zattrs");  // the parent is writable; a file named PATH is refused
+  CheckOutputDirectory(path);  // the parent is writable; a file named PATH is refused
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_empty(path, ec) && !IsOwvalZarrStore(path))
     throw InputError(path.string(), 0,

@@ -134,7 +134,16 @@ void WriteFileAtomically(const std::filesystem::path& destination, const std::st
 
 // Checks, before any work starts, that `destination` can be written: not an existing directory,
 // its parent directory exists (or can be created) and is writable. InputError naming the path.
+// When directories must be made first, the error names the outermost of them (what the user
+// typed: "/proc/x" of "/proc/x/position_buffer.txt") and what stops it.
 void CheckOutputPath(const std::filesystem::path& destination);
+// The same for a directory written whole (AtomicDirectory: a Zarr store, a report): not an
+// existing file, and its parent (or nearest existing ancestor) takes new entries. InputError
+// naming `directory`, or the outermost missing directory above it.
+void CheckOutputDirectory(const std::filesystem::path& directory);
+// fs::create_directories, but InputError naming the outermost directory it could not create and
+// why, instead of the library's "filesystem error: ..." line.
+void CreateOutputDirectories(const std::filesystem::path& directory);
 
 // The folders of an output directory that do not exist yet when a command starts (the directory
 // and its missing parents). Destroyed before Keep(), e.g. by an exception, it removes those left

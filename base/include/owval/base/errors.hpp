@@ -2,6 +2,7 @@
 // Errors that reach the user. Every library throws InputError for bad input (a file that does
 // not parse, a wrong count, a NaN) so that the CLI can print one line and exit with code 2.
 #include <cstddef>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -44,6 +45,11 @@ class SimulationError : public std::runtime_error {
  public:
   explicit SimulationError(const std::string& message);
 };
+
+// A filesystem_error that escaped every library check as one line naming its path first:
+// "/proc/x: cannot create directories: No such file or directory", not libstdc++'s
+// "filesystem error: cannot create directories: ... [/proc/x]".
+std::string DescribeFilesystemError(const std::filesystem::filesystem_error& error);
 
 // Exit codes shared by every command (design notes §5).
 // kExitInterrupted: a run stopped by SIGINT (128 + the signal, the shell's convention; SIGTERM

@@ -3,12 +3,15 @@
 // device has no size to check allocations against, so readers call RequireInputFile() before
 // they open anything (issue 18 item 14).
 #include <filesystem>
+#include <string>
 
 namespace owval {
 
 // Throws InputError naming the file when it is missing, or not a regular file (saying what it
 // is: a directory, a FIFO, a device, a socket), or one of a set of outputs whose move into place
 // was interrupted (OutputGroup's marker in its directory names it). Follows symbolic links.
-void RequireInputFile(const std::filesystem::path& path);
+// The message ends "expected EXPECTED".
+void RequireInputFile(const std::filesystem::path& path,
+                      const std::string& expected = "a regular file");
 
 }  // namespace owval
