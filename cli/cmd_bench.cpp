@@ -99,7 +99,8 @@ void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   cmd->add_option("--checkpoint-every", a->gradient.checkpoint_every,
                   "States kept every k steps (0: full tape)");
   cmd->add_option("--alpha-density", a->alpha_density,
-                  "Density compliance (s^2, >= 0); default the run's")
+                  "Density compliance (s^2/cu^2, >= 0; 0 is a value, a rigid constraint, as in "
+                  "gradcheck); default the model's")
       ->check(NonNegative());
   AddJsonOut(cmd, &a->json_out);
   cmd->callback([a] {

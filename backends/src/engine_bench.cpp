@@ -132,11 +132,10 @@ nlohmann::json BenchGradient(const engine::SiberneticConfig& config,
                              const engine::GradientOptions& options, double alpha_density) {
   const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
   std::vector<double> theta = model.DefaultParameters();
-  if (alpha_density >= 0) {
-    const auto& names = engine::GradientParameterNames();
-    theta[std::size_t(std::find(names.begin(), names.end(), "alpha_density") - names.begin())] =
-        alpha_density;
-  }
+  const auto& names = engine::GradientParameterNames();
+  const std::size_t alpha =
+      std::size_t(std::find(names.begin(), names.end(), "alpha_density") - names.begin());
+  if (alpha_density >= 0) theta[alpha] = alpha_density;  // 0 is a value (a rigid constraint)
   engine::LossTerm loss;
   loss.target = engine::LossTerm::Target::kAllMoving;
   loss.frame_steps = {options.steps};
@@ -151,6 +150,7 @@ nlohmann::json BenchGradient(const engine::SiberneticConfig& config,
           {"moving", model.moving().size()},
           {"steps", options.steps},
           {"checkpoint_every", options.checkpoint_every},
+          {"alpha_density", theta[alpha]},
           {"forward_s_per_step", g.forward_seconds / steps},
           {"backward_s_per_step", g.backward_seconds / steps},
           {"backward_over_forward", g.backward_seconds / g.forward_seconds},

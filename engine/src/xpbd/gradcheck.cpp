@@ -690,7 +690,7 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   if (o.end_to_end_density_passes >= 0) constants.xpbd.density_passes = o.end_to_end_density_passes;
   DifferentiableXpbd model(config, constants);
   std::vector<double> theta = model.DefaultParameters();
-  if (o.end_to_end_alpha_density > 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  if (o.end_to_end_alpha_density >= 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
   const std::size_t N = o.end_to_end_steps;
   const std::vector<LossTerm> loss =
       o.end_to_end_loss.empty() ? SelfReferencedLoss(config, model, theta, N) : o.end_to_end_loss;

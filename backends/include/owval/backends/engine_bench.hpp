@@ -41,7 +41,8 @@ nlohmann::json BenchEngineNamed(const std::string& name,
 
 // `owval bench gradient`: the XPBD reverse pass's cost per step against its forward pass and
 // the memory its checkpointing holds, on a loss that touches every moving particle (each one's
-// distance to its initial position at the window's last step). alpha_density < 0: the model's.
+// distance to its initial position at the window's last step). alpha_density < 0: the model's
+// (0 is a value: a rigid density constraint).
 nlohmann::json BenchGradient(const engine::SiberneticConfig& config,
                              const engine::GradientOptions& options, double alpha_density);
 

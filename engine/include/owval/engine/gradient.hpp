@@ -111,11 +111,12 @@ struct GradCheckOptions {
   // is skipped with a reason when empty).
   std::string end_to_end_config;
   std::size_t end_to_end_steps = 100;
-  // The density constraint's compliance in the end-to-end test (s²/cu²); 0: the model's
-  // default (derived, 7.9e-11 on demo1). At that default demo1's 100-step loss is chaotic: the
-  // reverse pass gives 1e10 where central differences at ε = 1e-3 and 1e-5 give 1e1-1e4 and
-  // disagree with each other (the liquid splashes out of the cube, as in the reference run).
-  // At 4e-8 the 100-step gradient agrees to 1.5e-5 and 3.6e-4 (docs/xpbd.md §Gradients).
+  // The density constraint's compliance in the end-to-end test (s²/cu²); < 0: the model's
+  // default (derived, 7.9e-11 on demo1); 0 is a value (a rigid constraint), as everywhere else. At
+  // that default demo1's 100-step loss is chaotic: the reverse pass gives 1e10 where central
+  // differences at ε = 1e-3 and 1e-5 give 1e1-1e4 and disagree with each other (the liquid splashes
+  // out of the cube, as in the reference run). At 4e-8 the 100-step gradient agrees to 1.5e-5
+  // and 3.6e-4 (docs/xpbd.md §Gradients).
   double end_to_end_alpha_density = 4e-8;
   // The step scheme of the end-to-end test: the run's xpbd_density_passes (−1: its default, the
   // split step with m = 1; 0: the unsplit step).
