@@ -54,8 +54,13 @@ compare::ParityOptions Options(const CompareArgs& a) {
   return o;
 }
 
+void CheckMarkdownOut(const CompareArgs& a) {
+  CheckOutputPath(a.markdown);
+  CheckOutputIsNotAnInput(a.markdown, {a.reference, a.candidate, a.manifest});
+}
+
 void RunBackendCompare(const CompareArgs& a) {
-  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  if (!a.markdown.empty()) CheckMarkdownOut(a);
   for (const std::string& arg : {a.reference, a.candidate}) {
     std::error_code ec;
     if (arg.find('/') != std::string::npos && !std::filesystem::is_regular_file(arg, ec))
@@ -103,7 +108,7 @@ void RunCompare(const CompareArgs& a) {
     return RunBackendCompare(a);
   compare::ParityOptions options = Options(a);
   options.quiet = Flags().quiet;
-  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  if (!a.markdown.empty()) CheckMarkdownOut(a);
   const auto reference = OpenTrajectoryArgument(a.reference);  // frame by frame
   const auto candidate = OpenTrajectoryArgument(a.candidate);
   const compare::ParityReport report =

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "command.hpp"
+#include "owval/base/atomic_output.hpp"
 #include "owval/pipeline/run_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
@@ -17,6 +18,7 @@ struct ConvertArgs {
 
 void RunConvert(const ConvertArgs& a) {
   CheckTrajectoryOutput(a.out);
+  CheckOutputIsNotAnInput(a.out, {a.in});  // atomic, yet a no-op at best
   TextReadReport read;
   const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
   pipeline::ConvertTrajectory(t, a.in, a.out, ParseLayout(a.out_layout));

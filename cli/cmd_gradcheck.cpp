@@ -19,7 +19,10 @@ struct GradCheckArgs {
 };
 
 void RunGradCheckCommand(GradCheckArgs& a) {
-  if (!a.output.empty()) CheckOutputPath(a.output);
+  if (!a.output.empty()) {
+    CheckOutputPath(a.output);
+    CheckOutputIsNotAnInput(a.output, {a.options.end_to_end_config, a.reference});
+  }
   const std::filesystem::path demo1 = std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1";
   if (a.options.end_to_end_config.empty()) {
     a.options.end_to_end_config = (demo1 / "configuration").string();

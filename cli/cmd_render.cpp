@@ -41,6 +41,7 @@ void RequireVideoOut(const RenderArgs& a) {
   render::ParseFrameSize(a.size, &size);
   render::CheckVideoSize(size);  // --size 101x101: refused now, not by the encoder
   CheckOutputPath(a.out);
+  CheckOutputIsNotAnInput(a.out, {a.trajectory, a.reference, a.candidate, a.connections});
 }
 
 // shown: the (reference) trajectory; "auto" frames a worm with the worm view, anything else iso.

@@ -100,6 +100,16 @@ void CheckOutputDirectory(const fs::path& directory) {
   CheckAncestor(directory, a);
 }
 
+void CheckOutputIsNotAnInput(const fs::path& output, const std::vector<fs::path>& inputs) {
+  for (const fs::path& input : inputs) {
+    std::error_code error;  // false, not an error, when either does not exist
+    if (!input.empty() && fs::equivalent(output, input, error))
+      throw InputError(
+          output.string(), 0,
+          "is also an input of this command (" + input.string() + "); name another output");
+  }
+}
+
 void CreateOutputDirectories(const fs::path& directory) {
   if (directory.empty()) return;
   std::error_code error;

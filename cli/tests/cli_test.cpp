@@ -94,6 +94,68 @@ TEST(Cli, NaNInTrajectoryIsRefused) {
   EXPECT_NE(r.err.find("nan.txt:12:"), std::string::npos) << r.err;
 }
 
+// `compare a.h5 b.h5 --markdown b.h5` replaced the candidate with the report, `render a.h5 -o
+// a.h5` the trajectory with a video (exit 0 both). An output that is an input of the same command
+// (through a link or another spelling too) is refused before any work, and the input is kept.
+TEST(Cli, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
+  const fs::path dir = Scratch() / "output_is_input";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path a = dir / "a.h5", b = dir / "b.h5";
+  ASSERT_EQ(Owval("convert " + kOneSprig + " " + a.string()).exit_code, 0);
+  fs::copy_file(a, b);
+  fs::create_symlink(b, dir / "link.h5");
+  const std::string original = Slurp(b);
+  for (const auto& [args, named] : std::vector<std::pair<std::string, fs::path>>{
+           {"compare " + a.string() + " " + b.string() + " --markdown " + b.string(), b},
+           {"compare " + a.string() + " " + b.string() + " --markdown " +
+                (dir / "link.h5").string(),
+            dir / "link.h5"},
+           {"render " + b.string() + " --size 64x64 -o " + b.string(), b},
+           {"render sxs " + a.string() + " " + b.string() + " --size 64x64 -o " +
+                (dir / "." / "b.h5").string(),
+            dir / "." / "b.h5"},
+           {"convert " + b.string() + " " + b.string(), b}}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(
+        r.err.rfind("owval: error: " + named.string() + ": is also an input of this command", 0),
+        0u)
+        << args << ": " << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    EXPECT_EQ(Slurp(b), original) << args;
+  }
+}
+
+// A NaN in a trajectory given to a measurement is bad input (exit 2, naming file and line). The
+// judges of a run's artifacts say it as a gate: `ci quick-test`'s "completed without NaN" fails
+// (exit 1), as the checklist's item 3 does, and a NaN a simulation owval runs produces is exit 1.
+TEST(Cli, NaNInACandidateIsBadInputToAMeasurementAndAFailedGateToQuickTest) {
+  const fs::path dir = Scratch() / "nan_candidate";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string text = Slurp(kOneSprig);
+  std::ofstream(dir / "reference.txt") << text;
+  const auto row = text.rfind("17.535\t");  // the elastic particle of the last frame
+  text.replace(row, 6, "nan");
+  std::ofstream(dir / "candidate.txt") << text;
+  const std::string cand = (dir / "candidate.txt").string(), ref = (dir / "reference.txt").string();
+  const Result quick = Owval("ci quick-test " + dir.string());
+  EXPECT_EQ(quick.exit_code, 1) << quick.out << quick.err;
+  EXPECT_NE(quick.out.find("FAIL"), std::string::npos) << quick.out;
+  for (const std::string& args : {"ci validate " + dir.string(),
+                                  "compare " + ref + " " + cand,
+                                  "render " + cand + " --size 64x64 -o " + (dir / "x.mp4").string(),
+                                  "check stability " + cand, "inspect " + cand}) {
+    const Result r = Owval(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out << r.err;
+    EXPECT_EQ(r.err.rfind("owval: error: " + cand + ":", 0), 0u) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(":4679: z is not finite (NaN or Inf)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.mp4"));
+}
+
 TEST(Cli, ConvertRoundTripThroughHdf5) {
   const fs::path h5 = Scratch() / "one_sprig.h5", back = Scratch() / "back.txt";
   ASSERT_EQ(Owval("convert " + kOneSprig + " " + h5.string()).exit_code, 0);

@@ -141,6 +141,11 @@ void CheckOutputPath(const std::filesystem::path& destination);
 // existing file, and its parent (or nearest existing ancestor) takes new entries. InputError
 // naming `directory`, or the outermost missing directory above it.
 void CheckOutputDirectory(const std::filesystem::path& directory);
+// InputError when `output` is one of `inputs`, through any spelling or link (fs::equivalent): a
+// slip such as `compare a.h5 b.h5 --markdown b.h5` or `render a.h5 -o a.h5` replaced the input
+// with the report. Empty or missing inputs are skipped.
+void CheckOutputIsNotAnInput(const std::filesystem::path& output,
+                             const std::vector<std::filesystem::path>& inputs);
 // fs::create_directories, but InputError naming the outermost directory it could not create and
 // why, instead of the library's "filesystem error: ..." line.
 void CreateOutputDirectories(const std::filesystem::path& directory);
