@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/base/one_line.hpp"
@@ -120,6 +121,7 @@ std::filesystem::path DataDir() {
 int main(int argc, char** argv) {
   using namespace owval::cli;
   owval::KeepLargeBuffersOnHeap();
+  owval::RemoveTemporariesOnSignal();  // Ctrl-C leaves no ".NAME.tmp.PID.N" behind
   owval::render::SilenceCodecLogging();
   CLI::App app{"owval: validation and benchmark harness for Sibernetic-style particle physics"};
   app.set_version_flag("--version", OWVAL_VERSION);

@@ -12,6 +12,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/base/input_file.hpp"
+#include "signal_cleanup.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
@@ -46,9 +47,11 @@ fs::path TemporarySibling(const fs::path& destination) {
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
   CreateOutputDirectories(destination_.parent_path());
+  signal_slot_ = internal::RememberTemporary(fs::absolute(temporary_));
 }
 
 AtomicOutput::~AtomicOutput() {
+  internal::ForgetTemporary(&signal_slot_);
   if (committed_) return;
   if (stream_.is_open()) stream_.close();
   if (keep_) return;
@@ -68,11 +71,17 @@ std::ofstream& AtomicOutput::stream() {
 
 void AtomicOutput::Adopt(const fs::path& existing) {
   if (stream_.is_open()) throw std::logic_error("AtomicOutput::Adopt after the stream opened");
+  internal::ForgetTemporary(&signal_slot_);  // a resumed run's output: kept for the next resume
   temporary_ = existing;
   append_ = keep_ = true;
 }
 
 void AtomicOutput::Commit() { CommitAs(destination_); }
+
+void AtomicOutput::KeepOnFailure() {
+  internal::ForgetTemporary(&signal_slot_);  // for --resume, even after a signal
+  keep_ = true;
+}
 
 void AtomicOutput::CloseStream(const fs::path& named) {
   if (!stream_.is_open()) return;
@@ -84,12 +93,14 @@ void AtomicOutput::CloseStream(const fs::path& named) {
 
 void AtomicOutput::Release() {
   CloseStream(destination_);
+  internal::ForgetTemporary(&signal_slot_);
   committed_ = true;  // the temporary is the new owner's
 }
 
 fs::path CommitMarkerPath(const fs::path& directory) { return directory / ".owval-commit"; }
 
 OutputGroup::~OutputGroup() {
+  for (Member& m : members_) internal::ForgetTemporary(&m.signal_slot);
   if (committed_) return;
   std::error_code ignored;
   for (const Member& m : members_) fs::remove_all(m.temporary, ignored);
@@ -97,12 +108,15 @@ OutputGroup::~OutputGroup() {
 
 void OutputGroup::Adopt(AtomicOutput* finished) {
   finished->Release();
-  members_.push_back({finished->temporary_path(), finished->destination()});
+  members_.push_back({finished->temporary_path(), finished->destination(),
+                      internal::RememberTemporary(fs::absolute(finished->temporary_path()))});
 }
 
 fs::path OutputGroup::Stage(const fs::path& destination) {
   SweepStaleTemporaries(destination);
-  members_.push_back({TemporarySibling(destination), destination});
+  const fs::path temporary = TemporarySibling(destination);
+  members_.push_back(
+      {temporary, destination, internal::RememberTemporary(fs::absolute(temporary))});
   return members_.back().temporary;
 }
 
@@ -139,8 +153,9 @@ void OutputGroup::Commit() {
     else
       fs::remove(m.destination, error);
   }
-  for (const Member& m : members_) {
+  for (Member& m : members_) {
     fs::rename(m.temporary, m.destination, error);
+    internal::ForgetTemporary(&m.signal_slot);
     if (error)  // the marker stays: the set in place is incomplete and readers say so
       throw InputError(m.destination.string(), 0, "cannot rename into place: " + error.message());
   }
@@ -154,6 +169,7 @@ void AtomicOutput::CommitAs(const fs::path& destination) {
   fs::rename(temporary_, destination, error);
   if (error)
     throw InputError(destination.string(), 0, "cannot rename into place: " + error.message());
+  internal::ForgetTemporary(&signal_slot_);
   committed_ = true;
 }
 
@@ -182,6 +198,7 @@ AtomicDirectory::AtomicDirectory(fs::path destination,
   std::error_code error;
   fs::create_directory(temporary_, error);  // a sibling: errors name the destination
   if (error) throw InputError(destination_.string(), 0, "cannot be created: " + error.message());
+  signal_slot_ = internal::RememberTemporary(fs::absolute(temporary_));
 }
 
 void AtomicDirectory::CheckReplaceable() const {
@@ -198,6 +215,7 @@ void AtomicDirectory::CheckReplaceable() const {
 }
 
 AtomicDirectory::~AtomicDirectory() {
+  internal::ForgetTemporary(&signal_slot_);
   if (committed_) return;
   std::error_code ignored;
   fs::remove_all(temporary_, ignored);
@@ -212,6 +230,7 @@ void AtomicDirectory::Commit() {
   if (!error) fs::rename(temporary_, destination_, error);
   if (error)
     throw InputError(destination_.string(), 0, "cannot move into place: " + error.message());
+  internal::ForgetTemporary(&signal_slot_);
   committed_ = true;
   if (replacing) fs::remove_all(old, error);  // the older report, now out of the way
 }

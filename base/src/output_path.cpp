@@ -7,6 +7,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "signal_cleanup.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
@@ -129,11 +130,18 @@ MissingDirectories::MissingDirectories(const fs::path& directory) {
   std::error_code error;
   for (fs::path d = directory; !d.empty() && !fs::exists(d, error); d = d.parent_path()) {
     missing_.push_back(d);
+    signal_slots_.push_back(internal::RememberEmptyFolder(fs::absolute(d)));
     if (d == d.parent_path()) break;
   }
 }
 
+void MissingDirectories::Keep() {
+  for (int& slot : signal_slots_) internal::ForgetTemporary(&slot);
+  keep_ = true;
+}
+
 MissingDirectories::~MissingDirectories() {
+  for (int& slot : signal_slots_) internal::ForgetTemporary(&slot);
   if (keep_) return;
   std::error_code error;
   for (const fs::path& d : missing_) fs::remove(d, error);  // only if empty

@@ -1,7 +1,12 @@
 #include "owval/base/atomic_output.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <vector>
 
 #include <filesystem>
 #include <fstream>
@@ -238,6 +243,44 @@ TEST(OutputPath, AFilesystemErrorIsDescribedPathFirst) {
                                std::make_error_code(std::errc::no_such_file_or_directory));
   EXPECT_EQ(DescribeFilesystemError(e),
             "/proc/x: cannot create directories: No such file or directory");
+}
+
+// Ctrl-C during `render` or `convert OUT.zarr` left ".v.mp4.tmp.PID.N" (or a temporary store)
+// behind: the signal's default action skips destructors. In a child that signals itself with
+// outputs of each kind unfinished, every temporary is gone and the child dies of SIGINT; a
+// committed output and a kept (resumable) temporary stay; folders the command made are removed
+// when left empty.
+TEST(AtomicOutput, SigintRemovesTheTemporariesOfUnfinishedOutputs) {
+  const fs::path dir = Fresh("sigint");
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    RemoveTemporariesOnSignal();
+    MissingDirectories made(dir / "frames" / "deeper");  // left empty: removed too
+    fs::create_directories(dir / "frames" / "deeper");
+    WriteFileAtomically(dir / "done.txt", "whole");
+    AtomicOutput kept(dir / "resumable.txt");
+    kept.stream() << "partial";
+    kept.KeepOnFailure();
+    AtomicOutput video(dir / "v.mp4");
+    video.stream() << "frames";
+    AtomicDirectory store(dir / "z.zarr", [](const fs::path&) { return false; });
+    fs::create_directories(store.temporary_path() / "body" / "positions");
+    std::ofstream(store.temporary_path() / "body" / "positions" / "0.0.0") << "chunk";
+    OutputGroup frames;
+    std::ofstream(frames.Stage(dir / "frame_0.png")) << "png";
+    std::raise(SIGINT);
+    std::_Exit(0);  // not reached
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  ASSERT_EQ(left.size(), 2u);
+  EXPECT_EQ(left[0].rfind(".resumable.txt.tmp.", 0), 0u) << left[0];  // '.' sorts first
+  EXPECT_EQ(left[1], "done.txt");
 }
 
 // fit and frames left an empty output folder behind when they failed with exit 2.

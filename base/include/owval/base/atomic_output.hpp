@@ -32,7 +32,7 @@ class AtomicOutput {
   // leaves it in place for the next resume.
   void Adopt(const std::filesystem::path& existing);
   // Keep the temporary when destroyed uncommitted (a checkpointed run's output, for --resume).
-  void KeepOnFailure() { keep_ = true; }
+  void KeepOnFailure();
   // Flushes and closes the temporary and hands it over (to an OutputGroup): this object then
   // neither renames nor removes it. Throws on I/O failure.
   void Release();
@@ -47,6 +47,7 @@ class AtomicOutput {
   bool committed_ = false;
   bool keep_ = false;
   bool append_ = false;
+  int signal_slot_ = -1;  // the temporary, removed if SIGINT/SIGTERM ends the process
 };
 
 // A directory of outputs that appears whole or not at all (`owval pipeline`'s report; it too
@@ -81,6 +82,7 @@ class AtomicDirectory {
   std::filesystem::path temporary_;
   std::function<bool(const std::filesystem::path&)> replaceable_;
   bool committed_ = false;
+  int signal_slot_ = -1;
 };
 
 // The marker of a directory an AtomicDirectory wrote (and may replace).
@@ -116,6 +118,7 @@ class OutputGroup {
  private:
   struct Member {
     std::filesystem::path temporary, destination;
+    int signal_slot = -1;
   };
   std::vector<Member> members_;
   bool committed_ = false;
@@ -126,6 +129,12 @@ void WriteFilesTogether(const std::vector<std::pair<std::filesystem::path, std::
 
 // The marker an interrupted OutputGroup::Commit leaves in its directory.
 std::filesystem::path CommitMarkerPath(const std::filesystem::path& directory);
+
+// Makes SIGINT and SIGTERM remove the temporaries of every unfinished AtomicOutput,
+// AtomicDirectory and OutputGroup, then end the process as the signal would (exit 130/143): a
+// Ctrl-C during a render or a convert left ".out.mp4.tmp.PID.N" behind. The CLI calls it once at
+// start; StopSignals (a run, a fit) takes the signals over while it exists.
+void RemoveTemporariesOnSignal();
 
 // Writes the whole string atomically. Also removes what a killed process left for the same
 // destination (".NAME.tmp.PID.N" whose PID no longer runs). A streaming AtomicOutput does not:
@@ -160,10 +169,11 @@ class MissingDirectories {
   ~MissingDirectories();
   MissingDirectories(const MissingDirectories&) = delete;
   MissingDirectories& operator=(const MissingDirectories&) = delete;
-  void Keep() { keep_ = true; }
+  void Keep();
 
  private:
   std::vector<std::filesystem::path> missing_;  // innermost first
+  std::vector<int> signal_slots_;               // removed, when left empty, on SIGINT/SIGTERM
   bool keep_ = false;
 };
 
