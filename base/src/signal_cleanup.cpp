@@ -25,6 +25,9 @@ struct Slot {
   char path[kPathBytes];
 };
 Slot g_slots[kSlots];
+// The process whose temporaries the table holds: a forked child (RunContained's) inherits the
+// table and the handler, and must never remove its parent's files.
+std::atomic<pid_t> g_owner{0};
 
 // Only system calls from here on: the handler may have interrupted malloc or a lock holder.
 void RemoveTree(int parent, const char* name, int depth);
@@ -54,11 +57,13 @@ void RemoveTree(int parent, const char* name, int depth) {
 }
 
 extern "C" void RemoveTemporariesAndDie(int signal) {
+  const bool owner = ::getpid() == g_owner.load();
   for (Slot& s : g_slots)
-    if (s.state.load(std::memory_order_acquire) == kLive && !s.folder_if_empty)
+    if (owner && s.state.load(std::memory_order_acquire) == kLive && !s.folder_if_empty)
       RemoveTree(AT_FDCWD, s.path, 0);
   for (Slot& s : g_slots)  // registered innermost first; rmdir fails on a folder not empty
-    if (s.state.load(std::memory_order_acquire) == kLive && s.folder_if_empty) ::rmdir(s.path);
+    if (owner && s.state.load(std::memory_order_acquire) == kLive && s.folder_if_empty)
+      ::rmdir(s.path);
   std::signal(signal, SIG_DFL);  // then die of it, as without the handler (exit 130/143)
   std::raise(signal);
 }
@@ -94,6 +99,7 @@ void ForgetTemporary(int* slot) {
 }  // namespace internal
 
 void RemoveTemporariesOnSignal() {
+  g_owner = ::getpid();
   for (int signal : {SIGINT, SIGTERM}) {
     // A signal the parent ignored (nohup, a background job) stays ignored.
     struct sigaction previous {};

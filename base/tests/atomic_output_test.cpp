@@ -269,6 +269,11 @@ TEST(AtomicOutput, SigintRemovesTheTemporariesOfUnfinishedOutputs) {
     std::ofstream(store.temporary_path() / "body" / "positions" / "0.0.0") << "chunk";
     OutputGroup frames;
     std::ofstream(frames.Stage(dir / "frame_0.png")) << "png";
+    const pid_t grandchild = ::fork();  // a forked helper (RunContained's) that is terminated
+    if (grandchild == 0) std::raise(SIGTERM);
+    int ignored = 0;
+    ::waitpid(grandchild, &ignored, 0);
+    if (!fs::exists(video.temporary_path())) std::_Exit(3);  // it removed its parent's files
     std::raise(SIGINT);
     std::_Exit(0);  // not reached
   }
