@@ -228,6 +228,12 @@ void ReadScalars(hid_t file, Trajectory& t, const std::string& path) {
   internal::ReadNumericAttribute(file, "box", H5T_NATIVE_FLOAT, box, 6, path);
   for (float v : box)
     if (!std::isfinite(v)) throw InputError(path, 0, "HDF5: attribute box is not finite");
+  for (int axis = 0; axis < 3; ++axis)
+    if (box[2 * axis + 1] < box[2 * axis])
+      throw InputError(path, 0,
+                       std::string("HDF5: attribute box: the ") + "xyz"[axis] +
+                           " maximum is below its minimum (expected xmin, xmax, ymin, ymax, "
+                           "zmin, zmax)");
   t.box = {box[0], box[1], box[2], box[3], box[4], box[5]};
   internal::ReadNumericAttribute(file, "time_step_s", H5T_NATIVE_DOUBLE, &t.time_step_s, 1, path);
   if (!(std::isfinite(t.time_step_s) && t.time_step_s > 0))

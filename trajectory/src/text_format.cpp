@@ -48,6 +48,11 @@ Header ParseHeader(TextCursor& in, std::size_t text_bytes) {
     if (in.at_end())
       in.Fail("truncated header: expected 11 lines (box, counts, time step, log step)");
     *box_fields[i] = in.Number<float>(box_names[i]);
+    // An inverted box (the engine's configuration reader refuses one too) would frame the camera
+    // and the stability gate's "outside the box" on nothing.
+    if (i % 2 == 1 && *box_fields[i] < *box_fields[i - 1])
+      in.Fail(std::string(box_names[i]) + " " + FormatNumber(*box_fields[i]) + " is below " +
+              box_names[i - 1] + " " + FormatNumber(*box_fields[i - 1]));
     in.EndOfLine(box_names[i]);
   }
   std::size_t* counts[3] = {&h.elastic, &h.liquid, &h.boundary};

@@ -139,6 +139,20 @@ TEST(HostileText, RefusesATypeCodeSiberneticDoesNotKnow) {
   }
 }
 
+// A header box with xmax 33.4 below xmin 50 was read, and rendered and gated on nothing; the
+// engine's configuration reader refuses one. Text names the line, HDF5 the attribute.
+TEST(HostileText, RefusesAnInvertedBox) {
+  EXPECT_EQ(ParseError("50\n33.4\n0\n10\n0\n10\n0\n1\n0\n2e-05\n1\n1\t2\t3\t1.1\n"),
+            "pb.txt:2: box xmax 33.4 is below box xmin 50");
+  Trajectory t = Small();
+  t.box.zmax = -1;
+  const fs::path path = TempPath("inverted_box.h5");
+  WriteHdf5(t, path);
+  EXPECT_EQ(ReadError(path), path.string() +
+                                 ": HDF5: attribute box: the z maximum is below its minimum "
+                                 "(expected xmin, xmax, ymin, ymax, zmin, zmax)");
+}
+
 // One moving particle and many boundary particles: each 8-byte row of a later frame costs a whole
 // frame of memory in the opencl layout. The growth is checked against the budget.
 TEST(HostileText, RefusesAnOpenclExpansionOverTheMemoryBudget) {
