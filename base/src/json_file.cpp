@@ -30,6 +30,8 @@ nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
     std::size_t line = 1;
     for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n';
     throw InputError(name, line, "not valid JSON: " + WithoutExceptionTag(e.what()));
+  } catch (const nlohmann::json::exception& e) {  // 1e400: out_of_range, "number overflow"
+    throw InputError(name, 0, "not valid JSON: " + WithoutExceptionTag(e.what()));
   }
 }
 

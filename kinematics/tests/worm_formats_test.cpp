@@ -147,7 +147,7 @@ TEST(Wcon, ReaderRefusesBrokenFilesNamingTheField) {
                     "\"1\", \"t\": [1, 0], \"x\": [[1], [1]], \"y\": [[1], [1]]}}")
                 .find("increase"),
             std::string::npos);
-  EXPECT_NE(message("{not json").find("not JSON"), std::string::npos);
+  EXPECT_NE(message("{not json").find("not valid JSON"), std::string::npos);
   // Units are converted, unknown keys ignored, origins applied.
   std::ofstream(file)
       << "{\"units\": {\"t\": \"ms\", \"x\": \"um\", \"y\": \"mm\", \"ox\": \"um\", "

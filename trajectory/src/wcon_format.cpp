@@ -5,6 +5,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval {
@@ -201,12 +202,8 @@ struct WconReader {
 
 WormTrack ReadWcon(const std::filesystem::path& path) {
   WconReader reader{path.string()};
-  json doc;
-  try {
-    doc = json::parse(ReadWholeFile(path));
-  } catch (const json::parse_error& e) {
-    reader.Fail(std::string("not JSON: ") + e.what());
-  }
+  // InputError naming the file and line, for a number too large for a double (1e400) too
+  const json doc = ParseJsonText(ReadWholeFile(path), path.string());
   if (!doc.is_object() || !doc.contains("units") || !doc.contains("data"))
     reader.Fail("expected a WCON object with \"units\" and \"data\"");
   const json& units = doc["units"];

@@ -22,6 +22,7 @@
 #include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/worm_formats.hpp"
 
 namespace owval {
 namespace {
@@ -151,6 +152,21 @@ TEST(HostileText, RefusesAnInvertedBox) {
   EXPECT_EQ(ReadError(path), path.string() +
                                  ": HDF5: attribute box: the z maximum is below its minimum "
                                  "(expected xmin, xmax, ymin, ymax, zmin, zmax)");
+}
+
+// A WCON (or any JSON input) holding 1e400 said "[json.exception.out_of_range.406] number
+// overflow parsing '1e400'" without naming the file.
+TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
+  const fs::path path = TempPath("overflow.wcon");
+  std::ofstream(path) << R"({"units":{"t":"s","x":"mm","y":"mm"},)"
+                      << R"("data":[{"id":"1","t":[0],"x":[[1e400]],"y":[[0]]}]})";
+  try {
+    ReadWcon(path);
+    ADD_FAILURE() << "read 1e400";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path.string() + ": not valid JSON: number overflow parsing '1e400'");
+  }
 }
 
 // One moving particle and many boundary particles: each 8-byte row of a later frame costs a whole
