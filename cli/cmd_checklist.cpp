@@ -25,7 +25,12 @@ void RunChecklistCommand(const ChecklistArgs& a) {
   options.gates = parity.gates;
   if (!a.scenario.empty() || !a.manifest.empty()) options.track = parity.track;
   options.git_range = a.git_range;
-  if (!a.markdown.empty()) CheckOutputPath(a.markdown);
+  if (!a.markdown.empty()) {
+    CheckOutputPath(a.markdown);
+    std::vector<std::filesystem::path> inputs = ci::EvidenceFiles(a.directory);
+    inputs.insert(inputs.end(), {a.manifest, a.reference});
+    CheckOutputIsNotAnInput(a.markdown, inputs);
+  }
   pipeline::ScenarioReference reference;  // its temporary file lives until the checklist is done
   if (!a.scenario.empty()) {
     reference = pipeline::MakeScenarioReference(a.scenario, DataDir());

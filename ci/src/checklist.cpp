@@ -516,6 +516,17 @@ int ChecklistReport::exit_code() const {
   return verdict == Verdict::kReady || verdict == Verdict::kIncomplete ? 0 : 1;
 }
 
+std::vector<fs::path> EvidenceFiles(const fs::path& directory) {
+  std::vector<fs::path> files;
+  std::error_code error;
+  for (fs::recursive_directory_iterator it(directory, error), end; !error && it != end;
+       it.increment(error)) {
+    if (it->is_regular_file(error)) files.push_back(it->path());
+    if (files.size() >= 10000) break;
+  }
+  return files;
+}
+
 ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
   if (!fs::is_directory(directory))
     throw InputError(directory.string(), 0, "not a directory of PR artifacts");

@@ -108,6 +108,21 @@ TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
       << j["items"][1].dump();
 }
 
+// `--markdown DIR/candidate.h5` would have replaced the evidence with the report on it.
+TEST_F(Checklist, AMarkdownOutputOverTheEvidenceIsRefused) {
+  const fs::path d = Copy("markdown_over_evidence");
+  const std::string before = Slurp(d / "candidate.h5");
+  const Result r = Owval("checklist " + d.string() + " --scenario one_sprig --markdown " +
+                         (d / "candidate.h5").string());
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("is also an input of this command"), std::string::npos) << r.err;
+  EXPECT_EQ(Slurp(d / "candidate.h5"), before);
+  EXPECT_EQ(Owval("checklist " + d.string() + " --scenario one_sprig --markdown " +
+                  (d / "comment.md").string())
+                .exit_code,
+            0);
+}
+
 // Without --scenario or --reference nothing says the directory's reference is the reference:
 // item 2 fails and names the two flags.
 TEST_F(Checklist, WithoutTheCallersReferenceItIsUnreviewable) {

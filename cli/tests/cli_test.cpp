@@ -143,8 +143,7 @@ TEST(Cli, NaNInACandidateIsBadInputToAMeasurementAndAFailedGateToQuickTest) {
   const Result quick = Owval("ci quick-test " + dir.string());
   EXPECT_EQ(quick.exit_code, 1) << quick.out << quick.err;
   EXPECT_NE(quick.out.find("FAIL"), std::string::npos) << quick.out;
-  for (const std::string& args : {"ci validate " + dir.string(),
-                                  "compare " + ref + " " + cand,
+  for (const std::string& args : {"ci validate " + dir.string(), "compare " + ref + " " + cand,
                                   "render " + cand + " --size 64x64 -o " + (dir / "x.mp4").string(),
                                   "check stability " + cand, "inspect " + cand}) {
     const Result r = Owval(args);

@@ -80,6 +80,11 @@ struct ChecklistReport {
 ChecklistReport RunChecklist(const std::filesystem::path& directory,
                              const ChecklistOptions& options = {});
 
+// The files of `directory` the checklist may read (every regular file in it, recursively, at most
+// 10,000), so that an output such as `--markdown DIR/candidate.txt` is refused before it
+// replaces the evidence it reports on.
+std::vector<std::filesystem::path> EvidenceFiles(const std::filesystem::path& directory);
+
 // InputError unless `git_range` is BASE..HEAD and git can read it in `directory`'s repository.
 void CheckGitRange(const std::filesystem::path& directory, const std::string& git_range);
 
