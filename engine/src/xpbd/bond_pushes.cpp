@@ -182,6 +182,27 @@ __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h
   }
 }
 
+// Eight values' velocity update from the bond correction and their position step, the
+// rounding remainder carried (stored). One definition for both sweeps below, so that the update
+// alone and the update fused with the next prediction round alike.
+struct UpdatedLanes {
+  __m256 velocity, position;
+};
+__attribute__((target("avx2,fma"))) inline UpdatedLanes UpdateLanes(__m256 hv, __m256 to_cu_v,
+                                                                    __m256 scale_v,
+                                                                    const float* correction,
+                                                                    const float* v, const float* x,
+                                                                    float* remainder) {
+  const __m256 change = _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(correction), scale_v), hv);
+  const __m256 velocity = _mm256_add_ps(_mm256_loadu_ps(v), change);
+  const __m256 start = _mm256_loadu_ps(x);
+  const __m256 move = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v),
+                                    _mm256_loadu_ps(remainder));
+  const __m256 position = _mm256_add_ps(start, move);
+  _mm256_storeu_ps(remainder, _mm256_sub_ps(move, _mm256_sub_ps(position, start)));
+  return {velocity, position};
+}
+
 __attribute__((target("avx2,fma"))) void UpdateVelocityAvx2(std::size_t values, float h,
                                                             float to_cu, float scale,
                                                             const float* correction, float* v,
@@ -190,17 +211,11 @@ __attribute__((target("avx2,fma"))) void UpdateVelocityAvx2(std::size_t values, 
                scale_v = _mm256_set1_ps(scale);
   std::size_t k = 0;
   for (; k + 8 <= values; k += 8) {
-    const __m256 change =
-        _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(correction + k), scale_v), hv);
-    const __m256 velocity = _mm256_add_ps(_mm256_loadu_ps(v + k), change);
-    const __m256 start = _mm256_loadu_ps(x + k);
-    const __m256 move = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v),
-                                      _mm256_loadu_ps(remainder + k));
-    const __m256 position = _mm256_add_ps(start, move);
-    _mm256_storeu_ps(remainder + k, _mm256_sub_ps(move, _mm256_sub_ps(position, start)));
-    _mm256_storeu_ps(v + k, velocity);
-    _mm256_storeu_ps(x + k, position);
-    _mm256_storeu_ps(p + k, position);
+    const UpdatedLanes u =
+        UpdateLanes(hv, to_cu_v, scale_v, correction + k, v + k, x + k, remainder + k);
+    _mm256_storeu_ps(v + k, u.velocity);
+    _mm256_storeu_ps(x + k, u.position);
+    _mm256_storeu_ps(p + k, u.position);
   }
   for (; k < values; ++k) {
     v[k] = v[k] + correction[k] * scale / h;
@@ -218,17 +233,12 @@ __attribute__((target("avx2,fma"))) void UpdateAndPredictAvx2(
                scale_v = _mm256_set1_ps(scale);
   std::size_t k = 0;
   for (; k + 8 <= values; k += 8) {
-    const __m256 change =
-        _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(correction + k), scale_v), hv);
-    const __m256 velocity = _mm256_add_ps(_mm256_loadu_ps(v + k), change);
-    const __m256 start = _mm256_loadu_ps(x + k);
-    const __m256 move = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(hv, velocity), to_cu_v),
-                                      _mm256_loadu_ps(remainder + k));
-    const __m256 position = _mm256_add_ps(start, move);
-    _mm256_storeu_ps(remainder + k, _mm256_sub_ps(move, _mm256_sub_ps(position, start)));
+    const UpdatedLanes u =
+        UpdateLanes(hv, to_cu_v, scale_v, correction + k, v + k, x + k, remainder + k);
+    const __m256 position = u.position;
     _mm256_storeu_ps(x + k, position);
     const __m256 next_velocity =
-        _mm256_add_ps(velocity, _mm256_mul_ps(hv, _mm256_loadu_ps(acceleration + k)));
+        _mm256_add_ps(u.velocity, _mm256_mul_ps(hv, _mm256_loadu_ps(acceleration + k)));
     _mm256_storeu_ps(v + k, next_velocity);
     _mm256_storeu_ps(
         p_copy + k,
