@@ -464,7 +464,9 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
     EXPECT_NE(r.err.find("owval: error:"), std::string::npos) << at << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << at;
   }
-}  // render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
+}
+
+// render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
 // place: Is a directory". -o is the MP4 file: a directory is refused before any work, by name.
 TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
   const std::string traj =
@@ -481,8 +483,10 @@ TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
         << args;
     EXPECT_TRUE(fs::is_empty(dir)) << args;
   }
-}  // bench engine|render|gradient --json-out /proc/x.json ran the whole benchmark (as root,
-   // access()
+}
+
+// bench engine|render|gradient --json-out /proc/x.json ran the whole benchmark (as root,
+// access()
 // allowed /proc), then exited 2: the path is now refused before the benchmark, nothing on stdout.
 TEST(Cli, BenchRefusesAnUnwritableJsonOutBeforeRunning) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
@@ -496,7 +500,9 @@ TEST(Cli, BenchRefusesAnUnwritableJsonOutBeforeRunning) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_NE(r.err.find("cannot be written: /proc"), std::string::npos) << args << ": " << r.err;
   }
-}  // fit with LOWER > UPPER exited 1 with Ceres' multi-line message and a history of loss 0; fit
+}
+
+// fit with LOWER > UPPER exited 1 with Ceres' multi-line message and a history of loss 0; fit
 // --threshold nan, --log-step 0, --time -1 and bench gradient --alpha-density nan or -1 were
 // taken. Each is now one line, exit 2, before any work (nothing on stdout, no output folder).
 TEST(Cli, FitAndBenchGradientRefuseBadNumbersBeforeWork) {
@@ -519,7 +525,9 @@ TEST(Cli, FitAndBenchGradientRefuseBadNumbersBeforeWork) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << args;
   }
-}  // fit with an unknown --param or --target left the empty output folder it had created.
+}
+
+// fit with an unknown --param or --target left the empty output folder it had created.
 TEST(Cli, FailedFitLeavesNoFolderBehind) {
   const fs::path out = Scratch() / "fit_failed" / "deeper";
   fs::remove_all(out.parent_path());
@@ -531,7 +539,9 @@ TEST(Cli, FailedFitLeavesNoFolderBehind) {
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out.parent_path())) << args;
   }
-}  // Errors named the temporary instead of the user's path (render -o /proc/x.mp4 said
+}
+
+// Errors named the temporary instead of the user's path (render -o /proc/x.mp4 said
 // "/proc/.x.mp4.tmp.32621.0: cannot open for writing", pipeline -o /proc/pp "[/proc/.pp.tmp...]"),
 // and --size 101x101 failed after the trajectory was read, naming the temporary, leaving the
 // folder it had made. Each is one line naming what the user typed, before any work.
@@ -560,7 +570,9 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
     EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
   }
-}  // run -o /proc/x named position_buffer.txt, frames/predict/scenario generate -o /proc/x...
+}
+
+// run -o /proc/x named position_buffer.txt, frames/predict/scenario generate -o /proc/x...
 // printed libstdc++'s "filesystem error: cannot create directories: ... [/proc/x]", convert to
 // /sys/x.zarr named a file inside the store: one line naming the directory the user typed and
 // what stops it (/proc takes no new entries), exit 2.
@@ -575,7 +587,10 @@ TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
            {"frames " + traj + " " + traj + " --at 0 -o /proc/owval_x", "/proc/owval_x"},
            {"predict one_sprig -o /proc/owval_x/p.json", "/proc/owval_x"},
            {"scenario generate one_sprig -o /proc/owval_x/c.txt", "/proc/owval_x"},
-           {"convert " + traj + " /proc/owval_x.zarr", "/proc/owval_x.zarr"}}) {
+           {"convert " + traj + " /proc/owval_x.zarr", "/proc/owval_x.zarr"},
+           {"fit one_sprig --param elasticity_coefficient=1.62e8:log --target "
+            "period=0.7246e-3:scale=0.725e-3 --time 0.005 -o /proc/owval_x",
+            "/proc/owval_x"}}) {
     const Result r = Owval(args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_EQ(r.err.rfind("owval: error: " + named + ": cannot be created: /proc ", 0), 0u)
@@ -583,7 +598,9 @@ TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
     EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
   }
-}  // render --max-frames 0 rendered every frame, undocumented. 0 is the default and means no cap
+}
+
+// render --max-frames 0 rendered every frame, undocumented. 0 is the default and means no cap
 // (as "0: full tape", "0: never" on other flags): the help says so.
 TEST(Cli, MaxFramesHelpSaysZeroIsEveryFrame) {
   for (const std::string command : {"render", "render sxs"}) {

@@ -77,7 +77,7 @@ void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
                  FitDirectorySummary* summary) {
   const std::vector<sgd::Parameter> parameters = ParametersOf(r);
   const fs::path out = r.out;
-  fs::create_directories(out);
+  CreateOutputDirectories(out);
   const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
   sgd::GradientFitOptions options = GradientOptions(r);
   const std::vector<engine::LossTerm> loss = LossOf(r, reference, options.reverse.steps);
@@ -99,7 +99,7 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   std::vector<sgd::Target> targets;
   for (const std::string& t : r.targets) targets.push_back(sgd::ParseTarget(t));
   const fs::path out = r.out;
-  fs::create_directories(out);
+  CreateOutputDirectories(out);
   sgd::Simulator simulator;
   if (!r.command.empty()) {
     simulator = sgd::CommandSimulator(r.command, parameters, out / "evaluations");
@@ -135,6 +135,7 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
                       const Trajectory* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary) {
+  CheckOutputDirectory(request.out);  // before any simulation: "/proc/x", a file, no permission
   MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
