@@ -191,6 +191,15 @@ TEST(Cli, CompareExitCodes) {
   EXPECT_NE(r.out.find("FAIL (failed: frames"), std::string::npos) << r.out;
 }
 
+// --frames past the reference's end said "has no candidate frame at t = ? s".
+TEST(Cli, ASampleFramePastTheReferencesEndIsNamed) {
+  const Result r = Owval("compare " + kOneSprig + " " + kOneSprig + " --frames 0,99999999999");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("sample frame 99999999999 is past the reference's end (2500 frames"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(Cli, UnknownOptionIsBadUsage) { EXPECT_EQ(Owval("inspect --no-such-flag x").exit_code, 2); }
 
 }  // namespace

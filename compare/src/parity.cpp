@@ -166,10 +166,12 @@ std::vector<std::size_t> GatedPairs(const Pairs& pairs, const Trajectory& ref,
   }
   for (std::size_t f : o.sample_frames) {
     auto it = std::find_if(pairs.begin(), pairs.end(), [f](const auto& p) { return p.first == f; });
+    if (f >= ref.frame_count())
+      throw InputError("sample frame " + std::to_string(f) + " is past the reference's end (" +
+                       std::to_string(ref.frame_count()) + " frames, counted from 0)");
     if (it == pairs.end())
-      throw InputError("sample frame " + std::to_string(f) + " has no candidate frame at t = " +
-                       (f < ref.frame_count() ? std::to_string(ref.time_s[f]) : std::string("?")) +
-                       " s");
+      throw InputError("sample frame " + std::to_string(f) +
+                       " has no candidate frame at t = " + std::to_string(ref.time_s[f]) + " s");
     gated.push_back(std::size_t(it - pairs.begin()));
   }
   return gated;
