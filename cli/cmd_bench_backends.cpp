@@ -34,6 +34,12 @@ void RunBench(const BenchArgs& a) {
                                                 : fs::path(a.reference_dir);
   backends::BenchOptions options;
   options.scenario = backends::FindScenarios(root, {a.scenario}).front();
+  // `--json ../shared/reference/demo1/meta.json` would replace the scenario it times.
+  std::vector<fs::path> inputs = {a.backends.file};
+  for (const auto& entry : fs::directory_iterator(options.scenario.directory))
+    inputs.push_back(entry.path());
+  for (const std::string& out : {a.json, a.markdown})
+    if (!out.empty()) CheckOutputIsNotAnInput(out, inputs);
   if (a.time_s > 0) options.scenario.time_s = a.time_s;
   options.repeat = a.repeat;
   options.threads = a.threads;

@@ -202,6 +202,29 @@ TEST(BackendsCli, BenchTimesEachBackendAsAProcess) {
       Owval("bench backends opencl --scenario one_sprig --backends " + file.string()).exit_code, 2);
 }
 
+// `--json` or `--markdown` naming the backends file or a file of the scenario it times would
+// have replaced it with the report: refused before any run, the file kept.
+TEST(BackendsCli, BenchRefusesAnOutputThatIsOneOfItsInputs) {
+  if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
+  const fs::path file = BackendsFile("bench_inputs", "");
+  const std::string before = Slurp(file);
+  const fs::path store = file.parent_path() / "store", meta = store / "one_sprig" / "meta.json";
+  fs::create_directories(store / "one_sprig");  // a copy: the test must not risk ../shared
+  for (const char* name : {"configuration", "meta.json"})
+    fs::copy_file(kReference / "one_sprig" / name, store / "one_sprig" / name);
+  const std::string meta_before = Slurp(meta);
+  for (const std::string& flags :
+       {"--json " + file.string(), "--markdown " + file.string(),
+        "--reference-dir " + store.string() + " --json " + meta.string()}) {
+    const Result r = Owval("bench backends owval --scenario one_sprig --time 0.002 --backends " +
+                           file.string() + " " + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags;
+    EXPECT_NE(r.err.find("is also an input of this command"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(Slurp(file), before);
+  EXPECT_EQ(Slurp(meta), meta_before);
+}
+
 TEST(BackendsCli, BenchRunsTheBackendsRoundByRound) {
   // Two command backends that log their runs: with --repeat 2 the order must be a b a b, so that
   // a drift in the machine's speed falls on both alike.
