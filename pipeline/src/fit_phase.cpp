@@ -91,20 +91,14 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
   return targets;
 }
 
-// sgd::EngineSimulator's runs (one thread: evaluations run concurrently; positions only), each
-// keeping only the particles the track follows instead of every frame of every particle.
+// sgd::EngineSimulator's runs, each keeping only the particles the track follows instead of
+// every frame of every particle.
 sgd::Simulator TrackedSimulator(const FitPhase& f, const std::vector<sgd::Parameter>& parameters) {
-  engine::RunOptions base = RunOptionsFor(f);
-  base.threads = 1;
-  for (const sgd::Parameter& p : parameters)
-    sgd::SetConstant(&base.constants, p.name, p.start);  // an unknown name fails now
-  return [config = f.config, base, parameters,
-          track = f.scenario.track](const std::vector<double>& values) {
-    engine::RunOptions options = base;
-    for (std::size_t i = 0; i < parameters.size(); ++i)
-      sgd::SetConstant(&options.constants, parameters[i].name, values[i]);
-    return RunKeepingTracked(config, options, track);
-  };
+  return sgd::EngineSimulator(f.config, RunOptionsFor(f), parameters,
+                              [track = f.scenario.track](const engine::SiberneticConfig& config,
+                                                         const engine::RunOptions& options) {
+                                return RunKeepingTracked(config, options, track);
+                              });
 }
 
 }  // namespace
@@ -160,14 +154,10 @@ bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
   if (kind != "spring_period_vs_log_k")
     throw InputError("scenarios/manifests/" + f.scenario.name + ".json", 0,
                      "\"fd_test\": expected spring_period_vs_log_k");
+  const sgd::Simulator simulate = TrackedSimulator(f, {{"elasticity_coefficient", 3e8, true}});
   auto period = [&](double log_k) {
-    // The run sgd::EngineSimulator makes (one thread, positions only), keeping only the
-    // tracked quantity instead of every frame.
-    engine::RunOptions options = RunOptionsFor(f);
-    options.threads = 1;
-    sgd::SetConstant(&options.constants, "elasticity_coefficient", std::exp(log_k));
-    const TrackedSeries t = RunTrackedSeries(f.config, options, f.scenario.track);
-    const auto m = compare::MeasureSignal(t.time_s, t.value);
+    const Trajectory t = simulate({std::exp(log_k)});
+    const auto m = compare::MeasureSignal(t.time_s, KeptTrack(f.scenario.track).Series(t));
     if (!m.period_s)
       throw InputError("finite-difference test: no oscillation at k = " +
                        std::to_string(std::exp(log_k)));

@@ -82,12 +82,6 @@ engine::RunOptions ReferenceRunOptions(const scenarios::Scenario& scenario) {
   return RunOptionsFor(scenario, engine::Integrator::kSemiImplicitEuler);
 }
 
-std::unique_ptr<FrameSource> OpenQuietly(const fs::path& file) {
-  TextReadOptions quiet;
-  quiet.quiet = true;
-  return OpenFrameSource(file, quiet);
-}
-
 // reference.h5, streamed from the bundled file or from the engine as it runs.
 void Reference(Context& c) {
   const fs::path reference = c.dir / "reference.h5";

@@ -47,28 +47,6 @@ class FileSink : public engine::FrameSink {
   std::unique_ptr<TrajectoryWriter> writer_;
 };
 
-// Measures the tracked value of each frame as the engine produces it.
-class TrackSink : public engine::FrameSink {
- public:
-  TrackSink(const Track& track, TrackedSeries* series) : track_(track), series_(series) {}
-  void Begin(const Trajectory& header, int /*threads*/) override {
-    frame_ = header;  // box and types; one frame of positions at a time
-    track_.Validate(frame_);
-  }
-  void Frame(const engine::FrameView& f) override {
-    frame_.time_s.clear();
-    frame_.positions.clear();
-    frame_.AppendFrame(f.time_s, f.positions.data());
-    series_->time_s.push_back(f.time_s);
-    series_->value.push_back(track_.ValueAt(frame_, 0));
-  }
-
- private:
-  const Track& track_;
-  TrackedSeries* series_;
-  Trajectory frame_;
-};
-
 // The particles a track follows, in file order.
 std::vector<std::size_t> Followed(const Trajectory& header, const Track& track) {
   track.Validate(header);
@@ -154,23 +132,17 @@ void CopyTrajectoryFile(const fs::path& source, const fs::path& destination,
   writer->Close();
 }
 
-TrackedSeries ReadTrackedSeries(const fs::path& file, const Track& track) {
+std::unique_ptr<FrameSource> OpenQuietly(const fs::path& file) {
   TextReadOptions quiet;
   quiet.quiet = true;
-  const std::unique_ptr<FrameSource> frames = OpenFrameSource(file, quiet);
+  return OpenFrameSource(file, quiet);
+}
+
+TrackedSeries ReadTrackedSeries(const fs::path& file, const Track& track) {
+  const std::unique_ptr<FrameSource> frames = OpenQuietly(file);
   TrackedSeries series;
   series.value = track.Series(*frames);
   series.time_s = frames->header().time_s;
-  return series;
-}
-
-TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
-                               const engine::RunOptions& options, const Track& track) {
-  engine::RunOptions positions_only = options;
-  positions_only.record_fields = false;
-  TrackedSeries series;
-  TrackSink sink(track, &series);
-  engine::Run(config, positions_only, &sink);
   return series;
 }
 
@@ -184,9 +156,7 @@ Trajectory RunKeepingTracked(const engine::SiberneticConfig& config,
 }
 
 Trajectory ReadKeepingTracked(const fs::path& file, const Track& track) {
-  TextReadOptions quiet;
-  quiet.quiet = true;
-  const std::unique_ptr<FrameSource> frames = OpenFrameSource(file, quiet);
+  const std::unique_ptr<FrameSource> frames = OpenQuietly(file);
   Keeper keeper(frames->header(), track);
   for (std::size_t f = 0; f < frames->frame_count(); ++f) {
     const FrameRef frame = frames->Frame(f);

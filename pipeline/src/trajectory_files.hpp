@@ -3,10 +3,12 @@
 // whatever the run's length): runs and copies are written frame by frame as they are produced,
 // and every phase reads them back frame by frame (trajectory/frame_source.hpp).
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "owval/engine/run.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
 
 namespace owval::pipeline {
@@ -30,11 +32,11 @@ struct TrackedSeries {
   std::vector<double> time_s;
   std::vector<double> value;
 };
+// A trajectory file read frame by frame, without a progress line (the pipeline prints its own).
+std::unique_ptr<FrameSource> OpenQuietly(const std::filesystem::path& file);
+
 // Read frame by frame. InputError when the track names nothing in the file.
 TrackedSeries ReadTrackedSeries(const std::filesystem::path& file, const Track& track);
-// An engine run's tracked series, measured as each frame is produced (no file, no fields).
-TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
-                               const engine::RunOptions& options, const Track& track);
 
 // What a fit needs of a run: every frame of only the particles the track follows (the particle,
 // or its group's members in file order), 12 bytes a followed particle a frame. KeptTrack(track)

@@ -9,17 +9,22 @@ void SetConstant(engine::PhysicsConstants* c, const std::string& name, double va
 }
 
 Simulator EngineSimulator(engine::SiberneticConfig config, engine::RunOptions base,
-                          std::vector<Parameter> parameters) {
+                          std::vector<Parameter> parameters, EngineRun run) {
+  if (!run)
+    run = [](const engine::SiberneticConfig& c, const engine::RunOptions& o) {
+      return engine::Run(c, o);
+    };
   base.record_fields = false;  // fits read positions only
   base.threads = 1;            // finite-difference points already run concurrently
   base.on_step = nullptr;
   for (const Parameter& p : parameters)
     engine::SetConstant(&base.constants, p.name, p.start);  // validate names now
-  return [config = std::move(config), base, parameters](const std::vector<double>& values) {
+  return [config = std::move(config), base, parameters,
+          run = std::move(run)](const std::vector<double>& values) {
     engine::RunOptions options = base;
     for (std::size_t i = 0; i < parameters.size(); ++i)
       engine::SetConstant(&options.constants, parameters[i].name, values[i]);
-    return engine::Run(config, options);
+    return run(config, options);
   };
 }
 
