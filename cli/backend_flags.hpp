@@ -1,24 +1,21 @@
 #pragma once
 // The flags of every command that names backends: --backends FILE, --cache DIR, --no-cache.
 #include <CLI/CLI.hpp>
-#include <memory>
-#include <string>
 
-#include "owval/backends/cache.hpp"
-#include "owval/backends/registry.hpp"
+#include "owval/backends/commands.hpp"
 
 namespace owval::cli {
 
-struct BackendFlags {
-  std::string file, cache;
-  bool no_cache = false;
-  backends::Registry Registry() const;
-  backends::CacheOptions Cache() const;
-};
-
-void AddBackendFlags(CLI::App* cmd, BackendFlags* flags, bool with_cache);
-
-// "NAME=VALUE" strings as a map (InputError naming --set otherwise).
-std::map<std::string, std::string> ParseSets(const std::vector<std::string>& sets);
+inline void AddBackendFlags(CLI::App* cmd, backends::BackendSelection* selection, bool with_cache) {
+  cmd->add_option("--backends", selection->file,
+                  "Backends file (else ./owval-backends.json, else "
+                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md");
+  if (!with_cache) return;
+  cmd->add_option("--cache", selection->cache.directory,
+                  "Run cache directory (default $XDG_CACHE_HOME/owval or ~/.cache/owval)");
+  cmd->add_flag_callback(
+      "--no-cache", [selection] { selection->cache.enabled = false; },
+      "Neither read nor write the run cache");
+}
 
 }  // namespace owval::cli

@@ -57,8 +57,8 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
       ->check(Positive());
   cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")->check(Positive());
   cmd->callback([a] {
-    Emit(backends::BenchEngineNamed(a->config, fs::path(OWVAL_SHARED_DIR) / "reference", DataDir(),
-                                    a->whole_run, a->engine),
+    Emit(backends::BenchEngineNamed(a->config, SharedReference(), DataDir(), a->whole_run,
+                                    a->engine),
          a->json_out);
   });
 }
@@ -75,7 +75,7 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   cmd->add_option("--hdf5-chunk-frames", o.hdf5.frames_per_chunk, "HDF5 frames per chunk");
   cmd->add_flag("--keep", o.keep_files, "Keep the generated files");
   cmd->callback([a] {
-    a->io.quiet = Flags().quiet;
+    a->io.quiet = QuietMode();
     Emit(RunIoBenchmark(a->io), a->json_out);
   });
 }
@@ -85,7 +85,7 @@ void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   cmd->add_option("--frames", a->render.frames, "Frames per case")->check(Count());
   AddJsonOut(cmd, &a->json_out);
   cmd->callback([a] {
-    a->render.demo1_trajectory = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
+    a->render.demo1_trajectory = SharedReference() / "demo1/position_buffer.txt";
     Emit(render::RunRenderBenchmark(a->render), a->json_out);
   });
 }

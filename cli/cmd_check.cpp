@@ -1,10 +1,6 @@
 // owval check stability|incompressibility TRAJ: physical sanity gates (exit 1 on violation).
-#include <iostream>
-
 #include "command.hpp"
-#include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
-#include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -19,9 +15,8 @@ struct CheckArgs {
 
 void RunStability(const CheckArgs& a) {
   const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame
-  const compare::StabilityReport r = compare::CheckStability(*frames, a.stability);
-  std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
-  if (!r.pass()) SetExitCode(kExitGateFailed);
+  PrintReport(compare::CheckStability(*frames, a.stability), a.json,
+              &compare::StabilityReport::ToTable);
 }
 
 void RunIncompressibility(const CheckArgs& a) {
@@ -32,8 +27,7 @@ void RunIncompressibility(const CheckArgs& a) {
   } catch (const InputError& e) {
     throw InputError(a.path, 0, e.what());
   }
-  std::cout << (a.json ? r.ToJson().dump(2) + "\n" : r.ToTable());
-  if (!r.pass()) SetExitCode(kExitGateFailed);
+  PrintReport(r, a.json, &compare::IncompressibilityReport::ToTable);
 }
 
 void SetUp(CLI::App& app) {

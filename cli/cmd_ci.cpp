@@ -2,8 +2,6 @@
 #include <iostream>
 
 #include "command.hpp"
-#include "owval/base/errors.hpp"
-#include "owval/base/progress.hpp"
 #include "owval/ci/gates.hpp"
 #include "owval/ci/stability_run.hpp"
 #include "resolve.hpp"
@@ -17,19 +15,17 @@ void Report(const ci::GateReport& report) {
 }
 
 struct StabilityArgs {
-  std::string duration, out;
-  std::string scenario = std::string(OWVAL_SHARED_DIR) + "/reference/demo1/configuration";
-  int log_step = 20;
+  ci::StreamedStabilityOptions options;
+  std::string duration;
+  std::string scenario = (SharedReference() / "demo1/configuration").string();
 };
 
-void RunStability(const StabilityArgs& a) {
-  if (a.out.empty()) throw InputError("owval ci validate --stability: give --out DIR");
-  ci::StreamedStabilityOptions o;
+void RunStability(StabilityArgs& a) {
+  ci::StreamedStabilityOptions& o = a.options;
+  if (o.out.empty()) throw InputError("owval ci validate --stability: give --out DIR");
   o.duration_s = ci::ParseDuration(a.duration, "--stability");
-  o.log_step = a.log_step;
-  o.out = a.out;
   const engine::SiberneticConfig config = ResolveConfig(a.scenario);
-  Progress progress("stability", 0, Flags().quiet);
+  Progress progress("stability", 0, QuietMode());
   o.on_step = [&](std::size_t done, std::size_t total) {
     if (done % 200 == 0 || done == total)
       progress.Update(done, "of " + std::to_string(total) + " steps");
@@ -61,9 +57,11 @@ void SetUp(CLI::App& app) {
   validate->add_option(
       "--scenario", stability->scenario,
       "With --stability: scenario name or configuration (default: the reference demo1)");
-  validate->add_option("--log-step", stability->log_step, "With --stability: steps between frames")
+  validate
+      ->add_option("--log-step", stability->options.log_step,
+                   "With --stability: steps between frames")
       ->check(Positive());
-  validate->add_option("-o,--out", stability->out,
+  validate->add_option("-o,--out", stability->options.out,
                        "With --stability: where the run's trajectory goes");
   validate->callback([dir, stability] {
     if (!stability->duration.empty()) return RunStability(*stability);

@@ -4,7 +4,6 @@
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/pipeline/run_directory.hpp"
-#include "owval/trajectory/formats.hpp"
 #include "resolve.hpp"
 
 namespace owval::cli {
@@ -20,9 +19,9 @@ void RunConvert(const ConvertArgs& a) {
   CheckTrajectoryOutput(a.out);
   CheckOutputIsNotAnInput(a.out, {a.in});  // atomic, yet a no-op at best
   TextReadReport read;
-  const Trajectory t = ReadTrajectoryArgument(a.in, a.layout, &read);
+  const Trajectory t = ReadTrajectory(a.in, Reading(a.layout), &read);
   pipeline::ConvertTrajectory(t, a.in, a.out, ParseLayout(a.out_layout));
-  if (!Flags().quiet)
+  if (!QuietMode())
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
                  a.out.c_str());
 }

@@ -3,7 +3,7 @@
 
 #include "command.hpp"
 #include "owval/pipeline/inspect.hpp"
-#include "owval/trajectory/formats.hpp"
+#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
@@ -17,11 +17,8 @@ struct InspectArgs {
 };
 
 void RunInspect(const InspectArgs& a) {
-  TextReadOptions read;
-  read.layout = ParseLayout(a.layout);
-  read.quiet = Flags().quiet;
-  const pipeline::Inspection i =
-      pipeline::InspectTrajectory(a.path, read, a.track.Over(Track{}), {a.start_s, a.end_s});
+  const pipeline::Inspection i = pipeline::InspectTrajectory(
+      a.path, Reading(a.layout), a.track.Over(Track{}), {a.start_s, a.end_s});
   std::cout << (a.json ? i.ToJson().dump(2) + "\n" : i.ToText());
 }
 

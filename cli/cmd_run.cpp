@@ -1,91 +1,43 @@
 // owval run: the engine (PCISPH, Sibernetic's scheme, unless --backend says otherwise) on a
 // configuration or built-in scenario, streamed into an output directory (pipeline/run_directory).
 #include <cstdio>
-#include <iostream>
 
 #include "command.hpp"
-#include "owval/base/command_template.hpp"
-#include "owval/base/errors.hpp"
-#include "owval/base/progress.hpp"
 #include "owval/base/stop_signals.hpp"
-#include "owval/engine/long_run.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/pipeline/run_directory.hpp"
-#include "resolve.hpp"
 
 namespace owval::cli {
 namespace {
 
 struct RunArgs {
   pipeline::RunRequest request;
+  pipeline::RunDirectoryOptions options;
   std::string resume;  // output directory of a checkpointed run
-  int threads = 0;
-  bool json = false, stability = false;
+  bool json = false;
 };
 
-// `path` as one shell word, quoted only when it has to be (the hint is pasted as written).
-std::string ShellWord(const std::string& path) {
-  const bool plain = !path.empty() && path.find_first_not_of(
-                                          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                          "0123456789_-./+,:@%") == std::string::npos;
-  return plain ? path : ShellQuote(path);
-}
-
-void Print(const RunArgs& a, const pipeline::RunRequest& r, const pipeline::RunDirectorySummary& s,
-           const std::string& source) {
-  for (const std::string& w : s.run.warnings)
-    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
-  if (a.json) {
-    std::cout << s.ToJson(source).dump(2) << "\n";
-  } else if (!Flags().quiet) {
-    if (s.stability) std::fprintf(stderr, "%s", s.stability->ToTable().c_str());
-    std::fprintf(stderr, "ran steps %zu to %zu in %.2f s (%.0f steps/s), %zu frames -> %s\n",
-                 s.run.first_step, s.run.steps, s.run.wall_s, s.run.steps_per_s, s.run.frames,
-                 r.out.c_str());
-  }
-  if (s.run.interrupted) {
-    if (s.run.checkpointed)
-      std::fprintf(stderr,
-                   "owval: interrupted after step %zu: partial trajectory in %s, checkpoint %s; "
-                   "continue with: owval run --resume %s\n",
-                   s.run.steps, r.out.c_str(), engine::CheckpointPath(r.out).c_str(),
-                   ShellWord(r.out).c_str());
-    else
-      std::fprintf(stderr,
-                   "owval: interrupted after step %zu: partial trajectory in %s (backend %s "
-                   "cannot checkpoint: no --resume)\n",
-                   s.run.steps, r.out.c_str(), s.backend.c_str());
-    SetExitCode(128 + StopSignal());  // 130 for SIGINT, 143 for SIGTERM
-  } else if (s.stability && !s.stability->pass()) {
-    // --quiet silences progress, never the reason for exit 1.
-    std::fprintf(stderr, "owval: %s\n", s.stability->FailureLine().c_str());
-    SetExitCode(kExitGateFailed);
-  }
-}
-
-void RunEngine(const RunArgs& a) {
+void RunEngine(RunArgs& a) {
   // --resume DIR: the checkpointed run's own arguments; only --threads, --json, --stability and
   // --quiet may change (they change no output byte).
-  const pipeline::RunRequest r =
-      a.resume.empty() ? a.request : pipeline::RunRequest::FromCheckpoint(a.resume);
-  if (r.config.empty() || r.out.empty())
-    throw InputError("owval run: give CONFIG and --out DIR, or --resume DIR");
-  const engine::SiberneticConfig config = ResolveConfig(r.config);
-  Progress progress("run", 0, Flags().quiet);
-  pipeline::RunDirectoryOptions o;
-  o.resume = !a.resume.empty(), o.stability = a.stability, o.threads = a.threads;
-  o.on_step = [&](std::size_t done, std::size_t total) {
-    if (done % 50 == 0 || done == total)
-      progress.Update(done, "of " + std::to_string(total) + " steps");
-  };
-  o.stop_requested = [] { return StopRequested(); };
-  pipeline::RunDirectorySummary summary;
+  a.options.resume = !a.resume.empty();
+  a.options.stop_requested = [] { return StopRequested(); };
+  pipeline::RunDirectorySummary s;
   {
     const StopSignals signals;  // checkpoint and leave a partial trajectory
-    pipeline::RunIntoDirectory(config, r, o, &summary);
+    s = pipeline::RunNamedIntoDirectory(
+        a.resume.empty() ? a.request : pipeline::RunRequest::FromCheckpoint(a.resume), a.options,
+        DataDir(), QuietMode());
   }
-  progress.Finish();
-  Print(a, r, summary, config.source);
+  for (const std::string& w : s.run.warnings)
+    std::fprintf(stderr, "owval: warning: %s\n", w.c_str());
+  if (a.json)
+    std::cout << s.ToJson(s.configuration).dump(2) << "\n";
+  else if (!QuietMode())
+    std::cerr << s.ToText();
+  // --quiet silences progress, never the reason for a non-zero exit.
+  if (const std::string why = s.FailureLine(); !why.empty()) std::cerr << "owval: " << why << "\n";
+  SetExitCode(s.exit_code(StopSignal()));
 }
 
 void SetUp(CLI::App& app) {
@@ -115,7 +67,7 @@ void SetUp(CLI::App& app) {
                   "is then not reference-equivalent");
   cmd->add_flag("--apply-physical-parameters", r.apply_physical_parameters,
                 "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
-  cmd->add_option("--threads", a->threads,
+  cmd->add_option("--threads", a->options.threads,
                   "OpenMP threads (default: every idle core; one below 4,096 particles)")
       ->check(CLI::Range(0, engine::kMaxThreads));
   cmd->add_flag("--no-fields", r.no_fields,
@@ -130,7 +82,7 @@ void SetUp(CLI::App& app) {
                   "Continue the checkpointed run in this output directory with its own "
                   "arguments; the outputs equal an uninterrupted run's byte for byte")
       ->check(CLI::ExistingDirectory);
-  cmd->add_flag("--stability", a->stability,
+  cmd->add_flag("--stability", a->options.stability,
                 "Apply the long-run stability gate to every frame as it is produced (NaN, "
                 "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid "
                 "particles outside): exit 1 when it fails");

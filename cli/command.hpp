@@ -1,15 +1,18 @@
 #pragma once
 // How a command group plugs into the owval executable: a cmd_*.cpp file defines
 //   static const bool registered = owval::cli::RegisterCommand(&SetUpMyCommand);
-// where SetUpMyCommand adds a subcommand to the app and sets its callback. Callbacks report bad
-// input by throwing owval::InputError (exit 2) and gate failures through SetExitCode(1).
+// where SetUpMyCommand adds a subcommand to the app, binds its flags to the library's options and
+// sets its callback. Callbacks report bad input by throwing owval::InputError (exit 2) and gate
+// failures through SetExitCode(1).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
-#include <optional>
+#include <iostream>
 #include <string>
 
-#include "owval/trajectory/track.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
+#include "owval/trajectory/track_choice.hpp"
 
 namespace owval::cli {
 
@@ -32,30 +35,28 @@ const CLI::Validator& Fraction();  // 0 to 1 (NaN refused, which CLI::Range lets
 const CLI::Validator& Count();
 
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
-// --PREFIXaxis): only what was given, laid over a command's default track (a manifest's, or
-// particle 0 y) by Over.
-struct TrackFlags {
-  std::optional<std::size_t> particle;
-  std::string group;                // elastic | liquid | all (excludes the particle)
-  std::optional<std::string> axis;  // x | y | z
-  bool given() const { return particle || !group.empty(); }
-  Track Over(Track base) const;
-};
-// Adds the three flags; `subject` says what the track is for ("Tracked", "Print this").
-void AddTrackFlags(CLI::App* cmd, TrackFlags* flags, const std::string& prefix,
+// --PREFIXaxis); `subject` says what the track is for ("Tracked", "Print this").
+using TrackFlags = TrackChoice;
+void AddTrackFlags(CLI::App* cmd, TrackChoice* flags, const std::string& prefix,
                    const std::string& subject);
 
 // The exit code the process ends with once the callback returns (default 0).
 void SetExitCode(int code);
 
-// Global flags, read by every command.
-struct GlobalFlags {
-  bool quiet = false;
-};
-const GlobalFlags& Flags();
+// What most commands end with: the report as JSON (--json) or as `text` on stdout, and exit
+// code 1 when it did not pass.
+template <class Report>
+void PrintReport(const Report& report, bool json, std::string (Report::*text)() const) {
+  std::cout << (json ? report.ToJson().dump(2) + "\n" : (report.*text)());
+  if (!report.pass()) SetExitCode(kExitGateFailed);
+}
 
 // Where owval finds built-in data: the source tree's scenarios/ and reference_trajectories/.
 // Overridable with the OWVAL_DATA_DIR environment variable (a copy of the source tree's root).
 std::filesystem::path DataDir();
+// Sibernetic's reference runs (../shared/reference, or cmake's OWVAL_SHARED_DIR).
+inline std::filesystem::path SharedReference() {
+  return std::filesystem::path(OWVAL_SHARED_DIR) / "reference";
+}
 
 }  // namespace owval::cli

@@ -7,11 +7,9 @@
 
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
-#include "owval/base/errors.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/base/one_line.hpp"
 #include "owval/base/process_settings.hpp"
-#include "owval/base/progress.hpp"
 #include "owval/render/render.hpp"
 
 namespace owval::cli {
@@ -21,24 +19,7 @@ std::vector<CommandSetUp>& Registry() {
   return registry;
 }
 int g_exit_code = 0;
-GlobalFlags g_flags;
-}  // namespace
 
-bool RegisterCommand(CommandSetUp set_up) {
-  Registry().push_back(std::move(set_up));
-  return true;
-}
-CLI::App& Bench(CLI::App& app) {
-  for (CLI::App* sub : app.get_subcommands([](CLI::App* a) { return a->get_name() == "bench"; }))
-    return *sub;
-  CLI::App* bench = app.add_subcommand("bench", "Benchmarks (JSON results)");
-  bench->require_subcommand(1);
-  return *bench;
-}
-
-void SetExitCode(int code) { g_exit_code = code; }
-
-namespace {
 // Digits only, at most 18 of them: "-1" is refused rather than wrapped to 2^64 - 1.
 CLI::Validator DigitsOnly(const std::string& expected, const std::string& name) {
   return CLI::Validator(
@@ -63,42 +44,36 @@ CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
       },
       name);
 }
+const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
+const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
+const CLI::Validator kPositive =
+    NumberThat([](double x) { return x > 0; }, "a number > 0", "POSITIVE");
+const CLI::Validator kNonNegative =
+    NumberThat([](double x) { return x >= 0; }, "a number >= 0", "NON-NEGATIVE");
+const CLI::Validator kFraction =
+    NumberThat([](double x) { return x >= 0 && x <= 1; }, "a number from 0 to 1", "0..1");
 }  // namespace
 
-const CLI::Validator& ParticleIndex() {
-  static const CLI::Validator index = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
-  return index;
+bool RegisterCommand(CommandSetUp set_up) {
+  Registry().push_back(std::move(set_up));
+  return true;
 }
-const CLI::Validator& Count() {
-  static const CLI::Validator count = DigitsOnly("a whole number >= 0", "COUNT");
-  return count;
+CLI::App& Bench(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App* a) { return a->get_name() == "bench"; }))
+    return *sub;
+  CLI::App* bench = app.add_subcommand("bench", "Benchmarks (JSON results)");
+  bench->require_subcommand(1);
+  return *bench;
 }
+void SetExitCode(int code) { g_exit_code = code; }
 
-const CLI::Validator& Positive() {
-  static const CLI::Validator v =
-      NumberThat([](double x) { return x > 0; }, "a number > 0", "POSITIVE");
-  return v;
-}
-const CLI::Validator& Fraction() {
-  static const CLI::Validator v =
-      NumberThat([](double x) { return x >= 0 && x <= 1; }, "a number from 0 to 1", "0..1");
-  return v;
-}
-const CLI::Validator& NonNegative() {
-  static const CLI::Validator v =
-      NumberThat([](double x) { return x >= 0; }, "a number >= 0", "NON-NEGATIVE");
-  return v;
-}
-const GlobalFlags& Flags() { return g_flags; }
+const CLI::Validator& ParticleIndex() { return kParticleIndex; }
+const CLI::Validator& Count() { return kCount; }
+const CLI::Validator& Positive() { return kPositive; }
+const CLI::Validator& Fraction() { return kFraction; }
+const CLI::Validator& NonNegative() { return kNonNegative; }
 
-Track TrackFlags::Over(Track base) const {
-  if (particle) base = Track{*particle, "", base.axis};
-  if (!group.empty()) base.group = group;
-  if (axis) base.axis = ParseAxisName(*axis);
-  return base;
-}
-
-void AddTrackFlags(CLI::App* cmd, TrackFlags* flags, const std::string& prefix,
+void AddTrackFlags(CLI::App* cmd, TrackChoice* flags, const std::string& prefix,
                    const std::string& subject) {
   auto* particle = cmd->add_option("--" + prefix + "particle", flags->particle,
                                    subject + " particle (file order; default 0)")
@@ -125,15 +100,16 @@ int main(int argc, char** argv) {
   owval::render::SilenceCodecLogging();
   CLI::App app{"owval: validation and benchmark harness for Sibernetic-style particle physics"};
   app.set_version_flag("--version", OWVAL_VERSION);
-  app.add_flag("-q,--quiet", g_flags.quiet, "No progress lines on stderr");
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
   std::string max_memory;
   app.add_option("--max-memory", max_memory,
                  "Refuse inputs whose data would need more than SIZE bytes (512M, 2G; default: "
                  "half of physical memory)");
   app.require_subcommand(1);
   app.fallthrough();
-  app.parse_complete_callback([&max_memory] {
-    owval::SetQuietMode(g_flags.quiet);
+  app.parse_complete_callback([&quiet, &max_memory] {
+    owval::SetQuietMode(quiet);
     if (!max_memory.empty())
       owval::SetMemoryBudgetBytes(owval::ParseByteSize(max_memory, "--max-memory"));
   });

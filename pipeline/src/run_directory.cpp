@@ -5,12 +5,15 @@
 #include <filesystem>
 
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/progress.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/long_run.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "owval/trajectory/writer.hpp"
@@ -135,6 +138,14 @@ void CheckRunOutputs(const RunRequest& r) {
   if (r.zarr) CheckZarrOutput(out / "trajectory.zarr");
 }
 
+// `path` as one shell word, quoted only when it has to be (the hint is pasted as written).
+std::string ShellWord(const std::string& path) {
+  const bool plain = !path.empty() && path.find_first_not_of(
+                                          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                          "0123456789_-./+,:@%") == std::string::npos;
+  return plain ? path : ShellQuote(path);
+}
+
 }  // namespace
 
 void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings, const fs::path& path) {
@@ -208,6 +219,30 @@ nlohmann::json RunDirectorySummary::ToJson(const std::string& configuration) con
   return j;
 }
 
+std::string RunDirectorySummary::ToText() const {
+  char line[512];
+  std::snprintf(line, sizeof line, "ran steps %zu to %zu in %.2f s (%.0f steps/s), %zu frames -> ",
+                run.first_step, run.steps, run.wall_s, run.steps_per_s, run.frames);
+  return (stability ? stability->ToTable() : "") + line + out + "\n";
+}
+
+std::string RunDirectorySummary::FailureLine() const {
+  const std::string step = std::to_string(run.steps);
+  if (run.interrupted && run.checkpointed)
+    return "interrupted after step " + step + ": partial trajectory in " + out + ", checkpoint " +
+           engine::CheckpointPath(out).string() + "; continue with: owval run --resume " +
+           ShellWord(out);
+  if (run.interrupted)
+    return "interrupted after step " + step + ": partial trajectory in " + out + " (backend " +
+           backend + " cannot checkpoint: no --resume)";
+  return stability && !stability->pass() ? stability->FailureLine() : "";
+}
+
+int RunDirectorySummary::exit_code(int stop_signal) const {
+  if (run.interrupted) return 128 + stop_signal;
+  return stability && !stability->pass() ? kExitGateFailed : kExitPass;
+}
+
 engine::RunOptions EngineOptions(const RunRequest& r) {
   engine::RunOptions options;
   options.duration_s = r.time_s;
@@ -255,6 +290,24 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   }
   if (seen.monitor)
     summary->stability = std::make_unique<compare::StabilityReport>(seen.monitor->report());
+  summary->out = request.out;
+  summary->configuration = config.source;
+}
+
+RunDirectorySummary RunNamedIntoDirectory(const RunRequest& request, RunDirectoryOptions options,
+                                          const fs::path& data_dir, bool quiet) {
+  if (request.config.empty() || request.out.empty())
+    throw InputError("owval run: give CONFIG and --out DIR, or --resume DIR");
+  const engine::SiberneticConfig config = scenarios::ResolveConfig(request.config, data_dir);
+  Progress progress("run", 0, quiet);
+  options.on_step = [&progress](std::size_t done, std::size_t total) {
+    if (done % 50 == 0 || done == total)
+      progress.Update(done, "of " + std::to_string(total) + " steps");
+  };
+  RunDirectorySummary summary;
+  RunIntoDirectory(config, request, options, &summary);
+  progress.Finish();
+  return summary;
 }
 
 }  // namespace owval::pipeline

@@ -60,9 +60,20 @@ struct RunDirectorySummary {
   std::string backend;               // canonical name
   std::vector<std::string> outputs;  // files written (partial names when interrupted)
   std::unique_ptr<compare::StabilityReport> stability;  // with options.stability
+  std::string out;                                      // the output directory
+  std::string configuration;  // the configuration's source (a file, or a generated scenario's)
 
   // What `owval run --json` prints.
   nlohmann::json ToJson(const std::string& configuration) const;
+  // What `owval run` shows on stderr when the run returns (unless --quiet): the stability
+  // table (with --stability) and "ran steps A to B in T s (N steps/s), F frames -> OUT".
+  std::string ToText() const;
+  // Why the run ends with a non-zero exit code, in one line, "" when it does not: interrupted
+  // (with the --resume command to continue, or why there is none) or the stability gate failed.
+  std::string FailureLine() const;
+  // 0; 1 when the stability gate failed; 128 + `stop_signal` when interrupted (130 for SIGINT,
+  // 143 for SIGTERM).
+  int exit_code(int stop_signal) const;
 };
 
 // The worm's WCON (trajectory/worm_formats.hpp) from a trajectory, `settings` as its provenance
@@ -84,5 +95,10 @@ engine::RunOptions EngineOptions(const RunRequest& request);
 // InputError before any step; NaN: SimulationError with the state dump in request.out.
 void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& request,
                       const RunDirectoryOptions& options, RunDirectorySummary* summary);
+// The same for `owval run`: the request's configuration (a scenario name in `data_dir`, or a
+// file) resolved and a progress line on stderr unless `quiet`. InputError when the request has
+// no configuration or no output directory.
+RunDirectorySummary RunNamedIntoDirectory(const RunRequest& request, RunDirectoryOptions options,
+                                          const std::filesystem::path& data_dir, bool quiet);
 
 }  // namespace owval::pipeline

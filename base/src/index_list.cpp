@@ -1,35 +1,12 @@
-#include "resolve.hpp"
+#include "owval/base/index_list.hpp"
 
 #include <algorithm>
-#include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
-#include "command.hpp"
 #include "owval/base/errors.hpp"
-#include "owval/scenarios/scenario.hpp"
 
-namespace owval::cli {
-
-engine::SiberneticConfig ResolveConfig(const std::string& name_or_path) {
-  return scenarios::ResolveConfig(name_or_path, DataDir());
-}
-
-Trajectory ReadTrajectoryArgument(const std::string& path, const std::string& layout,
-                                  TextReadReport* report) {
-  TextReadOptions options;
-  options.layout = ParseLayout(layout);
-  options.quiet = Flags().quiet;
-  return ReadTrajectory(path, options, report);
-}
-
-std::unique_ptr<FrameSource> OpenTrajectoryArgument(const std::string& path,
-                                                    const std::string& layout,
-                                                    TextReadReport* report) {
-  TextReadOptions options;
-  options.layout = ParseLayout(layout);
-  options.quiet = Flags().quiet;
-  return OpenFrameSource(path, options, report);
-}
+namespace owval {
 
 std::vector<std::size_t> ParseIndexList(const std::string& text, const std::string& flag) {
   // An empty list ("" or a trailing comma) named nothing to render or gate: refused, as ",".
@@ -51,4 +28,4 @@ std::vector<std::size_t> ParseIndexList(const std::string& text, const std::stri
   return indices;
 }
 
-}  // namespace owval::cli
+}  // namespace owval

@@ -1,0 +1,125 @@
+#include "owval/backends/commands.hpp"
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/base/index_list.hpp"
+#include "owval/scenarios/scenario.hpp"
+#include "owval/trajectory/frame_source.hpp"
+
+namespace owval::backends {
+namespace {
+namespace fs = std::filesystem;
+
+// A trajectory file and a backend name never go together: when one argument is a file, the other
+// must be one too, and is named (missing, a directory) instead of "unknown backend" for the file.
+void RequireFilePartner(const std::string& file, const std::string& other) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec) || fs::is_regular_file(other, ec)) return;
+  if (fs::is_directory(other, ec))
+    throw InputError(other, 0, "is a directory; expected a trajectory file like " + file);
+  if (fs::exists(other, ec))
+    throw InputError(other, 0, "is not a regular file; expected a trajectory file like " + file);
+  throw InputError(other, 0, "no such trajectory file (and " + file + " is a file, not a backend)");
+}
+
+void CheckMarkdownOut(const CompareRequest& r) {
+  if (r.markdown.empty()) return;
+  CheckOutputPath(r.markdown);
+  CheckOutputIsNotAnInput(r.markdown, {r.reference, r.candidate, r.manifest});
+}
+
+compare::ParityOptions FileParityOptions(const CompareRequest& r) {
+  compare::ParityOptions o;
+  if (!r.manifest.empty()) scenarios::ApplyManifestFile(r.manifest, &o);
+  o.track = r.track.Over(o.track);
+  if (!r.frames.empty()) o.sample_frames = ParseIndexList(r.frames, "--frames");
+  o.scale = r.scale;
+  for (std::size_t i = 0; i < r.thresholds.size() && i < compare::kGateThresholdFields.size(); ++i)
+    if (r.thresholds[i])
+      o.gates.*compare::kGateThresholdFields[i].member = {*r.thresholds[i],
+                                                          compare::ThresholdSource::kFlag};
+  o.quiet = r.reading.quiet;
+  return o;
+}
+
+SuiteReport CompareBackendNames(const CompareRequest& r) {
+  CheckMarkdownOut(r);
+  for (const std::string& arg : {r.reference, r.candidate}) {
+    std::error_code ec;
+    if (arg.find('/') != std::string::npos && !fs::is_regular_file(arg, ec))
+      throw InputError(arg, 0, "no such trajectory file (and not a backend name)");
+  }
+  const Registry registry = r.backends.Load();
+  const Backend& reference = registry.Find(r.reference);
+  const Backend& candidate = registry.Find(r.candidate);
+  SuiteOptions options;
+  SelectScenarios(reference, candidate, r.scenarios, &options);
+  options.sets = ParseSets(r.sets);
+  options.on_progress = r.on_progress;
+  return CompareBackends(reference, candidate, options, RunCache(r.backends.cache));
+}
+
+}  // namespace
+
+std::map<std::string, std::string> ParseSets(const std::vector<std::string>& sets) {
+  std::map<std::string, std::string> out;
+  for (const std::string& s : sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--set " + s + ": expected NAME=VALUE");
+    out[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  return out;
+}
+
+Registry BackendSelection::Load() const {
+  return LoadRegistry(RegistryOptionsFromEnvironment(file));
+}
+
+bool CompareOutcome::pass() const { return files ? files->pass() : suite->pass(); }
+nlohmann::json CompareOutcome::ToJson() const { return files ? files->ToJson() : suite->ToJson(); }
+std::string CompareOutcome::ToTable() const { return files ? files->ToTable() : suite->ToTable(); }
+std::string CompareOutcome::ToMarkdown() const {
+  return files ? files->ToMarkdown() : suite->ToMarkdown();
+}
+
+CompareOutcome CompareNamed(const CompareRequest& r) {
+  RequireFilePartner(r.reference, r.candidate);
+  RequireFilePartner(r.candidate, r.reference);
+  CompareOutcome outcome;
+  std::error_code ec;
+  if (!fs::is_regular_file(r.reference, ec) || !fs::is_regular_file(r.candidate, ec)) {
+    outcome.suite = CompareBackendNames(r);
+  } else {
+    const compare::ParityOptions options = FileParityOptions(r);
+    CheckMarkdownOut(r);
+    const auto reference = OpenFrameSource(r.reference, r.reading);  // frame by frame
+    const auto candidate = OpenFrameSource(r.candidate, r.reading);
+    outcome.files = compare::CompareFrameSources(*reference, *candidate, options);
+  }
+  if (!r.markdown.empty()) WriteFileAtomically(r.markdown, outcome.ToMarkdown());
+  return outcome;
+}
+
+BenchReport BenchNamed(const BenchRequest& r) {
+  if (!r.json.empty()) CheckOutputPath(r.json);
+  if (!r.markdown.empty()) CheckOutputPath(r.markdown);
+  const Registry registry = r.backends.Load();
+  std::vector<Backend> chosen;
+  for (const std::string& name : r.names) chosen.push_back(registry.Find(name));
+  BenchOptions options = r.options;
+  options.scenario = FindScenarios(r.reference_dir, {r.scenario}).front();
+  std::vector<fs::path> inputs = {r.backends.file};
+  for (const auto& entry : fs::directory_iterator(options.scenario.directory))
+    inputs.push_back(entry.path());
+  for (const std::string& out : {r.json, r.markdown})
+    if (!out.empty()) CheckOutputIsNotAnInput(out, inputs);
+  if (r.time_s > 0) options.scenario.time_s = r.time_s;
+  options.sets = ParseSets(r.sets);
+  const BenchReport report = BenchBackends(chosen, options);
+  if (!r.markdown.empty()) WriteFileAtomically(r.markdown, report.ToMarkdown());
+  if (!r.json.empty()) WriteFileAtomically(r.json, report.ToJson().dump(2) + "\n");
+  return report;
+}
+
+}  // namespace owval::backends

@@ -1,0 +1,37 @@
+#include "owval/pipeline/checklist_request.hpp"
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/pipeline/pipeline.hpp"
+#include "owval/scenarios/scenario.hpp"
+
+namespace owval::pipeline {
+
+ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
+  ci::ChecklistOptions options;
+  const compare::ParityOptions parity =
+      scenarios::ParityOptionsFrom(r.scenario, r.manifest, r.data_dir);
+  options.gates = parity.gates;
+  if (!r.scenario.empty() || !r.manifest.empty()) options.track = parity.track;
+  options.git_range = r.git_range;
+  if (!r.markdown.empty()) {
+    CheckOutputPath(r.markdown);
+    std::vector<std::filesystem::path> inputs = ci::EvidenceFiles(r.directory);
+    inputs.insert(inputs.end(), {r.manifest, r.reference});
+    CheckOutputIsNotAnInput(r.markdown, inputs);
+  }
+  ScenarioReference reference;  // its temporary file lives until the checklist is done
+  if (!r.scenario.empty()) {
+    reference = MakeScenarioReference(r.scenario, r.data_dir);
+    options.caller_reference = reference.file;
+    options.caller_reference_source = r.scenario + "'s " + reference.source;
+    options.scenario_prediction = MakeScenarioPrediction(r.scenario, r.data_dir);
+  } else if (!r.reference.empty()) {
+    options.caller_reference = r.reference;
+    options.caller_reference_source = r.reference;
+  }
+  const ci::ChecklistReport report = ci::RunChecklist(r.directory, options);
+  if (!r.markdown.empty()) WriteFileAtomically(r.markdown, report.ToMarkdown());
+  return report;
+}
+
+}  // namespace owval::pipeline

@@ -1,0 +1,45 @@
+#include "owval/pipeline/gradcheck_request.hpp"
+
+#include <sstream>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/sgd/gradcheck.hpp"
+#include "owval/sgd/gradient_fit.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::pipeline {
+
+GradCheckResult RunGradCheckRequest(GradCheckRequest r) {
+  engine::GradCheckOptions& o = r.options;
+  if (!r.output.empty()) {
+    CheckOutputPath(r.output);
+    CheckOutputIsNotAnInput(r.output, {o.end_to_end_config, r.reference});
+  }
+  const std::filesystem::path demo1 = r.shared_reference / "demo1";
+  if (o.end_to_end_config.empty()) {
+    o.end_to_end_config = (demo1 / "configuration").string();
+    if (r.reference.empty()) r.reference = (demo1 / "position_buffer.txt").string();
+  }
+  if (!r.reference.empty()) {  // demo1's fit loss: the centroids against a reference run
+    const Trajectory reference = ReadTrajectory(r.reference, {.quiet = true});
+    o.end_to_end_loss =
+        sgd::GroupCentroidLoss(reference, {"elastic", "liquid"}, o.end_to_end_steps, 1.0);
+    o.end_to_end_loss_name = "centroids vs " + r.reference;
+  }
+  GradCheckResult result;
+  result.summary = engine::RunGradCheck(o);
+  result.json = sgd::GradCheckJson(result.summary, o);
+  if (!r.output.empty()) WriteFileAtomically(r.output, result.json.dump(2) + "\n");
+  return result;
+}
+
+std::string GradCheckResult::ToText() const {
+  std::ostringstream out;
+  for (const engine::GradCheckTest& t : summary.tests)
+    out << (t.pass ? "pass " : "FAIL ") << t.name << ": fd " << t.finite_difference << ", analytic "
+        << t.analytic << ", relative error " << t.relative_error << "\n";
+  out << summary.BriefReport() << "\n";
+  return out.str();
+}
+
+}  // namespace owval::pipeline

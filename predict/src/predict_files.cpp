@@ -1,0 +1,35 @@
+#include "owval/predict/predict_files.hpp"
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/json_file.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/scenarios/scenario.hpp"
+#include "owval/trajectory/frame_source.hpp"
+
+namespace owval::predict {
+
+Prediction PredictNamed(const PredictRequest& r) {
+  PredictOptions options;
+  options.omit_quarter_factor = r.omit_quarter_factor;
+  const scenarios::ResolvedScenario s = scenarios::ResolveScenario(r.config, r.params, r.data_dir);
+  options.scenario = s.name;
+  options.predictor = s.predictor;
+  engine::PhysicsConstants constants;
+  for (const std::string& c : r.constants) engine::SetConstantAssignment(&constants, c);
+  const Prediction p = Predict(s.config, constants, options);
+  if (!r.out.empty()) WriteFileAtomically(r.out, p.ToJson().dump(2) + "\n");
+  return p;
+}
+
+Reconciliation ReconcileFiles(const ReconcileRequest& r) {
+  const Prediction p = Prediction::FromJson(ReadJsonFile(r.prediction), r.prediction);
+  ReconcileOptions options;
+  for (const std::string& t : r.tolerances) options.AddTolerance(t);
+  CheckTolerances(p, options);                                   // before the trajectory is opened
+  const auto frames = OpenFrameSource(r.trajectory, r.reading);  // frame by frame
+  const Reconciliation reconciliation = Reconcile(p, *frames, options);
+  if (!r.out.empty()) WriteFileAtomically(r.out, reconciliation.ToJson().dump(2) + "\n");
+  return reconciliation;
+}
+
+}  // namespace owval::predict
