@@ -2,11 +2,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
 #include <vector>
 
 #include "command.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/failure.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/base/one_line.hpp"
 #include "owval/base/process_settings.hpp"
@@ -121,21 +121,10 @@ int main(int argc, char** argv) {
     // CLI11's own text can span lines and echo a whole argument: one short printable line.
     std::fprintf(stderr, "owval: usage: %s (see --help)\n", owval::OneLine(e.what()).c_str());
     return owval::kExitBadInput;
-  } catch (const owval::InputError& e) {
-    std::fprintf(stderr, "owval: error: %s\n", e.what());
-    return owval::kExitBadInput;
-  } catch (const owval::EnvironmentError& e) {
-    std::fprintf(stderr, "owval: environment: %s\n", e.what());
-    return owval::kExitEnvironment;
-  } catch (const owval::SimulationError& e) {
-    std::fprintf(stderr, "owval: error: %s\n", e.what());
-    return owval::kExitGateFailed;
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::fprintf(stderr, "owval: error: %s\n", owval::DescribeFilesystemError(e).c_str());
-    return owval::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "owval: error: %s\n", e.what());
-    return owval::kExitBadInput;
+  } catch (...) {
+    const owval::Failure failure = owval::DescribeFailure(std::current_exception());
+    std::fprintf(stderr, "owval: %s\n", failure.line.c_str());
+    return failure.exit_code;
   }
   return g_exit_code;
 }
