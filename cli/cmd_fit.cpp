@@ -25,14 +25,13 @@ void RunFit(FitArgs& a) {
   const bool engine_runs = r.gradient != "fd" || r.command.empty();
   const engine::SiberneticConfig config =
       engine_runs ? ResolveConfig(a.config) : engine::SiberneticConfig{};
-  const Trajectory reference = a.reference.empty() || r.gradient == "fd"
-                                   ? Trajectory{}
-                                   : ReadTrajectoryArgument(a.reference);
+  // Read frame by frame by the fit, up to the fitted time (an fd fit reads none).
+  const std::unique_ptr<FrameSource> reference =
+      a.reference.empty() || r.gradient == "fd" ? nullptr : OpenTrajectoryArgument(a.reference);
   pipeline::FitDirectorySummary summary;
   {
     const StopSignals signals;  // the fit stops after its current iteration, history kept
-    pipeline::FitIntoDirectory(r, &config, a.reference.empty() ? nullptr : &reference,
-                               StopRequested, &summary);
+    pipeline::FitIntoDirectory(r, &config, reference.get(), StopRequested, &summary);
   }
   if (a.json) {
     std::cout << summary.history.dump(2) << "\n";

@@ -45,7 +45,7 @@ void Summarise(const std::vector<sgd::Parameter>& parameters, const sgd::FitSumm
     summary->values.emplace_back(parameters[i].name, fit.final_values[i]);
 }
 
-std::vector<engine::LossTerm> LossOf(const FitRequest& r, const Trajectory& reference,
+std::vector<engine::LossTerm> LossOf(const FitRequest& r, FrameSource& reference,
                                      std::size_t steps) {
   if (r.loss_groups.empty()) return sgd::TrackLoss(reference, r.track, steps, r.loss_scale);
   return sgd::GroupCentroidLoss(reference, r.loss_groups, steps, r.loss_scale);
@@ -73,14 +73,14 @@ sgd::GradientFitOptions GradientOptions(const FitRequest& r) {
 
 // The analytic fit: loss against a reference trajectory, gradient from the engine's reverse pass.
 void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
-                 const Trajectory& reference, const std::function<bool()>& cancelled,
+                 FrameSource& reference, const std::function<bool()>& cancelled,
                  FitDirectorySummary* summary) {
   const std::vector<sgd::Parameter> parameters = ParametersOf(r);
+  sgd::GradientFitOptions options = GradientOptions(r);
+  const std::vector<engine::LossTerm> loss = LossOf(r, reference, options.reverse.steps);
   const fs::path out = r.out;
   CreateOutputDirectories(out);
   const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
-  sgd::GradientFitOptions options = GradientOptions(r);
-  const std::vector<engine::LossTerm> loss = LossOf(r, reference, options.reverse.steps);
   options.on_iteration = [&](const nlohmann::json& h) { WriteProgress(out, h, r.quiet); };
   options.cancelled = cancelled;
   sgd::GradientFitSummary fit;
@@ -133,7 +133,7 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
 }  // namespace
 
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
-                      const Trajectory* reference, const std::function<bool()>& cancelled,
+                      FrameSource* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary) {
   CheckOutputDirectory(request.out);  // before any simulation: "/proc/x", a file, no permission
   MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made

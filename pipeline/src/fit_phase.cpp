@@ -71,11 +71,9 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
   for (const auto& t : fit.value("targets", nlohmann::json::array())) {
     const std::string metric = t.value("metric", std::string());
     const double weight = t.value("weight", 1.0);
-    if (metric == "rms") {  // the reference's followed particles only, read frame by frame
-      const fs::path file = f.dir / "reference.h5";
-      targets.push_back(
-          {"rms", 0, range, weight, file.string(),
-           std::make_shared<const Trajectory>(ReadKeepingTracked(file, f.scenario.track))});
+    if (metric == "rms") {  // the reference's tracked series, read above
+      targets.push_back({"rms", 0, range, weight, (f.dir / "reference.h5").string(),
+                         std::make_shared<const TrackedSeries>(reference)});
       continue;
     }
     const std::optional<double> value = metric == "period"           ? m.period_s
@@ -91,16 +89,6 @@ std::optional<std::vector<sgd::Target>> Targets(const FitPhase& f, const nlohman
   return targets;
 }
 
-// sgd::EngineSimulator's runs, each keeping only the particles the track follows instead of
-// every frame of every particle.
-sgd::Simulator TrackedSimulator(const FitPhase& f, const std::vector<sgd::Parameter>& parameters) {
-  return sgd::EngineSimulator(f.config, RunOptionsFor(f), parameters,
-                              [track = f.scenario.track](const engine::SiberneticConfig& config,
-                                                         const engine::RunOptions& options) {
-                                return RunKeepingTracked(config, options, track);
-                              });
-}
-
 }  // namespace
 
 std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) {
@@ -114,7 +102,7 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
   const auto targets = Targets(f, spec, &why);
   if (evidence.parameters.empty() || !targets || targets->empty())
     return why.empty() ? "the manifest's \"fit\" has no parameters or targets" : why;
-  const Track& tracking = f.scenario.track;  // KeptTrack(tracking) reads the kept particles
+  const Track& tracking = f.scenario.track;
   const nlohmann::json targets_json = sgd::TargetsToJson(*targets, tracking);
   const fs::path history = f.dir / "fit" / "history.json";
   sgd::FitOptions options;
@@ -124,10 +112,10 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
     with_targets["targets"] = targets_json;
     WriteFileAtomically(history, with_targets.dump(2) + "\n");
   };
-  sgd::Fit(
-      options, evidence.parameters,
-      sgd::MakeObjective(TrackedSimulator(f, evidence.parameters), KeptTrack(tracking), *targets),
-      &evidence.summary);
+  sgd::Fit(options, evidence.parameters,
+           sgd::MakeObjective(sgd::EngineSimulator(f.config, RunOptionsFor(f), evidence.parameters),
+                              tracking, *targets),
+           &evidence.summary);
   const nlohmann::json j =
       sgd::ToJson(options, evidence.parameters, evidence.summary, targets_json);
   WriteFileAtomically(history, j.dump(2) + "\n");
@@ -154,10 +142,11 @@ bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
   if (kind != "spring_period_vs_log_k")
     throw InputError("scenarios/manifests/" + f.scenario.name + ".json", 0,
                      "\"fd_test\": expected spring_period_vs_log_k");
-  const sgd::Simulator simulate = TrackedSimulator(f, {{"elasticity_coefficient", 3e8, true}});
+  const sgd::Simulator simulate =
+      sgd::EngineSimulator(f.config, RunOptionsFor(f), {{"elasticity_coefficient", 3e8, true}});
   auto period = [&](double log_k) {
-    const Trajectory t = simulate({std::exp(log_k)});
-    const auto m = compare::MeasureSignal(t.time_s, KeptTrack(f.scenario.track).Series(t));
+    const TrackedSeries run = simulate({std::exp(log_k)}, f.scenario.track);
+    const auto m = compare::MeasureSignal(run.time_s, run.value);
     if (!m.period_s)
       throw InputError("finite-difference test: no oscillation at k = " +
                        std::to_string(std::exp(log_k)));

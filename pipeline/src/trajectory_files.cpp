@@ -47,51 +47,6 @@ class FileSink : public engine::FrameSink {
   std::unique_ptr<TrajectoryWriter> writer_;
 };
 
-// The particles a track follows, in file order.
-std::vector<std::size_t> Followed(const Trajectory& header, const Track& track) {
-  track.Validate(header);
-  if (!track.group.empty()) return GroupIndices(header, track.group);
-  return {track.particle};
-}
-
-// Keeps the followed particles of each frame it is given.
-class Keeper {
- public:
-  Keeper(const Trajectory& header, const Track& track) : members_(Followed(header, track)) {
-    Trajectory& t = kept_;
-    t.box = header.box;
-    t.time_step_s = header.time_step_s;
-    t.log_step = header.log_step;
-    t.provenance = header.provenance;
-    for (std::size_t i : members_) t.type.push_back(header.type[i]);
-  }
-  void Keep(double time_s, const float* positions) {
-    Trajectory& t = kept_;
-    t.time_s.push_back(time_s);
-    for (std::size_t i : members_)
-      t.positions.insert(t.positions.end(), positions + 3 * i, positions + 3 * i + 3);
-  }
-  Trajectory Take() { return std::move(kept_); }
-
- private:
-  std::vector<std::size_t> members_;
-  Trajectory kept_;
-};
-
-class KeeperSink : public engine::FrameSink {
- public:
-  explicit KeeperSink(const Track& track) : track_(track) {}
-  void Begin(const Trajectory& header, int /*threads*/) override {
-    keeper_ = std::make_unique<Keeper>(header, track_);
-  }
-  void Frame(const engine::FrameView& f) override { keeper_->Keep(f.time_s, f.positions.data()); }
-  Trajectory Take() { return keeper_->Take(); }
-
- private:
-  const Track& track_;
-  std::unique_ptr<Keeper> keeper_;
-};
-
 // A per-frame field of the frame a FrameRef names, or null when the source holds none.
 const float* FieldAt(const std::vector<float>& field, const FrameRef& frame,
                      std::size_t values_per_particle) {
@@ -139,36 +94,7 @@ std::unique_ptr<FrameSource> OpenQuietly(const fs::path& file) {
 }
 
 TrackedSeries ReadTrackedSeries(const fs::path& file, const Track& track) {
-  const std::unique_ptr<FrameSource> frames = OpenQuietly(file);
-  TrackedSeries series;
-  series.value = track.Series(*frames);
-  series.time_s = frames->header().time_s;
-  return series;
-}
-
-Trajectory RunKeepingTracked(const engine::SiberneticConfig& config,
-                             const engine::RunOptions& options, const Track& track) {
-  engine::RunOptions positions_only = options;
-  positions_only.record_fields = false;
-  KeeperSink sink(track);
-  engine::Run(config, positions_only, &sink);
-  return sink.Take();
-}
-
-Trajectory ReadKeepingTracked(const fs::path& file, const Track& track) {
-  const std::unique_ptr<FrameSource> frames = OpenQuietly(file);
-  Keeper keeper(frames->header(), track);
-  for (std::size_t f = 0; f < frames->frame_count(); ++f) {
-    const FrameRef frame = frames->Frame(f);
-    keeper.Keep(frame.trajectory.time_s[frame.frame], frame.trajectory.position(frame.frame, 0));
-  }
-  return keeper.Take();
-}
-
-Track KeptTrack(const Track& track) {
-  Track kept = track;
-  if (kept.group.empty()) kept.particle = 0;
-  return kept;
+  return owval::ReadTrackedSeries(*OpenQuietly(file), track);
 }
 
 }  // namespace owval::pipeline

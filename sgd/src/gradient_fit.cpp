@@ -295,47 +295,85 @@ nlohmann::json ToJson(const GradientFitOptions& o, const std::vector<Parameter>&
   return j;
 }
 
-std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
-                                        std::size_t steps, double scale, bool every_axis) {
+namespace {
+
+// A loss term's particles and axes, its frames not yet filled.
+engine::LossTerm TermOf(const Trajectory& header, const Track& tracking, bool every_axis) {
+  tracking.Validate(header);
   engine::LossTerm term;
   if (tracking.group.empty()) {
     term.target = engine::LossTerm::Target::kParticle;
     term.particles = {std::int32_t(tracking.particle)};
   } else {
     term.target = engine::LossTerm::Target::kCentroid;
-    for (std::size_t i : GroupIndices(reference, tracking.group))
+    for (std::size_t i : GroupIndices(header, tracking.group))
       term.particles.push_back(std::int32_t(i));
   }
   if (!every_axis) {
     term.axis_weight = {0, 0, 0};
     term.axis_weight[std::size_t(tracking.axis)] = 1;
   }
-  const std::size_t log_step = std::size_t(std::max(reference.log_step, 1));
+  return term;
+}
+
+// One term per track, their targets read in one pass over the reference's frames: the mean of
+// the term's particles at each frame within `steps`, one Vec3d a frame (never the frames).
+std::vector<engine::LossTerm> TrackLosses(FrameSource& reference, const std::vector<Track>& tracks,
+                                          std::size_t steps, double scale, bool every_axis) {
+  const Trajectory& header = reference.header();
+  std::vector<engine::LossTerm> terms;
+  for (const Track& t : tracks) terms.push_back(TermOf(header, t, every_axis));
+  const std::size_t log_step = std::size_t(std::max(header.log_step, 1));
   // A run records frame 0 after its first step, which moves nothing (as Sibernetic's), so
   // frame f is the model's state after f·log_step steps from the configuration.
   for (std::size_t f = 1; f < reference.frame_count() && f * log_step <= steps; ++f) {
-    engine::Vec3d c{0, 0, 0};
-    for (std::int32_t i : term.particles)
-      for (int a = 0; a < 3; ++a) c[a] += reference.coordinate(f, std::size_t(i), a);
-    for (double& v : c) v /= double(term.particles.size());
-    term.frame_steps.push_back(f * log_step);
-    term.reference.push_back({c});
+    const FrameRef frame = reference.Frame(f);
+    for (engine::LossTerm& term : terms) {
+      engine::Vec3d c{0, 0, 0};
+      for (std::int32_t i : term.particles)
+        for (int a = 0; a < 3; ++a)
+          c[a] += frame.trajectory.coordinate(frame.frame, std::size_t(i), a);
+      for (double& v : c) v /= double(term.particles.size());
+      term.frame_steps.push_back(f * log_step);
+      term.reference.push_back({c});
+    }
   }
-  if (term.frame_steps.empty())
-    throw InputError("fit: the reference has no frame within the fitted steps");
-  term.weight = 1.0 / (scale * scale * double(term.frame_steps.size()));
-  return {term};
+  for (engine::LossTerm& term : terms) {
+    if (term.frame_steps.empty())
+      throw InputError("fit: the reference has no frame within the fitted steps");
+    term.weight = 1.0 / (scale * scale * double(term.frame_steps.size()));
+  }
+  return terms;
+}
+
+std::vector<Track> CentroidTracks(const std::vector<std::string>& groups) {
+  std::vector<Track> tracks;
+  for (const std::string& g : groups) tracks.push_back(Track{0, g, Axis::kY});
+  return tracks;
+}
+
+}  // namespace
+
+std::vector<engine::LossTerm> TrackLoss(FrameSource& reference, const Track& tracking,
+                                        std::size_t steps, double scale, bool every_axis) {
+  return TrackLosses(reference, {tracking}, steps, scale, every_axis);
+}
+
+std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
+                                        std::size_t steps, double scale, bool every_axis) {
+  return TrackLoss(*MemoryFrameSource(reference), tracking, steps, scale, every_axis);
+}
+
+std::vector<engine::LossTerm> GroupCentroidLoss(FrameSource& reference,
+                                                const std::vector<std::string>& groups,
+                                                std::size_t steps, double scale) {
+  return TrackLosses(reference, CentroidTracks(groups), steps, scale, /*every_axis=*/true);
 }
 
 std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
                                                 const std::vector<std::string>& groups,
                                                 std::size_t steps, double scale) {
-  std::vector<engine::LossTerm> loss;
-  for (const std::string& g : groups)
-    for (engine::LossTerm& t :
-         TrackLoss(reference, Track{0, g, Axis::kY}, steps, scale, /*every_axis=*/true))
-      loss.push_back(std::move(t));
-  return loss;
+  return GroupCentroidLoss(*MemoryFrameSource(reference), groups, steps, scale);
 }
 
 std::vector<engine::LossTerm> OscillatorLoss(std::int32_t particle, int axis, double period_s,

@@ -9,7 +9,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/compare/signal_metrics.hpp"
-#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::sgd {
 namespace fs = std::filesystem;
@@ -39,12 +39,18 @@ std::pair<std::string, std::string> KeyValue(const std::string& text, const std:
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-double Rms(const Trajectory& t, const Track& k, const Trajectory& reference,
+// A trajectory file's tracked series, read frame by frame.
+TrackedSeries ReadSeries(const fs::path& file, const Track& track) {
+  const std::unique_ptr<FrameSource> frames = OpenFrameSource(file);
+  return ReadTrackedSeries(*frames, track);
+}
+
+double Rms(const TrackedSeries& run, const TrackedSeries& reference,
            const std::string& reference_file) {
-  const auto pairs = PairFramesByTime(reference, t);
+  const auto pairs = PairFramesByTime(reference, run);
   if (pairs.empty())
     throw InputError(reference_file, 0, "shares no frame time with the simulation");
-  const auto ref = k.Series(reference), cand = k.Series(t);
+  const std::vector<double>&ref = reference.value, &cand = run.value;
   double sum = 0;
   for (const auto& [fr, fc] : pairs) sum += (cand[fc] - ref[fr]) * (cand[fc] - ref[fr]);
   return std::sqrt(sum / double(pairs.size()));
@@ -110,24 +116,25 @@ Parameter ParseParameter(const std::string& text) {
   return p;
 }
 
-void LoadReferences(std::vector<Target>* targets) {
+void LoadReferences(const Track& track, std::vector<Target>* targets) {
   for (Target& target : *targets)
     if (target.metric == "rms" && !target.reference)
-      target.reference = std::make_shared<const Trajectory>(ReadTrajectory(target.reference_file));
+      target.reference =
+          std::make_shared<const TrackedSeries>(ReadSeries(target.reference_file, track));
 }
 
-std::vector<double> ScaledResiduals(const Trajectory& t, const Track& k,
+std::vector<double> ScaledResiduals(const TrackedSeries& run, const Track& track,
                                     const std::vector<Target>& targets) {
-  const compare::SignalMetrics m = compare::MeasureSignal(t.time_s, k.Series(t));
+  const compare::SignalMetrics m = compare::MeasureSignal(run.time_s, run.value);
   std::vector<double> r;
   for (const Target& target : targets) {
     double measured = 0;
     if (target.metric != "rms")
       measured = Measure(m, target.metric);
     else if (target.reference)
-      measured = Rms(t, k, *target.reference, target.reference_file);
+      measured = Rms(run, *target.reference, target.reference_file);
     else  // not loaded by LoadReferences: read for this call only
-      measured = Rms(t, k, ReadTrajectory(target.reference_file), target.reference_file);
+      measured = Rms(run, ReadSeries(target.reference_file, track), target.reference_file);
     r.push_back(std::sqrt(target.weight) * (measured - target.value) / target.scale);
   }
   return r;
@@ -145,16 +152,16 @@ nlohmann::json TargetsToJson(const std::vector<Target>& targets, const Track& k)
 }
 
 Objective MakeObjective(Simulator simulator, Track tracking, std::vector<Target> targets) {
-  LoadReferences(&targets);
+  LoadReferences(tracking, &targets);
   return [simulator = std::move(simulator), tracking, targets](const std::vector<double>& values) {
-    return ScaledResiduals(simulator(values), tracking, targets);
+    return ScaledResiduals(simulator(values, tracking), tracking, targets);
   };
 }
 
 Simulator CommandSimulator(std::string command_template, std::vector<Parameter> parameters,
                            fs::path work_dir) {
   auto counter = std::make_shared<std::atomic<int>>(0);
-  return [=](const std::vector<double>& values) {
+  return [=](const std::vector<double>& values, const Track& track) {
     const fs::path out = work_dir / ("eval_" + std::to_string((*counter)++));
     fs::create_directories(out);
     const fs::path out_file = out / "trajectory.h5";
@@ -176,7 +183,7 @@ Simulator CommandSimulator(std::string command_template, std::vector<Parameter> 
           (out / "command.log").string(), 0,
           "external command failed (status " + std::to_string(status) + "): " + command);
     for (const fs::path& candidate : {out_file, out / "position_buffer.txt"})
-      if (fs::exists(candidate)) return ReadTrajectory(candidate);
+      if (fs::exists(candidate)) return ReadSeries(candidate, track);
     throw InputError(
         out.string(), 0,
         "the command wrote no trajectory (expected trajectory.h5 or position_buffer.txt)");

@@ -145,8 +145,9 @@ TEST(Targets, RmsReferenceIsReadOnceWhenTheObjectiveIsMade) {
   const std::filesystem::path reference = dir / "reference.h5";
   WriteTrajectory(Line(0), reference);
   const Objective objective =
-      MakeObjective([](const std::vector<double>& x) { return Line(x[0]); }, Track{},
-                    {ParseTarget("rms=0:scale=2:ref=" + reference.string())});
+      MakeObjective([](const std::vector<double>& x,
+                       const Track& track) { return TrackedSeriesOf(Line(x[0]), track); },
+                    Track{}, {ParseTarget("rms=0:scale=2:ref=" + reference.string())});
   std::filesystem::remove_all(dir);  // evaluations must not need the file any more
   std::vector<std::future<std::vector<double>>> points;
   for (double dy : {0.5, 1.0, 3.0})
@@ -154,8 +155,9 @@ TEST(Targets, RmsReferenceIsReadOnceWhenTheObjectiveIsMade) {
   EXPECT_DOUBLE_EQ(points[0].get().at(0), 0.25);
   EXPECT_DOUBLE_EQ(points[1].get().at(0), 0.5);
   EXPECT_DOUBLE_EQ(points[2].get().at(0), 1.5);
-  EXPECT_THROW(MakeObjective([](const std::vector<double>&) { return Line(0); }, Track{},
-                             {ParseTarget("rms=0:ref=" + reference.string())}),
+  EXPECT_THROW(MakeObjective([](const std::vector<double>&,
+                                const Track& track) { return TrackedSeriesOf(Line(0), track); },
+                             Track{}, {ParseTarget("rms=0:ref=" + reference.string())}),
                InputError);  // unreadable now: refused before any evaluation
 }
 

@@ -9,9 +9,9 @@
 namespace owval {
 namespace {
 
-double FrameInterval(const Trajectory& t) {
-  return t.frame_count() > 1 ? (t.time_s.back() - t.time_s.front()) / double(t.frame_count() - 1)
-                             : std::numeric_limits<double>::infinity();
+double FrameInterval(const std::vector<double>& time_s) {
+  return time_s.size() > 1 ? (time_s.back() - time_s.front()) / double(time_s.size() - 1)
+                           : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -117,17 +117,19 @@ Track Track::FromJson(const nlohmann::json& j, const std::string& where) {
 
 std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const Trajectory& ref,
                                                                   const Trajectory& cand) {
+  return PairFramesByTime(ref.time_s, cand.time_s);
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const std::vector<double>& ref,
+                                                                  const std::vector<double>& cand) {
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   const double finer = std::min(FrameInterval(ref), FrameInterval(cand));
   const double tolerance = std::isfinite(finer) ? finer / 2 : 1e-12;
   std::size_t c = 0;
-  for (std::size_t f = 0; f < ref.frame_count(); ++f) {
-    const double t = ref.time_s[f];
-    while (c + 1 < cand.frame_count() &&
-           std::abs(cand.time_s[c + 1] - t) <= std::abs(cand.time_s[c] - t))
-      ++c;
-    if (c < cand.frame_count() && std::abs(cand.time_s[c] - t) < tolerance)
-      pairs.emplace_back(f, c);
+  for (std::size_t f = 0; f < ref.size(); ++f) {
+    const double t = ref[f];
+    while (c + 1 < cand.size() && std::abs(cand[c + 1] - t) <= std::abs(cand[c] - t)) ++c;
+    if (c < cand.size() && std::abs(cand[c] - t) < tolerance) pairs.emplace_back(f, c);
   }
   return pairs;
 }

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "owval/engine/config.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
-#include "owval/trajectory/trajectory.hpp"
 
 namespace owval::pipeline {
 
@@ -59,10 +59,13 @@ struct FitDirectorySummary {
 };
 
 // `config`: the simulation (not read by fd fits with a command); `reference`: the analytic and
-// model-fd fits' trajectory (required there). `cancelled` is polled between evaluations (fd) or
-// iterations. InputError naming the flag for a request that cannot run.
+// model-fd fits' trajectory (required there), read frame by frame up to the fitted time: the
+// loss keeps the tracked coordinate or the group centroids of each frame, never the frames.
+// An fd fit's evaluations and rms references keep only their tracked series. `cancelled` is
+// polled between evaluations (fd) or iterations. InputError naming the flag for a request that
+// cannot run.
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
-                      const Trajectory* reference, const std::function<bool()>& cancelled,
+                      FrameSource* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary);
 
 }  // namespace owval::pipeline

@@ -1,6 +1,5 @@
 #pragma once
 // The in-process evaluator: the engine itself, with named physics constants set per evaluation.
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,15 +14,16 @@ namespace owval::sgd {
 // table's rule refuses.
 void SetConstant(engine::PhysicsConstants* constants, const std::string& name, double value);
 
-// How an evaluation runs the engine; the default, engine::Run, returns every frame of every
-// particle. A caller that needs less (the pipeline keeps only the tracked particles) passes its
-// own, so that memory stays bounded by what the targets read.
-using EngineRun = std::function<Trajectory(const engine::SiberneticConfig& config,
-                                           const engine::RunOptions& options)>;
+// An engine run's tracked series, measured as each frame is produced: no frame is kept, so
+// memory stays O(particles) + one number a frame whatever the run's length. InputError when
+// the track names nothing in the run.
+TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
+                               const engine::RunOptions& options, const Track& track);
 
 // Runs the engine on `config` with `base` options (one thread: finite-difference points run
-// concurrently; positions only), the fitted parameters set by name.
+// concurrently; positions only), the fitted parameters set by name; each evaluation keeps only
+// its tracked series (RunTrackedSeries).
 Simulator EngineSimulator(engine::SiberneticConfig config, engine::RunOptions base,
-                          std::vector<Parameter> parameters, EngineRun run = nullptr);
+                          std::vector<Parameter> parameters);
 
 }  // namespace owval::sgd

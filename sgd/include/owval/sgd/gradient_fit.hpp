@@ -14,6 +14,7 @@
 #include "owval/engine/gradient.hpp"
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/targets.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::sgd {
 
@@ -64,11 +65,19 @@ nlohmann::json ToJson(const GradientFitOptions& options, const std::vector<Param
 // coordinate (every axis when every_axis) at every frame of `reference` up to `steps`,
 // frames paired by step index (frame f, f ≥ 1, is the model's state after f·log_step steps: a
 // run records frame 0 after its first step, which moves nothing), each squared difference
-// divided by scale² and by the number of frames.
+// divided by scale² and by the number of frames. The reference is read frame by frame, up to
+// `steps` only; the loss keeps one position a frame. InputError when the track names nothing in
+// the reference.
+std::vector<engine::LossTerm> TrackLoss(FrameSource& reference, const Track& tracking,
+                                        std::size_t steps, double scale, bool every_axis = false);
 std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
                                         std::size_t steps, double scale, bool every_axis = false);
 
-// TrackLoss of each group's centroid, every axis (demo1's fit loss: {"elastic", "liquid"}).
+// TrackLoss of each group's centroid, every axis (demo1's fit loss: {"elastic", "liquid"}), in
+// one pass over the reference.
+std::vector<engine::LossTerm> GroupCentroidLoss(FrameSource& reference,
+                                                const std::vector<std::string>& groups,
+                                                std::size_t steps, double scale);
 std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
                                                 const std::vector<std::string>& groups,
                                                 std::size_t steps, double scale);

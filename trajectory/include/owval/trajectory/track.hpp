@@ -47,5 +47,8 @@ struct Track {
 // the two runs' common time window have no partner.
 std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const Trajectory& reference,
                                                                   const Trajectory& candidate);
+// The same rule on the two runs' frame times alone (seconds, increasing).
+std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(
+    const std::vector<double>& reference_time_s, const std::vector<double>& candidate_time_s);
 
 }  // namespace owval
