@@ -1,0 +1,82 @@
+// Tracked series (tracked_series.hpp): read frame by frame or recorded a frame at a time, the
+// series of a real reference file equals the whole trajectory's Track::Series bit for bit, and
+// its frames pair as the trajectories' do.
+#include "owval/trajectory/tracked_series.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kOneSprig =
+    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
+
+// A particle and two group centroids (218 elastic, 125 liquid particles in demo1).
+const std::vector<Track> kTracks = {
+    {0, "", Axis::kY}, {0, "elastic", Axis::kY}, {0, "liquid", Axis::kX}, {0, "all", Axis::kZ}};
+
+TEST(TrackedSeries, ReadFrameByFrameEqualsTheWholeTrajectorysSeries) {
+  for (const fs::path& file : {kOneSprig, kDemo1}) {
+    const Trajectory whole = ReadTrajectory(file);
+    for (const Track& track : kTracks) {
+      if (track.group == "liquid" && whole.count(ParticleKind::kLiquid) == 0) continue;
+      const std::unique_ptr<FrameSource> frames = OpenFrameSource(file);
+      const TrackedSeries streamed = ReadTrackedSeries(*frames, track);
+      EXPECT_EQ(streamed.time_s, whole.time_s) << file << ", " << track.Describe();
+      EXPECT_EQ(streamed.value, track.Series(whole)) << file << ", " << track.Describe();
+      EXPECT_EQ(streamed.frame_count(), whole.frame_count());
+    }
+  }
+}
+
+TEST(TrackedSeries, RecorderGivenOneFrameAtATimeEqualsTheWholeTrajectorysSeries) {
+  const Trajectory whole = ReadTrajectory(kDemo1);
+  Trajectory header = whole;  // what an engine's FrameSink::Begin sees: no frames
+  header.time_s.clear();
+  header.positions.clear();
+  for (const Track& track : kTracks) {
+    TrackedSeriesRecorder recorder(header, track);
+    for (std::size_t f = 0; f < whole.frame_count(); ++f)
+      recorder.Add(whole.time_s[f], whole.position(f, 0));
+    const TrackedSeries recorded = recorder.Take();
+    EXPECT_EQ(recorded.time_s, whole.time_s) << track.Describe();
+    EXPECT_EQ(recorded.value, track.Series(whole)) << track.Describe();
+    const TrackedSeries of = TrackedSeriesOf(whole, track);
+    EXPECT_EQ(of.value, recorded.value) << track.Describe();
+  }
+}
+
+TEST(TrackedSeries, RecorderRefusesATrackThatNamesNothing) {
+  const Trajectory whole = ReadTrajectory(kOneSprig);
+  EXPECT_THROW(TrackedSeriesRecorder(whole, Track{whole.particle_count(), "", Axis::kY}),
+               InputError);
+  EXPECT_THROW(TrackedSeriesRecorder(whole, Track{0, "liquid", Axis::kY}), InputError);
+}
+
+// A reference at every frame against a candidate at every third frame, shifted by a tenth of a
+// frame: the series pair exactly as the trajectories do.
+TEST(TrackedSeries, FramesPairAsTheTrajectoriesDo) {
+  const Trajectory reference = ReadTrajectory(kOneSprig);
+  Trajectory candidate = reference;
+  candidate.time_s.clear();
+  candidate.positions.clear();
+  const double shift_s = 0.1 * (reference.time_s[1] - reference.time_s[0]);
+  for (std::size_t f = 0; f < reference.frame_count(); f += 3)
+    candidate.AppendFrame(reference.time_s[f] + shift_s, reference.position(f, 0));
+  const Track track;
+  const auto pairs =
+      PairFramesByTime(TrackedSeriesOf(reference, track), TrackedSeriesOf(candidate, track));
+  EXPECT_EQ(pairs, PairFramesByTime(reference, candidate));
+  ASSERT_FALSE(pairs.empty());
+  EXPECT_EQ(pairs[1], std::make_pair(std::size_t(3), std::size_t(1)));
+}
+
+}  // namespace
+}  // namespace owval
