@@ -21,9 +21,9 @@ GradCheckResult RunGradCheckRequest(GradCheckRequest r) {
     if (r.reference.empty()) r.reference = (demo1 / "position_buffer.txt").string();
   }
   if (!r.reference.empty()) {  // demo1's fit loss: the centroids against a reference run
-    const Trajectory reference = ReadTrajectory(r.reference, {.quiet = true});
+    const auto reference = OpenFrameSource(r.reference, {.quiet = true});  // up to the steps only
     o.end_to_end_loss =
-        sgd::GroupCentroidLoss(reference, {"elastic", "liquid"}, o.end_to_end_steps, 1.0);
+        sgd::GroupCentroidLoss(*reference, {"elastic", "liquid"}, o.end_to_end_steps, 1.0);
     o.end_to_end_loss_name = "centroids vs " + r.reference;
   }
   GradCheckResult result;
