@@ -209,6 +209,7 @@ class PairReducer {
   }
 
   void Observe(std::size_t k, const FrameRef& a, const FrameRef& b, double cand_time) {
+    ObserveReferenceFrame(pairs_[k].first, a);
     r_->paired_time_s.push_back(ref_.time_s[pairs_[k].first]);
     cand_time_.push_back(cand_time);
     r_->reference_series.push_back(o_.track.ValueAt(a.trajectory, a.frame));
@@ -230,7 +231,16 @@ class PairReducer {
       r_->drift.push_back(g.d);
     }
   }
+  // The reference's tracked scalar at one of its frames inside the common window, paired or
+  // not: what the reference does between the paired frames (a candidate logged sparsely sees
+  // none of it).
+  void ObserveReferenceFrame(std::size_t f, const FrameRef& a) {
+    resolved_time_.push_back(ref_.time_s[f]);
+    resolved_series_.push_back(o_.track.ValueAt(a.trajectory, a.frame));
+  }
   const std::vector<double>& candidate_time() const { return cand_time_; }
+  const std::vector<double>& resolved_time() const { return resolved_time_; }
+  const std::vector<double>& resolved_series() const { return resolved_series_; }
   // The 3-D centroid distance of group g (0 elastic, 1 liquid) at sampled pair k, of the box.
   double SampleDistance(std::size_t k, int g) const { return sample_distance_.at(k)[g]; }
   bool HasSampleGroup(int g) const { return !sample_groups_[g].empty(); }
@@ -258,6 +268,7 @@ class PairReducer {
   std::map<std::size_t, std::array<double, 2>> sample_distance_;
   std::vector<DriftAccumulator> drift_;
   std::vector<double> cand_time_;
+  std::vector<double> resolved_time_, resolved_series_;  // every reference frame in the window
   double l2_sum_ = 0;
   internal::BodyGates bodies_;
 };
@@ -306,11 +317,53 @@ void GateWindow(const Trajectory& ref, const ParityOptions& o, ParityReport* r) 
   r->gates.push_back(g);
 }
 
+// The longest stretch between two paired frames that skips reference frames, of the reference's
+// duration: every other gate looks only at paired frames, so a candidate logged at two well-chosen
+// instants (a wrong spring that happens to be back in phase at the end) would agree with anything
+// in between. A candidate on a coarser log step than the reference passes while its frames stay
+// close together.
+void GateSampling(const Trajectory& ref, const Pairs& pairs, const ParityOptions& o,
+                  ParityReport* r) {
+  const double duration = ref.time_s.back() - ref.time_s.front();
+  double longest = 0;
+  std::size_t after = 0;
+  for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
+    const double gap = ref.time_s[pairs[k + 1].first] - ref.time_s[pairs[k].first];
+    if (pairs[k + 1].first > pairs[k].first + 1 && gap > longest) longest = gap, after = k;
+  }
+  Gate g = MakeGate("sampling",
+                    "longest time between paired frames that skips reference frames, of the "
+                    "reference's duration",
+                    duration > 0 ? longest / duration : 0, o.gates.sampling,
+                    "of the reference's duration");
+  char detail[200];
+  std::snprintf(detail, sizeof detail, "%zu of the reference's %zu frames paired", pairs.size(),
+                ref.frame_count());
+  g.detail = detail;
+  if (longest > 0) {
+    std::snprintf(detail, sizeof detail, "; longest gap %.6g s to %.6g s",
+                  ref.time_s[pairs[after].first], ref.time_s[pairs[after + 1].first]);
+    g.detail += detail;
+  }
+  if (duration > 0) Decide(&g);
+  r->gates.push_back(g);
+}
+
 void GateOscillation(const ParityOptions& o, ParityReport* r) {
   const std::size_t need = static_cast<std::size_t>(o.gates.min_crossings.value);
   const std::size_t nr = r->reference_metrics.upward_crossings,
                     nc = r->candidate_metrics.upward_crossings;
   const bool applies = nr >= need && nc >= need && r->period_gap && r->half_amplitude_gap;
+  // The reference oscillates over its own frames in the common window: a candidate whose
+  // paired frames show no oscillation (it does not oscillate, or it was logged too sparsely to
+  // see it) fails these gates instead of escaping them as n/a.
+  const std::size_t all = r->reference_crossings_all_frames;
+  const bool unseen = !applies && all >= need;
+  const std::string why_unseen =
+      "the reference has " + std::to_string(all) +
+      " upward mean crossings over its own frames in the common window, but the paired frames " +
+      "show " + std::to_string(nr) + " (reference) and " + std::to_string(nc) +
+      " (candidate): the candidate does not oscillate, or its frames do not resolve it";
   const std::string why_not = "reference has " + std::to_string(nr) +
                               " upward mean crossings, candidate " + std::to_string(nc) +
                               "; oscillation gates need >= " + std::to_string(need) + " in both";
@@ -322,6 +375,9 @@ void GateOscillation(const ParityOptions& o, ParityReport* r) {
       char b[64];
       std::snprintf(b, sizeof b, "gap %+.3f%%", *gap * 100);
       g.detail = b;
+    } else if (unseen) {
+      g.status = GateStatus::kFail;
+      g.detail = why_unseen;
     } else {
       g.status = GateStatus::kNotApplicable;
       g.detail = why_not;
@@ -401,12 +457,17 @@ void GateSampledGroups(const Pairs& pairs, const std::vector<std::size_t>& gated
   r->gates.push_back(g);
 }
 
-void MeasureSignals(const std::vector<double>& cand_time, const ParityOptions& o, ParityReport* r) {
+void MeasureSignals(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  const std::vector<double>& cand_time = reduced.candidate_time();
   const auto [lo, hi] = std::minmax_element(r->reference_series.begin(), r->reference_series.end());
   r->scale = o.scale ? *o.scale : (*hi - *lo);
   if (!(r->scale > 0)) r->scale = 1.0;  // a constant reference: compare in absolute config units
   if (r->paired_time_s.size() < 2) return;
   r->reference_metrics = MeasureSignal(r->paired_time_s, r->reference_series);
+  r->reference_crossings_all_frames =
+      reduced.resolved_series().size() == r->reference_series.size()
+          ? r->reference_metrics.upward_crossings
+          : MeasureSignal(reduced.resolved_time(), reduced.resolved_series()).upward_crossings;
   r->candidate_metrics = MeasureSignal(cand_time, r->candidate_series);
   r->period_gap = RelativeGap(r->reference_metrics.period_s, r->candidate_metrics.period_s);
   r->half_amplitude_gap =
@@ -419,6 +480,8 @@ void Reduce(FrameSource& refs, FrameSource& cands, const Pairs& pairs, PairReduc
             bool quiet) {
   Progress progress("compare", pairs.size(), quiet || pairs.size() < 1000);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
+    for (std::size_t f = k ? pairs[k - 1].first + 1 : pairs[k].first; f < pairs[k].first; ++f)
+      reducer->ObserveReferenceFrame(f, refs.Frame(f));
     const FrameRef a = refs.Frame(pairs[k].first);
     const FrameRef b = cands.Frame(pairs[k].second);
     reducer->Observe(k, a, b, cands.header().time_s[pairs[k].second]);
@@ -449,8 +512,9 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   r.reference_partial = refs.partial(), r.candidate_partial = cands.partial();
   PairReducer reducer(ref, cand, refs, pairs, gated, o, &r);
   Reduce(refs, cands, pairs, &reducer, o.quiet);
-  MeasureSignals(reducer.candidate_time(), o, &r);
+  MeasureSignals(reducer, o, &r);
   GateWindow(ref, o, &r);
+  GateSampling(ref, pairs, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
@@ -523,6 +587,7 @@ nlohmann::json ParityReport::ToJson() const {
            {{"period_relative", Opt(period_gap)},
             {"half_amplitude_relative", Opt(half_amplitude_gap)},
             {"equilibrium_cu", Opt(equilibrium_gap_cu)}}},
+          {"reference_crossings_all_frames", reference_crossings_all_frames},
           {"reference_partial", reference_partial},
           {"candidate_partial", candidate_partial},
           {"pass", pass()}};
@@ -592,7 +657,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
     {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
      "liquid.fraction_above_membrane gate"},
     {"window_threshold", "--window-threshold", &G::window,
-     "window gate: the reference's duration outside the common window, fraction"}};
+     "window gate: the reference's duration outside the common window, fraction"},
+    {"sampling_threshold", "--sampling-threshold", &G::sampling,
+     "sampling gate: the longest time between paired frames that skips reference frames, "
+     "fraction of the reference's duration"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

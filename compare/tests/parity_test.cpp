@@ -156,6 +156,54 @@ TEST(Parity, OscillationGatesApplyAndFailOnAStifferSpring) {
   EXPECT_NE(r.FailedGates().find("period"), std::string::npos);
 }
 
+// A candidate logged at two instants only: a 5% stiffer spring (the reference resampled at 1.05x
+// the time) whose first frame and the frame near the end where it happens to be back in phase
+// were kept. Every gate that reads the paired frames agrees; the sampling gate and the
+// oscillation gates (the reference oscillates over its own frames) must not.
+TEST(Parity, ACandidateLoggedAtTwoWellChosenInstantsFails) {
+  const Trajectory& ref = OneSprig();
+  const std::size_t frames = ref.frame_count();
+  auto faster_y = [&](std::size_t f) {
+    return ref.position(std::min(frames - 1, std::size_t(double(f) * 1.05)), 0)[1];
+  };
+  std::size_t in_phase = frames - 50;  // within the window gate's 2% of the end
+  for (std::size_t f = frames - 50; f < frames; ++f)
+    if (std::abs(faster_y(f) - ref.position(f, 0)[1]) <
+        std::abs(faster_y(in_phase) - ref.position(in_phase, 0)[1]))
+      in_phase = f;
+  Trajectory sparse = FirstFrames(ref, 1);
+  sparse.log_step = int(in_phase);
+  std::vector<float> last(ref.position(in_phase, 0),
+                          ref.position(in_phase, 0) + 3 * ref.particle_count());
+  last[1] = faster_y(in_phase);
+  sparse.AppendFrame(ref.time_s[in_phase], last.data());
+  const ParityReport r = CompareTrajectories(ref, sparse, {});
+  EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass) << r.ToTable();
+  EXPECT_EQ(r.gate("window")->status, GateStatus::kPass);
+  EXPECT_FALSE(r.pass());
+  EXPECT_EQ(r.FailedGates(), "sampling, period, half_amplitude");
+  EXPECT_GT(r.gate("sampling")->value, 0.95);
+  EXPECT_GE(r.reference_crossings_all_frames, 60u);
+  EXPECT_NE(r.gate("period")->detail.find("do not resolve it"), std::string::npos);
+}
+
+TEST(Parity, ACandidateThatStopsOscillatingFailsTheOscillationGates) {
+  // Dense frames, but the candidate holds the spring still at its mean: no crossings of its own.
+  Trajectory still = OneSprig();
+  double mean = 0;
+  for (std::size_t f = 0; f < still.frame_count(); ++f) mean += still.position(f, 0)[1];
+  mean /= double(still.frame_count());
+  for (std::size_t f = 0; f < still.frame_count(); ++f) still.position(f, 0)[1] = float(mean);
+  ParityOptions loose;  // a frame gate loose enough to let the still spring through
+  loose.gates.frame = {1.0, ThresholdSource::kFlag};
+  loose.gates.centroid_distance = loose.gates.final_distance =
+      loose.gates.particle_distance = {1.0, ThresholdSource::kFlag};
+  const ParityReport r = CompareTrajectories(OneSprig(), still, loose);
+  EXPECT_EQ(r.gate("period")->status, GateStatus::kFail) << r.ToTable();
+  EXPECT_EQ(r.gate("sampling")->status, GateStatus::kPass);
+  EXPECT_EQ(r.gate("sampling")->value, 0.0);
+}
+
 TEST(Parity, FinalStateGateNamesAnOffsetAtTheEnd) {
   Trajectory moved = OneSprig();
   const std::size_t last = moved.frame_count() - 1;

@@ -10,12 +10,15 @@
 // Gates (each listed in the report with its value, threshold and the threshold's source):
 //  - window: the common window must cover the reference's duration (every other gate is
 //    measured over it only, so a candidate with one frame would otherwise agree with anything).
+//  - sampling: the longest stretch between paired frames that skips reference frames must be
+//    short (a candidate logged at two instants would otherwise be judged on those alone).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
 //  - period, half_amplitude: zero-crossing period and half-amplitude gaps. They apply only where
 //    both signals oscillate: at least `min_crossings` upward mean crossings in each; otherwise
-//    they are reported as not applicable, never as a failure (a dropped cube has no period).
+//    they are reported as not applicable (a dropped cube has no period), unless the reference
+//    oscillates over its own frames and the paired frames do not show it: then they fail.
 //  - For scenes whose detail is chaotic (demo1's sliding cube), per group (elastic, liquid) that
 //    exists: the 3-D centroid distance (maximum over time), the bounding-box extents (maximum
 //    over time and axes of |e_cand - e_ref| per axis), the final-state centroid distance; and
@@ -52,6 +55,9 @@ struct ParityGates {
   // The part of the reference's duration outside the common window: a candidate that stops
   // early (or an interrupted run) is not judged on the stretch it happens to share.
   Threshold window{0.02};  // fraction of the reference's duration
+  // The longest time between two paired frames that skips reference frames: the other gates see
+  // only paired frames, so a candidate logged at two instants would be judged on those alone.
+  Threshold sampling{0.05};  // fraction of the reference's duration
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
@@ -118,6 +124,10 @@ struct ParityReport {
   double l2_initial_cu = 0, l2_mean_cu = 0, l2_final_cu = 0;
   std::vector<GroupDrift> drift;
   SignalMetrics reference_metrics, candidate_metrics;  // over the common window
+  // Upward mean crossings of the reference's tracked scalar over all its frames in the common
+  // window, paired or not: when these reach min_crossings the oscillation gates apply, and fail
+  // if the paired frames do not show the oscillation.
+  std::size_t reference_crossings_all_frames = 0;
   std::optional<double> period_gap, half_amplitude_gap, equilibrium_gap_cu;
   std::vector<Gate> gates;
   // An interrupted run's trajectory is compared over the frames it has, and the report says so.
