@@ -63,10 +63,12 @@ void SetUp(CLI::App& app) {
       ->check(Positive());
   validate->add_option("-o,--out", stability->options.out,
                        "With --stability: where the run's trajectory goes");
-  validate->callback([dir, stability] {
+  auto reference = std::make_shared<std::string>();
+  validate->add_option("--reference", *reference, "Trajectory the directory's reference must be");
+  validate->callback([dir, stability, reference] {
     if (!stability->duration.empty()) return RunStability(*stability);
     if (dir->empty()) throw InputError("owval ci validate: give DIRECTORY or --stability TIME");
-    Report(ci::Validate(*dir));
+    Report(ci::Validate(*dir, {}, *reference));
   });
 }
 

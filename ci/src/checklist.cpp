@@ -5,6 +5,7 @@
 #include <memory>
 #include <sstream>
 
+#include "caller_reference.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
@@ -104,37 +105,6 @@ void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
   if (!item->pass) item->detail += " (expected at least 2 frames)";
 }
 
-// Why the directory's reference is not the caller's, or empty: the same particles and frame
-// times, every position within 1e-3 cu (a text file prints six or seven digits; another run
-// differs by far more).
-// Both are read frame by frame, side by side.
-std::string DifferenceFromCallersReference(FrameSource& got, FrameSource& wanted) {
-  const Trajectory& header = got.header();
-  const Trajectory& expected = wanted.header();
-  if (header.particle_count() != expected.particle_count())
-    return std::to_string(header.particle_count()) + " particles, the caller's reference has " +
-           std::to_string(expected.particle_count());
-  if (header.frame_count() != expected.frame_count())
-    return std::to_string(header.frame_count()) + " frames, the caller's reference has " +
-           std::to_string(expected.frame_count());
-  const std::size_t values = 3 * expected.particle_count();
-  for (std::size_t f = 0; f < expected.frame_count(); ++f) {
-    if (std::abs(header.time_s[f] - expected.time_s[f]) > 1e-9 + 1e-6 * expected.time_s[f])
-      return "frame " + std::to_string(f) + " is at " + FormatNumber(header.time_s[f]) +
-             " s, the caller's reference at " + FormatNumber(expected.time_s[f]) + " s";
-    const FrameRef frame = got.Frame(f);
-    const FrameRef reference = wanted.Frame(f);
-    const float* x = frame.trajectory.position(frame.frame, 0);
-    const float* y = reference.trajectory.position(reference.frame, 0);
-    for (std::size_t k = 0; k < values; ++k)
-      if (!(std::abs(double(x[k]) - double(y[k])) <= 1e-3))
-        return "particle " + std::to_string(k / 3) + " differs by " +
-               FormatNumber(std::abs(double(x[k]) - double(y[k]))) + " cu at frame " +
-               std::to_string(f);
-  }
-  return "";
-}
-
 // Why an owval run may not stand as the reference, or empty: its provenance says it is not
 // reference-equivalent (another scheme, or constants changed; a candidate copied over the
 // reference). Sibernetic's own files carry no such record.
@@ -162,7 +132,8 @@ void CheckReference(Evidence& e, ChecklistItem* item) {
     return;
   }
   if (!item->pass) return;
-  const std::string why = DifferenceFromCallersReference(*e.reference, *e.caller_reference);
+  const std::string why =
+      internal::DifferenceFromCallersReference(*e.reference, *e.caller_reference);
   item->pass = why.empty();
   item->detail +=
       why.empty()

@@ -4,6 +4,7 @@
 #include <optional>
 #include <sstream>
 
+#include "caller_reference.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/kinematics/midline.hpp"
@@ -113,9 +114,34 @@ GateReport QuickTest(const fs::path& dir) {
   return r;
 }
 
-GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity) {
+namespace {
+
+// The directory's reference against the caller's, or a failed gate saying that none was given.
+GateResult CallersReference(FrameSource& ref, const fs::path& caller_reference) {
+  return Run("reference is the caller's", [&](GateResult* g) {
+    if (caller_reference.empty()) {
+      g->detail =
+          "not checked: pass --reference FILE (the directory's reference could be its candidate "
+          "under another name, and parity would judge the candidate against itself)";
+      return;
+    }
+    TextReadOptions quiet;
+    quiet.quiet = true;
+    const auto wanted = OpenFrameSource(caller_reference, quiet);
+    const std::string why = internal::DifferenceFromCallersReference(ref, *wanted);
+    g->pass = why.empty();
+    g->detail = (why.empty() ? "the same as " : "NOT " + caller_reference.string() + ": ") +
+                (why.empty() ? caller_reference.string() : why);
+  });
+}
+
+}  // namespace
+
+GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
+                    const fs::path& caller_reference) {
   GateReport r;
   const auto ref = Open(dir, "reference"), cand = Open(dir, "candidate");
+  r.gates.push_back(CallersReference(*ref, caller_reference));
   const bool worm = kinematics::IsWorm(cand->header());
   const TrajectoryChecks ref_checks = Check(*ref, false, worm && kinematics::IsWorm(ref->header()));
   const TrajectoryChecks cand_checks = Check(*cand, true, worm);

@@ -103,5 +103,34 @@ TEST(StreamedGates, QuickTestFailsACandidateWithANaNPosition) {
   fs::remove_all(dir);
 }
 
+// A failing candidate copied over the reference agrees with itself: validate passed it (exit 0)
+// until the directory's reference had to be the caller's.
+TEST(StreamedGates, ValidateHoldsTheDirectorysReferenceToTheCallers) {
+  const fs::path bundled =
+      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  Trajectory faster = ReadTrajectory(bundled);  // a 5% stiffer spring: resampled at 1.05x
+  const Trajectory reference = faster;
+  for (std::size_t f = 0; f < faster.frame_count(); ++f)
+    faster.position(f, 0)[1] =
+        reference.position(std::min(f * 105 / 100, reference.frame_count() - 1), 0)[1];
+  const fs::path dir = Directory("copied_over");
+  WriteHdf5(faster, dir / "candidate.h5");
+  WriteHdf5(faster, dir / "reference.h5");
+  const GateReport alone = Validate(dir);
+  EXPECT_TRUE(Gate(alone, "parity").pass);  // the candidate against itself
+  EXPECT_FALSE(Gate(alone, "reference is the caller's").pass);
+  EXPECT_NE(Gate(alone, "reference is the caller's").detail.find("pass --reference"),
+            std::string::npos);
+  EXPECT_FALSE(alone.pass());
+  const GateReport held = Validate(dir, {}, bundled);
+  EXPECT_FALSE(Gate(held, "reference is the caller's").pass);
+  EXPECT_FALSE(held.pass());
+  WriteHdf5(reference, dir / "reference.h5");
+  const GateReport honest = Validate(dir, {}, bundled);
+  EXPECT_TRUE(Gate(honest, "reference is the caller's").pass) << honest.ToText();
+  EXPECT_FALSE(Gate(honest, "parity").pass);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace owval::ci

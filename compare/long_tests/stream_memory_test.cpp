@@ -92,7 +92,8 @@ Peaks Measure(std::size_t frames) {
   fs::create_symlink(text, dir / "ci" / "reference.txt");
   fs::create_symlink(h5, dir / "ci" / "candidate.h5");
   const Finished validate =
-      RunOwval({"ci", "validate", (dir / "ci").string()}, dir / "validate.log");
+      RunOwval({"ci", "validate", (dir / "ci").string(), "--reference", text.string()},
+               dir / "validate.log");
   EXPECT_EQ(validate.exit_code, 0) << (dir / "validate.log");
   p.validate_mb = validate.peak_rss_mb;
   std::printf(

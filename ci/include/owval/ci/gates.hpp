@@ -1,8 +1,9 @@
 #pragma once
 // CI gates over an artifact directory (same layout as the checklist, docs/checklist.md):
 //  - quick-test: the runs completed: reference and candidate exist, parse, hold no NaN/Inf;
-//  - validate: stability of both, incompressibility of the candidate's liquid (when it carries
-//    density and has liquid), and frame parity of the candidate against the reference.
+//  - validate: the directory's reference is the caller's, stability of both, incompressibility
+//    of the candidate's liquid (when it carries density and has liquid), and frame parity of the
+//    candidate against the reference.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -25,7 +26,11 @@ struct GateReport {
 };
 
 GateReport QuickTest(const std::filesystem::path& directory);
+// `caller_reference`: the trajectory the directory's reference must be (frame for frame, within
+// 1e-3 cu); empty fails that gate, since the directory's own reference could be its candidate
+// under another name and the parity gate would judge the candidate against itself.
 GateReport Validate(const std::filesystem::path& directory,
-                    const compare::ParityOptions& parity = {});
+                    const compare::ParityOptions& parity = {},
+                    const std::filesystem::path& caller_reference = {});
 
 }  // namespace owval::ci

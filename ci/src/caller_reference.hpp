@@ -1,0 +1,16 @@
+#pragma once
+// Whether an artifact directory's reference is the caller's (the checklist's item 2, ci
+// validate's first gate): a directory's own reference could be its candidate under another name,
+// and every parity gate would then judge the candidate against itself.
+#include <string>
+
+#include "owval/trajectory/frame_source.hpp"
+
+namespace owval::ci::internal {
+
+// Why `got` is not `wanted`, or empty: the same particles and frame times, every position within
+// 1e-3 cu (a text file prints six or seven digits; another run differs by far more). Both are
+// read frame by frame, side by side.
+std::string DifferenceFromCallersReference(FrameSource& got, FrameSource& wanted);
+
+}  // namespace owval::ci::internal
