@@ -277,7 +277,7 @@ void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std
                 const ParityOptions& o, ParityReport* r) {
   Gate g =
       MakeGate("frames", "worst |cand - ref| / scale of " + r->subject + " over the gated frames",
-               0, o.gates.frame, "of the reference range");
+               0, o.gates.frame, r->scale_given ? "of the given scale" : "of the reference range");
   for (std::size_t k : gated) {
     const auto [fr, fc] = pairs[k];
     FrameParity fp{fr, fc, ref.time_s[fr], r->reference_series[k], r->candidate_series[k]};
@@ -293,6 +293,13 @@ void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std
   std::snprintf(scale, sizeof scale, "scale %.4g cu", r->scale);
   g.detail = std::to_string(r->frames.size() - r->failing_frames.size()) + "/" +
              std::to_string(r->frames.size()) + " frames within, " + scale;
+  if (r->scale_given) {
+    std::snprintf(scale, sizeof scale,
+                  " given by the caller (--scale), not the reference range "
+                  "(%.4g cu)",
+                  r->reference_range);
+    g.detail += scale;
+  }
   if (!r->failing_frames.empty()) g.detail += "; failing frames " + FailingList(r->failing_frames);
   r->gates.push_back(g);
 }
@@ -460,7 +467,9 @@ void GateSampledGroups(const Pairs& pairs, const std::vector<std::size_t>& gated
 void MeasureSignals(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
   const std::vector<double>& cand_time = reduced.candidate_time();
   const auto [lo, hi] = std::minmax_element(r->reference_series.begin(), r->reference_series.end());
-  r->scale = o.scale ? *o.scale : (*hi - *lo);
+  r->reference_range = *hi - *lo;
+  r->scale_given = o.scale.has_value();
+  r->scale = o.scale ? *o.scale : r->reference_range;
   if (!(r->scale > 0)) r->scale = 1.0;  // a constant reference: compare in absolute config units
   if (r->paired_time_s.size() < 2) return;
   r->reference_metrics = MeasureSignal(r->paired_time_s, r->reference_series);
@@ -571,6 +580,8 @@ nlohmann::json ParityReport::ToJson() const {
   for (const Gate& g : gates) gates_json.push_back(compare::ToJson(g));
   return {{"subject", subject},
           {"scale_cu", scale},
+          {"scale_given", scale_given},
+          {"reference_range_cu", reference_range},
           {"box_scale_cu", box_scale_cu},
           {"paired_frames", paired_frames},
           {"common_window_s", {common_window_start_s, common_window_end_s}},
@@ -611,7 +622,10 @@ std::string ParityReport::ToMarkdown() const {
   if (!pass()) s << " (failed: " << FailedGates() << ")";
   s << "\n\n- paired frames: " << paired_frames << ", common window " << common_window_start_s
     << " s to " << common_window_end_s << " s\n- frame-gate scale: " << scale
-    << " cu (reference range); box scale: " << box_scale_cu << " cu\n"
+    << (scale_given ? " cu (GIVEN by the caller, --scale; the reference range is " +
+                          FormatNumber(reference_range, 4) + " cu)"
+                    : std::string(" cu (reference range)"))
+    << "; box scale: " << box_scale_cu << " cu\n"
     << PartialNotes(*this, "- ") << "\n";
   s << GatesMarkdownTable(gates);
   return s.str();
@@ -622,8 +636,11 @@ std::string ParityReport::ToTable() const {
   s << "parity of " << subject << ": " << (pass() ? "PASS" : "FAIL");
   if (!pass()) s << " (failed: " << FailedGates() << ")";
   s << "\n  paired frames " << paired_frames << " over " << common_window_start_s << " s to "
-    << common_window_end_s << " s; frame scale " << scale << " cu, box scale " << box_scale_cu
-    << " cu\n"
+    << common_window_end_s << " s; frame scale " << scale << " cu"
+    << (scale_given
+            ? " (GIVEN by --scale; reference range " + FormatNumber(reference_range) + " cu)"
+            : std::string())
+    << ", box scale " << box_scale_cu << " cu\n"
     << PartialNotes(*this, "  ");
   s << GatesTextTable(gates);
   s << "  particle distance (cu): initial " << l2_initial_cu << ", mean " << l2_mean_cu

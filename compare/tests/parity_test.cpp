@@ -204,6 +204,26 @@ TEST(Parity, ACandidateThatStopsOscillatingFailsTheOscillationGates) {
   EXPECT_EQ(r.gate("sampling")->value, 0.0);
 }
 
+// --scale replaces the reference's range as the frame gate's denominator: a large one loosens the
+// gate as a large threshold would, so the report says the scale was given and what it replaced.
+TEST(Parity, AGivenScaleIsReportedAsGiven) {
+  Trajectory scaled = OneSprig();
+  for (std::size_t f = 0; f < scaled.frame_count(); ++f) scaled.position(f, 0)[1] *= 1.06f;
+  ParityOptions loose;
+  loose.scale = 1000.0;
+  const ParityReport r = CompareTrajectories(OneSprig(), scaled, loose);
+  EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);
+  EXPECT_TRUE(r.scale_given);
+  EXPECT_NEAR(r.reference_range, 3.388, 1e-3);
+  EXPECT_EQ(r.gate("frames")->unit, "of the given scale");
+  EXPECT_NE(r.gate("frames")->detail.find("given by the caller (--scale)"), std::string::npos);
+  EXPECT_NE(r.ToMarkdown().find("GIVEN by the caller"), std::string::npos) << r.ToMarkdown();
+  EXPECT_EQ(r.ToMarkdown().find("(reference range)"), std::string::npos);
+  EXPECT_NE(r.ToTable().find("GIVEN by --scale"), std::string::npos);
+  EXPECT_EQ(r.ToJson()["scale_given"], true);
+  EXPECT_FALSE(CompareTrajectories(OneSprig(), scaled, {}).scale_given);
+}
+
 TEST(Parity, FinalStateGateNamesAnOffsetAtTheEnd) {
   Trajectory moved = OneSprig();
   const std::size_t last = moved.frame_count() - 1;

@@ -112,6 +112,10 @@ struct GroupDrift {
 struct ParityReport {
   std::string subject;  // e.g. "particle 0 y"
   double scale = 0;     // cu, for the frame gate
+  // The caller's scale (--scale) instead of the reference's range: the report says so, with the
+  // range it replaced, since a large scale loosens the frame gate as a large threshold would.
+  bool scale_given = false;
+  double reference_range = 0;  // cu, over the common window
   double box_scale_cu = 0;
   std::size_t paired_frames = 0;
   double common_window_start_s = 0, common_window_end_s = 0;
