@@ -277,18 +277,44 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   if (!converged) item->detail += " (not converged)";
 }
 
+// A test's "pass" is a claim; its own relative error against its own tolerance (gradcheck's
+// "tolerance", the pipeline's "relative_tolerance") is the evidence. A test that says pass with
+// an error beyond its tolerance (or a non-finite one) is counted as failing, by name.
+bool TestPasses(const nlohmann::json& t, std::string* contradicted) {
+  if (!t.is_object() || !t.value("pass", false)) return false;
+  const nlohmann::json none;
+  const nlohmann::json& error = t.contains("relative_error") ? t["relative_error"] : none;
+  const nlohmann::json& tolerance = t.contains("tolerance")            ? t["tolerance"]
+                                    : t.contains("relative_tolerance") ? t["relative_tolerance"]
+                                                                       : none;
+  if (error.is_null() && tolerance.is_null()) return true;
+  const bool holds = error.is_number() && tolerance.is_number() &&
+                     std::isfinite(error.get<double>()) &&
+                     error.get<double>() <= tolerance.get<double>();
+  if (!holds && contradicted->empty())
+    *contradicted = (t.contains("name") && t["name"].is_string() ? t["name"].get<std::string>()
+                                                                 : std::string("a test")) +
+                    " says pass, but its relative_error " + error.dump() +
+                    " is not within its "
+                    "tolerance " +
+                    tolerance.dump();
+  return holds;
+}
+
 void CheckFdTests(Evidence& e, ChecklistItem* item) {
   const fs::path path = e.dir / "fd_tests.json";
   const nlohmann::json j = ReadJsonFile(path);
   if (!j.is_object() || !j.contains("tests") || !j["tests"].is_array())
     throw InputError(path.string(), 0, "expected an object with a \"tests\" list");
   std::size_t passed = 0, total = 0;
+  std::string contradicted;
   for (const auto& t : j["tests"]) {
     ++total;
-    passed += t.is_object() && t.value("pass", false);
+    passed += TestPasses(t, &contradicted);
   }
   item->detail =
       std::to_string(passed) + "/" + std::to_string(total) + " finite-difference tests pass";
+  if (!contradicted.empty()) item->detail += " (" + contradicted + ")";
   item->pass = total > 0 && passed == total;
 }
 

@@ -304,6 +304,23 @@ TEST_F(Checklist, Items7To9FailingLeaveItIncompleteButNotBlocking) {
   EXPECT_TRUE(ItemPasses(j, 10));
 }
 
+// fd_tests.json edited to say pass over a failing test: the test's own error against its own
+// tolerance decides, and the item names the contradiction ("ready" before).
+TEST_F(Checklist, Item7CountsATestThatSaysPassBeyondItsToleranceAsFailing) {
+  const fs::path d = Copy("item7_claim");
+  EditJson(d / "fd_tests.json", [](nlohmann::json& j) {
+    j["tests"][0]["relative_error"] = 0.5;  // its relative_tolerance is 0.02
+    j["tests"][0]["pass"] = true;
+  });
+  const auto j = Judge(d, 0);
+  EXPECT_EQ(j["verdict"], "incomplete but not blocking");
+  EXPECT_FALSE(ItemPasses(j, 7));
+  EXPECT_NE(
+      j["items"][6]["detail"].get<std::string>().find("says pass, but its relative_error 0.5"),
+      std::string::npos)
+      << j["items"][6]["detail"];
+}
+
 TEST_F(Checklist, Item10ReconcilesThePredictionWithTheReference) {
   const fs::path d = Copy("item10");
   EditJson(d / "prediction.json", [](nlohmann::json& j) {
