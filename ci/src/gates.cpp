@@ -117,17 +117,15 @@ GateReport QuickTest(const fs::path& dir) {
 namespace {
 
 // The directory's reference against the caller's, or a failed gate saying that none was given.
-GateResult CallersReference(FrameSource& ref, const fs::path& caller_reference) {
+GateResult CallersReference(FrameSource& ref, FrameSource* wanted,
+                            const fs::path& caller_reference) {
   return Run("reference is the caller's", [&](GateResult* g) {
-    if (caller_reference.empty()) {
+    if (!wanted) {
       g->detail =
           "not checked: pass --reference FILE (the directory's reference could be its candidate "
           "under another name, and parity would judge the candidate against itself)";
       return;
     }
-    TextReadOptions quiet;
-    quiet.quiet = true;
-    const auto wanted = OpenFrameSource(caller_reference, quiet);
     const std::string why = internal::DifferenceFromCallersReference(ref, *wanted);
     g->pass = why.empty();
     g->detail = (why.empty() ? "the same as " : "NOT " + caller_reference.string() + ": ") +
@@ -141,7 +139,11 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
                     const fs::path& caller_reference) {
   GateReport r;
   const auto ref = Open(dir, "reference"), cand = Open(dir, "candidate");
-  r.gates.push_back(CallersReference(*ref, caller_reference));
+  // An unreadable --reference is bad input (exit 2), not a failed gate.
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  const auto wanted = caller_reference.empty() ? nullptr : OpenFrameSource(caller_reference, quiet);
+  r.gates.push_back(CallersReference(*ref, wanted.get(), caller_reference));
   const bool worm = kinematics::IsWorm(cand->header());
   const TrajectoryChecks ref_checks = Check(*ref, false, worm && kinematics::IsWorm(ref->header()));
   const TrajectoryChecks cand_checks = Check(*cand, true, worm);

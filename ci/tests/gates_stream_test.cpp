@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "owval/base/errors.hpp"
 #include "owval/ci/gates.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/compare/stability.hpp"
@@ -129,6 +130,8 @@ TEST(StreamedGates, ValidateHoldsTheDirectorysReferenceToTheCallers) {
   const GateReport honest = Validate(dir, {}, bundled);
   EXPECT_TRUE(Gate(honest, "reference is the caller's").pass) << honest.ToText();
   EXPECT_FALSE(Gate(honest, "parity").pass);
+  // An unreadable --reference is bad input, not a failed gate.
+  EXPECT_THROW(Validate(dir, {}, dir / "missing.txt"), InputError);
   fs::remove_all(dir);
 }
 
