@@ -289,7 +289,7 @@ void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std
     r->frames.push_back(fp);
   }
   Decide(&g);
-  char scale[64];
+  char scale[128];  // the longer of the two lines below with any %.4g
   std::snprintf(scale, sizeof scale, "scale %.4g cu", r->scale);
   g.detail = std::to_string(r->frames.size() - r->failing_frames.size()) + "/" +
              std::to_string(r->frames.size()) + " frames within, " + scale;
