@@ -89,7 +89,20 @@ std::string WormMotionLog(const Trajectory& trajectory) {
 }
 
 void WriteWormMotionLog(const Trajectory& trajectory, const std::filesystem::path& path) {
-  WriteFileAtomically(path, WormMotionLog(trajectory));
+  WormMotionLogWriter log(path, trajectory);
+  for (std::size_t f = 0; f < trajectory.frame_count(); ++f) log.Append(trajectory, f);
+  log.Commit();
+}
+
+WormMotionLogWriter::WormMotionLogWriter(const std::filesystem::path& path,
+                                         const Trajectory& header)
+    : out_(path), log_step_(header.log_step), time_step_s_(header.time_step_s) {
+  out_.stream();  // an empty run still writes an (empty) file
+}
+
+void WormMotionLogWriter::Append(const Trajectory& trajectory, std::size_t frame) {
+  const long step = static_cast<long>(frames_++) * log_step_;
+  out_.stream() << FormatWormMotionLine(ComputeMidline(trajectory, frame), step, time_step_s_);
 }
 
 }  // namespace owval::kinematics

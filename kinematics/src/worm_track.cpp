@@ -1,15 +1,14 @@
 #include "owval/kinematics/worm_track.hpp"
 
+#include <memory>
+
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
-#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::kinematics {
 
-WormTrack TrackFromTrajectory(const Trajectory& t, const nlohmann::json& settings) {
-  const SkeletonSeries s = SkeletonsFromTrajectory(t);
-  const std::vector<std::size_t> elastic = GroupIndices(t, "elastic");
-  const double to_mm = static_cast<double>(kSiberneticSimulationScale) * 1000.0;
+WormTrack TrackHead(const Trajectory& header, const nlohmann::json& settings) {
   WormTrack track;
   track.software_settings = settings;
   track.owval = {{"body_plane",
@@ -17,21 +16,62 @@ WormTrack TrackFromTrajectory(const Trajectory& t, const nlohmann::json& setting
                   "along simulation -y"},
                  {"midline", "Sibernetic's worm_motion_log bins 51..149 (non-empty), head first"},
                  {"centroid", "mean of the elastic particles"},
-                 {"provenance", t.provenance}};
+                 {"provenance", header.provenance}};
+  return track;
+}
+
+TrackPoint TrackPointAt(const Trajectory& t, std::size_t frame,
+                        const std::vector<std::size_t>& elastic) {
+  const double to_mm = static_cast<double>(kSiberneticSimulationScale) * 1000.0;
+  TrackPoint point{t.time_s[frame], {}, {}, 0, 0};
+  for (const Point2& p : SkeletonAt(t, frame)) {
+    point.x_mm.push_back(static_cast<float>(p[0]));
+    point.y_mm.push_back(static_cast<float>(p[1]));
+  }
+  const std::array<double, 3> c = Centroid(t, frame, elastic);
+  point.cx_mm = c[2] * to_mm;
+  point.cy_mm = c[0] * to_mm;
+  return point;
+}
+
+WormTrack TrackFromTrajectory(const Trajectory& t, const nlohmann::json& settings) {
+  if (!IsWorm(t))
+    throw InputError(
+        "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
+  const std::vector<std::size_t> elastic = GroupIndices(t, "elastic");
+  WormTrack track = TrackHead(t, settings);
   for (std::size_t f = 0; f < t.frame_count(); ++f) {
-    track.time_s.push_back(t.time_s[f]);
-    std::vector<float> x, y;
-    for (const Point2& p : s.skeletons[f]) {
-      x.push_back(static_cast<float>(p[0]));
-      y.push_back(static_cast<float>(p[1]));
-    }
-    track.x_mm.push_back(std::move(x));
-    track.y_mm.push_back(std::move(y));
-    const std::array<double, 3> c = Centroid(t, f, elastic);
-    track.cx_mm.push_back(c[2] * to_mm);
-    track.cy_mm.push_back(c[0] * to_mm);
+    TrackPoint p = TrackPointAt(t, f, elastic);
+    track.time_s.push_back(p.time_s);
+    track.x_mm.push_back(std::move(p.x_mm));
+    track.y_mm.push_back(std::move(p.y_mm));
+    track.cx_mm.push_back(p.cx_mm);
+    track.cy_mm.push_back(p.cy_mm);
   }
   return track;
+}
+
+namespace {
+
+WormTrack VersionedHead(const Trajectory& header, const nlohmann::json& settings,
+                        const std::string& software_version) {
+  WormTrack head = TrackHead(header, settings);
+  head.software_version = software_version;
+  return head;
+}
+
+}  // namespace
+
+WormWconWriter::WormWconWriter(const std::filesystem::path& path, const Trajectory& header,
+                               const nlohmann::json& settings, const std::string& software_version)
+    : elastic_(GroupIndices(header, "elastic")),
+      wcon_(path, VersionedHead(header, settings, software_version), true) {
+  if (!IsWorm(header)) throw InputError(path.string(), 0, kNotAWorm);
+}
+
+void WormWconWriter::Append(const Trajectory& trajectory, std::size_t frame) {
+  const TrackPoint p = TrackPointAt(trajectory, frame, elastic_);
+  wcon_.Append(p.time_s, p.x_mm, p.y_mm, p.cx_mm, p.cy_mm);
 }
 
 SkeletonSeries SkeletonsFromTrack(const WormTrack& track) {
@@ -51,9 +91,9 @@ SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
   if (ext == ".wcon" || ext == ".json") return SkeletonsFromTrack(ReadWcon(path));
   TextReadOptions quiet;
   quiet.quiet = true;
-  const Trajectory t = ReadTrajectory(path, quiet);
-  if (!IsWorm(t)) throw InputError(path.string(), 0, kNotAWorm);
-  return SkeletonsFromTrajectory(t);
+  const std::unique_ptr<FrameSource> frames = OpenFrameSource(path, quiet);
+  if (!IsWorm(frames->header())) throw InputError(path.string(), 0, kNotAWorm);
+  return SkeletonsFromFrames(*frames);
 }
 
 }  // namespace owval::kinematics

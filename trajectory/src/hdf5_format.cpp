@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <type_traits>
 
@@ -21,6 +22,7 @@
 #include "owval/base/input_file.hpp"
 #include "owval/base/mapped_file.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval {
 namespace {
@@ -29,31 +31,48 @@ using internal::Handle;
 
 void SilenceHdf5Errors() { internal::PrepareHdf5(); }
 
+// Frames [first, first + count) of the per-frame field `name` ("positions", "velocities",
+// "density", "pressure") into `out`, frame after frame.
+using FillFrames =
+    std::function<void(const char* name, std::size_t first, std::size_t count, float* out)>;
+
 void Check(herr_t status, const std::string& file, const std::string& what) {
   if (status < 0) throw InputError(file, 0, "HDF5: " + what);
+}
+
+bool Nonempty(const std::vector<hsize_t>& dims) {
+  return std::all_of(dims.begin(), dims.end(), [](hsize_t d) { return d > 0; });
+}
+
+hid_t CreateDataset(hid_t file, const char* name, hid_t type, const std::vector<hsize_t>& dims,
+                    const std::vector<hsize_t>& chunk, int level, const std::string& path) {
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  // No object timestamps: identical trajectories give identical bytes (issue 18 item 15).
+  Check(H5Pset_obj_track_times(plist, false), path, "set track times");
+  if (!chunk.empty() && Nonempty(dims)) {
+    Check(H5Pset_chunk(plist, static_cast<int>(chunk.size()), chunk.data()), path, "set chunk");
+    Check(H5Pset_shuffle(plist), path, "set shuffle");
+    Check(H5Pset_deflate(plist, static_cast<unsigned>(level)), path, "set deflate");
+  }
+  const hid_t set = H5Dcreate2(file, name, type, space, H5P_DEFAULT, plist, H5P_DEFAULT);
+  if (set < 0) throw InputError(path, 0, std::string("HDF5: cannot create dataset ") + name);
+  return set;
 }
 
 void WriteDataset(hid_t file, const char* name, hid_t type, const void* data,
                   const std::vector<hsize_t>& dims, const std::vector<hsize_t>& chunk, int level,
                   const std::string& path) {
-  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
-  Handle plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  // No object timestamps: identical trajectories give identical bytes (issue 18 item 15).
-  Check(H5Pset_obj_track_times(plist, false), path, "set track times");
-  const bool nonempty = std::all_of(dims.begin(), dims.end(), [](hsize_t d) { return d > 0; });
-  if (!chunk.empty() && nonempty) {
-    Check(H5Pset_chunk(plist, static_cast<int>(chunk.size()), chunk.data()), path, "set chunk");
-    Check(H5Pset_shuffle(plist), path, "set shuffle");
-    Check(H5Pset_deflate(plist, static_cast<unsigned>(level)), path, "set deflate");
-  }
-  Handle set(H5Dcreate2(file, name, type, space, H5P_DEFAULT, plist, H5P_DEFAULT), H5Dclose);
-  if (!set.valid()) throw InputError(path, 0, std::string("HDF5: cannot create dataset ") + name);
-  if (nonempty) Check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, name);
+  Handle set(CreateDataset(file, name, type, dims, chunk, level, path), H5Dclose);
+  if (Nonempty(dims)) Check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, name);
 }
 
-void WriteFrameField(hid_t file, const char* name, const std::vector<float>& data, hsize_t frames,
-                     hsize_t particles, int components, const Hdf5WriteOptions& o,
-                     const std::string& path) {
+struct FieldShape {
+  std::vector<hsize_t> dims, chunk;
+};
+
+FieldShape FrameFieldShape(hsize_t frames, hsize_t particles, int components,
+                           const Hdf5WriteOptions& o) {
   std::vector<hsize_t> dims = {frames, particles};
   // Chunks span several frames of a block of particles, so the same particle's bytes in
   // successive frames sit a few KiB apart after shuffling: deflate's 32 KiB window then finds the
@@ -65,7 +84,43 @@ void WriteFrameField(hid_t file, const char* name, const std::vector<float>& dat
     dims.push_back(static_cast<hsize_t>(components));
     chunk.push_back(static_cast<hsize_t>(components));
   }
-  WriteDataset(file, name, H5T_NATIVE_FLOAT, data.data(), dims, chunk, o.compression_level, path);
+  return {dims, chunk};
+}
+
+void WriteFrameField(hid_t file, const char* name, const std::vector<float>& data, hsize_t frames,
+                     hsize_t particles, int components, const Hdf5WriteOptions& o,
+                     const std::string& path) {
+  const FieldShape shape = FrameFieldShape(frames, particles, components, o);
+  WriteDataset(file, name, H5T_NATIVE_FLOAT, data.data(), shape.dims, shape.chunk,
+               o.compression_level, path);
+}
+
+// The same dataset, written a chunk's frames at a time from `fill` (frames [first, first + count)
+// into its buffer): one block of frames in memory, and the file's bytes those of one write.
+void WriteFrameFieldInBlocks(hid_t file, const char* name, const FillFrames& fill, hsize_t frames,
+                             hsize_t particles, int components, const Hdf5WriteOptions& o,
+                             const std::string& path) {
+  const FieldShape shape = FrameFieldShape(frames, particles, components, o);
+  Handle set(CreateDataset(file, name, H5T_NATIVE_FLOAT, shape.dims, shape.chunk,
+                           o.compression_level, path),
+             H5Dclose);
+  if (!Nonempty(shape.dims)) return;
+  const hsize_t block = shape.chunk[0], per_frame = particles * static_cast<hsize_t>(components);
+  std::vector<float> buffer(block * per_frame);
+  Handle file_space(H5Dget_space(set), H5Sclose);
+  for (hsize_t first = 0; first < frames; first += block) {
+    std::vector<hsize_t> start(shape.dims.size(), 0), count = shape.dims;
+    start[0] = first;
+    count[0] = std::min(block, frames - first);
+    fill(name, first, count[0], buffer.data());
+    Check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                              nullptr),
+          path, name);
+    Handle memory(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr),
+                  H5Sclose);
+    Check(H5Dwrite(set, H5T_NATIVE_FLOAT, memory, file_space, H5P_DEFAULT, buffer.data()), path,
+          name);
+  }
 }
 
 void WriteStringAttribute(hid_t object, const std::string& name, const std::string& value) {
@@ -87,8 +142,16 @@ void WriteNumericAttribute(hid_t object, const char* name, hid_t type, const T* 
 
 }  // namespace
 
-void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
-  t.CheckShape();
+namespace {
+
+// Writes one per-frame field's dataset ("positions", 3 values a particle, "velocities", 3,
+// "density" or "pressure", 1) into the open file.
+using WriteField = std::function<void(hid_t file, const char* name, int components)>;
+
+// owval's HDF5 file: `t`'s box, steps, types, times and provenance (its per-frame arrays are not
+// read), and the per-frame fields `fields` lists, in the order WriteHdf5 has always written them.
+void WriteHdf5File(const Trajectory& t, const std::vector<const char*>& fields,
+                   const std::filesystem::path& path, const WriteField& write_field) {
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   SilenceHdf5Errors();
   AtomicOutput out(path);
@@ -100,14 +163,11 @@ void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf
                 H5Fclose);
     if (!file.valid()) throw InputError(name, 0, "cannot create HDF5 file");
     const hsize_t frames = t.frame_count(), particles = t.particle_count();
-    WriteFrameField(file, "positions", t.positions, frames, particles, 3, o, name);
+    write_field(file, "positions", 3);
     WriteDataset(file, "time", H5T_NATIVE_DOUBLE, t.time_s.data(), {frames}, {}, 0, name);
     WriteDataset(file, "type", H5T_NATIVE_FLOAT, t.type.data(), {particles}, {}, 0, name);
-    if (t.has_velocities())
-      WriteFrameField(file, "velocities", t.velocities, frames, particles, 3, o, name);
-    if (t.has_density()) WriteFrameField(file, "density", t.density, frames, particles, 1, o, name);
-    if (t.has_pressure())
-      WriteFrameField(file, "pressure", t.pressure, frames, particles, 1, o, name);
+    for (const char* field : fields)
+      write_field(file, field, std::string(field) == "velocities" ? 3 : 1);
     const float box[6] = {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax};
     WriteNumericAttribute(file, "box", H5T_NATIVE_FLOAT, box, 6);
     WriteNumericAttribute(file, "time_step_s", H5T_NATIVE_DOUBLE, &t.time_step_s, 1);
@@ -120,6 +180,55 @@ void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf
     if (H5Fflush(file, H5F_SCOPE_LOCAL) < 0) throw InputError(name, 0, "HDF5 flush failed");
   }
   out.Commit();
+}
+
+std::vector<const char*> FieldsOf(const Trajectory& t) {
+  std::vector<const char*> fields;
+  if (t.has_velocities()) fields.push_back("velocities");
+  if (t.has_density()) fields.push_back("density");
+  if (t.has_pressure()) fields.push_back("pressure");
+  return fields;
+}
+
+const std::vector<float>& FieldValues(const Trajectory& t, const std::string& name) {
+  return name == "positions"    ? t.positions
+         : name == "velocities" ? t.velocities
+         : name == "density"    ? t.density
+                                : t.pressure;
+}
+
+}  // namespace
+
+void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
+  t.CheckShape();
+  const std::string name = path.string();
+  WriteHdf5File(t, FieldsOf(t), path, [&](hid_t file, const char* field, int components) {
+    WriteFrameField(file, field, FieldValues(t, field), t.frame_count(), t.particle_count(),
+                    components, o, name);
+  });
+}
+
+void WriteHdf5(FrameSource& frames, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
+  const Trajectory& header = frames.header();
+  const std::size_t particles = header.particle_count();
+  frames.ReadFields();
+  // The fields the source holds show in its frames (a source with no frame has none).
+  const std::vector<const char*> fields =
+      frames.frame_count() ? FieldsOf(frames.Frame(0).trajectory) : std::vector<const char*>{};
+  const FillFrames fill = [&](const char* field, std::size_t first, std::size_t count, float* out) {
+    const std::size_t values =
+        particles * (std::string(field) == "density" || std::string(field) == "pressure" ? 1 : 3);
+    for (std::size_t f = first; f < first + count; ++f, out += values) {
+      const FrameRef frame = frames.Frame(f);
+      const float* from = FieldValues(frame.trajectory, field).data() + frame.frame * values;
+      std::copy(from, from + values, out);
+    }
+  };
+  const std::string name = path.string();
+  WriteHdf5File(header, fields, path, [&](hid_t file, const char* field, int components) {
+    WriteFrameFieldInBlocks(file, field, fill, header.frame_count(), particles, components, o,
+                            name);
+  });
 }
 
 namespace {

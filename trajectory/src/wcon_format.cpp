@@ -32,31 +32,28 @@ void Check(const WormTrack& t, const std::string& name) {
 
 // Floats with 9 significant digits, doubles with 17: both read back to the same value.
 template <typename T>
-void AppendArray(std::string* s, const std::vector<T>& v) {
+void AppendNumber(std::string* s, T value, bool first) {
   char buffer[40];
   const char* format = sizeof(T) == sizeof(float) ? "%s%.9g" : "%s%.17g";
+  std::snprintf(buffer, sizeof buffer, format, first ? "" : ",", static_cast<double>(value));
+  *s += buffer;
+}
+
+template <typename T>
+void AppendArray(std::string* s, const std::vector<T>& v) {
   *s += '[';
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    std::snprintf(buffer, sizeof buffer, format, i ? "," : "", static_cast<double>(v[i]));
-    *s += buffer;
-  }
+  for (std::size_t i = 0; i < v.size(); ++i) AppendNumber(s, v[i], i == 0);
   *s += ']';
 }
 
-void AppendNested(std::string* s, const char* key, const std::vector<std::vector<float>>& v) {
-  *s += ",\n   \"";
-  *s += key;
-  *s += "\": [";
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    *s += i ? ",\n    " : "\n    ";
-    AppendArray(s, v[i]);
-  }
-  *s += "]";
+// Time point i's array in the "x" or "y" block.
+void AppendNestedElement(std::string* s, const std::vector<float>& v, std::size_t i) {
+  *s += i ? ",\n    " : "\n    ";
+  AppendArray(s, v);
 }
 
-}  // namespace
-
-std::string WconText(const WormTrack& t) {
+// The text before the data's arrays: units, metadata, "@owval", the record's id and head, "t": .
+std::string HeadText(const WormTrack& t) {
   json head = {{"units", {{"t", "s"}, {"x", "mm"}, {"y", "mm"}, {"cx", "mm"}, {"cy", "mm"}}},
                {"metadata",
                 {{"software",
@@ -69,6 +66,18 @@ std::string WconText(const WormTrack& t) {
   s.pop_back();  // the closing brace: the data block follows
   while (!s.empty() && s.back() == '\n') s.pop_back();
   s += ",\n \"data\": [\n  {\"id\": " + json(t.id).dump() + ", \"head\": \"L\",\n   \"t\": ";
+  return s;
+}
+
+// What separates the arrays (t, cx, cy, x, y), and what ends the file.
+constexpr const char* kArrayOpen[5] = {"[", ",\n   \"cx\": [", ",\n   \"cy\": [", ",\n   \"x\": [",
+                                       ",\n   \"y\": ["};
+constexpr const char* kTail = "}\n ]\n}\n";
+
+}  // namespace
+
+std::string WconText(const WormTrack& t) {
+  std::string s = HeadText(t);
   AppendArray(&s, t.time_s);
   if (!t.cx_mm.empty()) {
     s += ",\n   \"cx\": ";
@@ -76,15 +85,80 @@ std::string WconText(const WormTrack& t) {
     s += ",\n   \"cy\": ";
     AppendArray(&s, t.cy_mm);
   }
-  AppendNested(&s, "x", t.x_mm);
-  AppendNested(&s, "y", t.y_mm);
-  s += "}\n ]\n}\n";
+  s += kArrayOpen[3];
+  for (std::size_t i = 0; i < t.x_mm.size(); ++i) AppendNestedElement(&s, t.x_mm[i], i);
+  s += "]";
+  s += kArrayOpen[4];
+  for (std::size_t i = 0; i < t.y_mm.size(); ++i) AppendNestedElement(&s, t.y_mm[i], i);
+  s += "]";
+  s += kTail;
   return s;
 }
 
 void WriteWcon(const WormTrack& track, const std::filesystem::path& path) {
   Check(track, path.string());
   WriteFileAtomically(path, WconText(track));
+}
+
+WconWriter::WconWriter(std::filesystem::path path, const WormTrack& head, bool centroid)
+    : path_(std::move(path)), head_(HeadText(head)), centroid_(centroid) {}
+
+WconWriter::~WconWriter() {
+  for (std::FILE* f : spools_)
+    if (f) std::fclose(f);
+}
+
+std::FILE* WconWriter::Spool(int array) {
+  if (!spools_[array]) spools_[array] = std::tmpfile();
+  if (!spools_[array]) throw InputError(path_.string(), 0, "cannot create a temporary file");
+  return spools_[array];
+}
+
+void WconWriter::Append(double time_s, const std::vector<float>& x_mm,
+                        const std::vector<float>& y_mm, double cx_mm, double cy_mm) {
+  const std::size_t i = points_;
+  auto fail = [&](const std::string& what) { throw InputError(path_.string(), 0, what); };
+  if (!std::isfinite(time_s) || (i > 0 && !(time_s > last_time_s_)))
+    fail("t must be finite and increasing (time point " + std::to_string(i) + ")");
+  if (x_mm.size() != y_mm.size() || x_mm.empty())
+    fail("x and y of time point " + std::to_string(i) + " must be non-empty and equal in length");
+  for (std::size_t k = 0; k < x_mm.size(); ++k)
+    if (!std::isfinite(x_mm[k]) || !std::isfinite(y_mm[k]))
+      fail("non-finite x/y at time point " + std::to_string(i));
+  std::string text[5];
+  AppendNumber(&text[0], time_s, i == 0);
+  if (centroid_) {
+    AppendNumber(&text[1], cx_mm, i == 0);
+    AppendNumber(&text[2], cy_mm, i == 0);
+  }
+  AppendNestedElement(&text[3], x_mm, i);
+  AppendNestedElement(&text[4], y_mm, i);
+  for (int a = 0; a < 5; ++a)
+    if (!text[a].empty() &&
+        std::fwrite(text[a].data(), 1, text[a].size(), Spool(a)) != text[a].size())
+      fail("cannot write a temporary file");
+  last_time_s_ = time_s;
+  ++points_;
+}
+
+void WconWriter::Commit() {
+  if (points_ == 0) throw InputError(path_.string(), 0, "WCON needs at least one time point");
+  AtomicOutput out(path_);
+  std::ofstream& stream = out.stream();
+  stream << head_;
+  char buffer[1 << 16];
+  for (int a = 0; a < 5; ++a) {
+    if (!centroid_ && (a == 1 || a == 2)) continue;
+    stream << kArrayOpen[a];
+    std::FILE* spool = Spool(a);
+    std::rewind(spool);
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, spool)) > 0;)
+      stream.write(buffer, static_cast<std::streamsize>(n));
+    if (std::ferror(spool)) throw InputError(path_.string(), 0, "cannot read a temporary file");
+    stream << "]";
+  }
+  stream << kTail;
+  out.Commit();
 }
 
 namespace {

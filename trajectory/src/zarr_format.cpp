@@ -4,6 +4,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "owval/base/atomic_output.hpp"
@@ -54,25 +55,10 @@ void Write1d(const fs::path& dir, const std::vector<T>& values, const char* dtyp
   WriteText(dir / "0", Compressed(raw, level));
 }
 
-void WritePositions(const Trajectory& t, const fs::path& dir, const ZarrWriteOptions& o) {
-  const std::size_t n = t.particle_count(), frames = t.frame_count();
-  const std::size_t chunk = std::max<std::size_t>(1, o.frames_per_chunk);
-  fs::create_directories(dir);
-  WriteText(dir / ".zarray",
-            ArrayMeta({frames, n, 3}, {chunk, n, 3}, "<f4", o.compression_level).dump(1));
-  WriteText(dir / ".zattrs",
-            json{{"units", "micrometre"}, {"axes", {"time", "particle", "xyz"}}}.dump(1));
-  const float to_um = static_cast<float>(o.simulation_scale_m * 1e6);
-  for (std::size_t c = 0; c * chunk < frames; ++c) {
-    // A partial last chunk is still stored whole (zarr v2), padded with the fill value.
-    std::vector<float> values(chunk * n * 3, 0.f);
-    const std::size_t first = c * chunk, last = std::min(frames, first + chunk);
-    for (std::size_t i = 0; i < (last - first) * n * 3; ++i)
-      values[i] = t.positions[first * n * 3 + i] * to_um;
-    std::string raw(values.size() * sizeof(float), '\0');
-    std::memcpy(raw.data(), values.data(), raw.size());
-    WriteText(dir / (std::to_string(c) + ".0.0"), Compressed(raw, o.compression_level));
-  }
+// `path` once CheckZarrOutput accepts it: checked before the temporary store is made.
+fs::path Checked(const fs::path& path) {
+  CheckZarrOutput(path);
+  return path;
 }
 
 bool IsChunkName(const std::string& name) {
@@ -94,30 +80,6 @@ bool HoldsOnly(const fs::path& dir, const std::set<std::string>& files,
       return false;
   }
   return true;
-}
-
-void WriteStore(const Trajectory& t, const fs::path& tmp, const ZarrWriteOptions& o) {
-  fs::create_directories(tmp / "body");
-  json provenance(t.provenance);
-  WriteText(tmp / ".zgroup", json{{"zarr_format", 2}}.dump());
-  WriteText(tmp / ".zattrs", json{{"@owval",
-                                   {{"producer", "owval"},
-                                    {"provenance", provenance},
-                                    {"time_step_s", t.time_step_s},
-                                    {"log_step", t.log_step},
-                                    {"simulation_scale_m", o.simulation_scale_m},
-                                    {"frames", t.frame_count()},
-                                    {"particles", t.particle_count()}}}}
-                                 .dump(1));
-  WriteText(tmp / "body/.zgroup", json{{"zarr_format", 2}}.dump());
-  WriteText(tmp / "body/.zattrs", json{{"description",
-                                        "positions (T, N, 3) in micrometres; types (N,) Sibernetic "
-                                        "type codes (1.x liquid, 2.x elastic, 3.x boundary); time "
-                                        "(T,) in seconds"}}
-                                      .dump(1));
-  WritePositions(t, tmp / "body/positions", o);
-  Write1d(tmp / "body/types", t.type, "<f4", o.compression_level, json::object());
-  Write1d(tmp / "body/time", t.time_s, "<f8", o.compression_level, json{{"units", "s"}});
 }
 
 }  // namespace
@@ -152,12 +114,96 @@ void CheckZarrOutput(const fs::path& path) {
                      "it (name a new or empty directory)");
 }
 
+struct OmeZarrWriter::Store {
+  Store(const fs::path& path, const Trajectory& header, const ZarrWriteOptions& o)
+      : directory(Checked(path), IsOwvalZarrStore),
+        options(o),
+        particles(header.particle_count()),
+        chunk_frames(std::max<std::size_t>(1, o.frames_per_chunk)),
+        to_um(static_cast<float>(o.simulation_scale_m * 1e6)),
+        type(header.type),
+        time_step_s(header.time_step_s),
+        log_step(header.log_step),
+        provenance(header.provenance) {
+    fs::create_directories(positions_dir());
+  }
+  fs::path root() const { return directory.temporary_path(); }
+  fs::path positions_dir() const { return root() / "body/positions"; }
+
+  AtomicDirectory directory;
+  ZarrWriteOptions options;
+  std::size_t particles, chunk_frames;
+  float to_um;
+  std::vector<float> type;
+  double time_step_s;
+  int log_step;
+  std::map<std::string, std::string> provenance;
+  std::vector<double> time_s;  // one number a frame: body/time, written at Commit
+  std::vector<float> chunk;    // the frames of the chunk being filled, in micrometres
+  std::size_t chunks_written = 0;
+};
+
+OmeZarrWriter::OmeZarrWriter(const fs::path& path, const Trajectory& header,
+                             const ZarrWriteOptions& options)
+    : store_(std::make_unique<Store>(path, header, options)) {}
+
+OmeZarrWriter::~OmeZarrWriter() = default;
+
+void OmeZarrWriter::AppendFrame(double time_s, const float* positions) {
+  Store& s = *store_;
+  s.time_s.push_back(time_s);
+  for (std::size_t i = 0; i < s.particles * 3; ++i) s.chunk.push_back(positions[i] * s.to_um);
+  if (s.chunk.size() == s.chunk_frames * s.particles * 3) WriteChunk();
+}
+
+// A partial last chunk is still stored whole (zarr v2), padded with the fill value.
+void OmeZarrWriter::WriteChunk() {
+  Store& s = *store_;
+  s.chunk.resize(s.chunk_frames * s.particles * 3, 0.f);
+  std::string raw(s.chunk.size() * sizeof(float), '\0');
+  std::memcpy(raw.data(), s.chunk.data(), raw.size());
+  WriteText(s.positions_dir() / (std::to_string(s.chunks_written++) + ".0.0"),
+            Compressed(raw, s.options.compression_level));
+  s.chunk.clear();
+}
+
+void OmeZarrWriter::Commit() {
+  Store& s = *store_;
+  if (!s.chunk.empty()) WriteChunk();
+  const std::size_t frames = s.time_s.size(), n = s.particles;
+  const int level = s.options.compression_level;
+  const fs::path root = s.root();
+  WriteText(root / ".zgroup", json{{"zarr_format", 2}}.dump());
+  WriteText(root / ".zattrs", json{{"@owval",
+                                    {{"producer", "owval"},
+                                     {"provenance", json(s.provenance)},
+                                     {"time_step_s", s.time_step_s},
+                                     {"log_step", s.log_step},
+                                     {"simulation_scale_m", s.options.simulation_scale_m},
+                                     {"frames", frames},
+                                     {"particles", n}}}}
+                                  .dump(1));
+  WriteText(root / "body/.zgroup", json{{"zarr_format", 2}}.dump());
+  WriteText(root / "body/.zattrs", json{{"description",
+                                         "positions (T, N, 3) in micrometres; types (N,) "
+                                         "Sibernetic type codes (1.x liquid, 2.x elastic, 3.x "
+                                         "boundary); time (T,) in seconds"}}
+                                       .dump(1));
+  WriteText(s.positions_dir() / ".zarray",
+            ArrayMeta({frames, n, 3}, {s.chunk_frames, n, 3}, "<f4", level).dump(1));
+  WriteText(s.positions_dir() / ".zattrs",
+            json{{"units", "micrometre"}, {"axes", {"time", "particle", "xyz"}}}.dump(1));
+  Write1d(root / "body/types", s.type, "<f4", level, json::object());
+  Write1d(root / "body/time", s.time_s, "<f8", level, json{{"units", "s"}});
+  s.directory.Commit();
+}
+
 void WriteOmeZarr(const Trajectory& t, const fs::path& path, const ZarrWriteOptions& o) {
   t.CheckShape();
-  CheckZarrOutput(path);
-  AtomicDirectory store(path, IsOwvalZarrStore);
-  WriteStore(t, store.temporary_path(), o);
-  store.Commit();
+  OmeZarrWriter writer(path, t, o);
+  for (std::size_t f = 0; f < t.frame_count(); ++f)
+    writer.AppendFrame(t.time_s[f], t.position(f, 0));
+  writer.Commit();
 }
 
 }  // namespace owval

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/base/atomic_output.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::kinematics {
@@ -52,5 +53,22 @@ std::string FormatWormMotionLine(const Midline& midline, long step, double time_
 // worm_motion_log.txt for every frame (frame f is step f * log_step), written atomically.
 void WriteWormMotionLog(const Trajectory& trajectory, const std::filesystem::path& path);
 std::string WormMotionLog(const Trajectory& trajectory);
+
+// worm_motion_log.txt a line per frame as the frames come (the k-th frame appended is step
+// k * log_step), renamed into place by Commit(): memory is one line, whatever the run's length.
+class WormMotionLogWriter {
+ public:
+  // `header`: time step and log step.
+  WormMotionLogWriter(const std::filesystem::path& path, const Trajectory& header);
+  // Frame `frame` of `trajectory` (a whole trajectory's or a streamed one-frame trajectory's).
+  void Append(const Trajectory& trajectory, std::size_t frame);
+  void Commit() { out_.Commit(); }
+
+ private:
+  AtomicOutput out_;
+  int log_step_;
+  double time_step_s_;
+  std::size_t frames_ = 0;
+};
 
 }  // namespace owval::kinematics

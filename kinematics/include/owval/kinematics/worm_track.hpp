@@ -15,9 +15,37 @@ namespace owval::kinematics {
 WormTrack TrackFromTrajectory(const Trajectory& trajectory,
                               const nlohmann::json& settings = nlohmann::json::object());
 
+// TrackFromTrajectory's parts, for frames read one at a time (the same numbers): the track
+// without time points, and one frame's time point (`elastic`: GroupIndices(header, "elastic")).
+WormTrack TrackHead(const Trajectory& header,
+                    const nlohmann::json& settings = nlohmann::json::object());
+struct TrackPoint {
+  double time_s;
+  std::vector<float> x_mm, y_mm;  // the skeleton, head first
+  double cx_mm, cy_mm;            // the elastic particles' centroid
+};
+TrackPoint TrackPointAt(const Trajectory& trajectory, std::size_t frame,
+                        const std::vector<std::size_t>& elastic);
+
+// The worm's WCON written as frames come (WconWriter): the bytes of
+// WriteWcon(TrackFromTrajectory(trajectory, settings)) with `software_version`, memory one frame.
+class WormWconWriter {
+ public:
+  // `header`: types and provenance. InputError naming `path` when it is not a worm.
+  WormWconWriter(const std::filesystem::path& path, const Trajectory& header,
+                 const nlohmann::json& settings, const std::string& software_version);
+  void Append(const Trajectory& trajectory, std::size_t frame);
+  void Commit() { wcon_.Commit(); }
+
+ private:
+  std::vector<std::size_t> elastic_;
+  WconWriter wcon_;
+};
+
 SkeletonSeries SkeletonsFromTrack(const WormTrack& track);
 
-// A .wcon/.json file through ReadWcon, anything else as a trajectory (ReadTrajectory).
+// A .wcon/.json file through ReadWcon, anything else as a trajectory read frame by frame
+// (OpenFrameSource: memory holds the skeletons, not the particles).
 SkeletonSeries LoadSkeletons(const std::filesystem::path& path);
 
 }  // namespace owval::kinematics

@@ -65,4 +65,10 @@ std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
                                              const TextReadOptions& options = {},
                                              TextReadReport* report = nullptr);
 
+// WriteHdf5 of the source's trajectory, frame by frame: the same bytes, with the per-frame fields
+// the source holds (positions, then each field, read in one pass a dataset), holding one chunk's
+// frames (Hdf5WriteOptions::frames_per_chunk) of one dataset at a time.
+void WriteHdf5(FrameSource& frames, const std::filesystem::path& path,
+               const Hdf5WriteOptions& options = {});
+
 }  // namespace owval

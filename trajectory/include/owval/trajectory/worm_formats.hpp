@@ -8,7 +8,9 @@
 //  - OME-Zarr viewer contract in zarr v2 layout: body/positions (T, N, 3) float32 in micrometres,
 //    chunked by frames, body/types (N,) float32, body/time (T,) float64 seconds, provenance as
 //    attributes of the root group. Readable by zarr-python without owval.
+#include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -32,6 +34,34 @@ struct WormTrack {
 std::string WconText(const WormTrack& track);
 // Checks the track (sizes, increasing time, finite values), then writes atomically.
 void WriteWcon(const WormTrack& track, const std::filesystem::path& path);
+// WriteWcon time point by time point, the same bytes: the text puts every t, cx and cy before the
+// first x, so each array is spooled to an anonymous temporary file (gone with the process, even
+// killed) and the file is assembled at Commit(). Memory: one time point, never the track. Each
+// time point is checked as WriteWcon checks it, when appended.
+class WconWriter {
+ public:
+  // `head`: id, software version and settings, "@owval"; its per-time arrays are not read.
+  // `centroid`: whether every time point has cx, cy (the track's cx_mm non-empty).
+  WconWriter(std::filesystem::path path, const WormTrack& head, bool centroid);
+  ~WconWriter();
+  WconWriter(const WconWriter&) = delete;
+  WconWriter& operator=(const WconWriter&) = delete;
+  // cx_mm, cy_mm are ignored without `centroid`.
+  void Append(double time_s, const std::vector<float>& x_mm, const std::vector<float>& y_mm,
+              double cx_mm = 0, double cy_mm = 0);
+  // Writes the file atomically. InputError when no time point was appended.
+  void Commit();
+
+ private:
+  std::FILE* Spool(int array);
+  std::filesystem::path path_;
+  std::string head_;  // the text before the data arrays
+  bool centroid_;
+  std::size_t points_ = 0;
+  double last_time_s_ = 0;
+  std::FILE* spools_[5] = {};  // t, cx, cy, x, y: their elements as WconText prints them
+};
+
 // Reads the records of the first worm id, in file order (t must increase across them); converts t
 // to s and x, y, cx, cy to mm from the file's units; applies ox/oy origins. Ignores unknown keys.
 // InputError naming the file and field on anything a WCON reader must refuse.
@@ -46,6 +76,28 @@ struct ZarrWriteOptions {
 // empty directory or an OME-Zarr store owval wrote (IsOwvalZarrStore); InputError otherwise.
 void WriteOmeZarr(const Trajectory& trajectory, const std::filesystem::path& path,
                   const ZarrWriteOptions& options = {});
+
+// WriteOmeZarr frame by frame, the same bytes: positions go out a chunk of frames at a time
+// (memory: one chunk, frames_per_chunk x particles), the arrays whose shape needs the frame count
+// at Commit(). Until then the store is a temporary sibling, removed if the writer is destroyed
+// uncommitted. Checks `path` as CheckZarrOutput does, before anything is written.
+class OmeZarrWriter {
+ public:
+  // `header`: types, time step, log step and provenance (its per-frame arrays are not read).
+  OmeZarrWriter(const std::filesystem::path& path, const Trajectory& header,
+                const ZarrWriteOptions& options = {});
+  ~OmeZarrWriter();
+  OmeZarrWriter(const OmeZarrWriter&) = delete;
+  OmeZarrWriter& operator=(const OmeZarrWriter&) = delete;
+  // One frame: 3 floats a particle, configuration units.
+  void AppendFrame(double time_s, const float* positions);
+  void Commit();
+
+ private:
+  struct Store;
+  void WriteChunk();
+  std::unique_ptr<Store> store_;
+};
 
 // An OME-Zarr store as WriteOmeZarr writes it: its root .zattrs has owval's "@owval" block and it
 // holds nothing but owval's groups, arrays and chunks (so replacing it loses nothing else).
