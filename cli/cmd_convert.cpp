@@ -19,8 +19,7 @@ void RunConvert(const ConvertArgs& a) {
   CheckTrajectoryOutput(a.out);
   CheckOutputIsNotAnInput(a.out, {a.in});  // atomic, yet a no-op at best
   TextReadReport read;
-  const Trajectory t = ReadTrajectory(a.in, Reading(a.layout), &read);
-  pipeline::ConvertTrajectory(t, a.in, a.out, ParseLayout(a.out_layout));
+  pipeline::ConvertTrajectoryFile(a.in, Reading(a.layout), a.out, ParseLayout(a.out_layout), &read);
   if (!QuietMode())
     std::fprintf(stderr, "read %s (%s), wrote %s\n", a.in.c_str(), read.description.c_str(),
                  a.out.c_str());

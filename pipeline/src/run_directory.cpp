@@ -15,6 +15,7 @@
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "owval/trajectory/writer.hpp"
 
@@ -33,37 +34,61 @@ std::string ConfigurationHash(const std::string& source) {
   return hex;
 }
 
-// A worm run also writes Sibernetic's worm_motion_log.txt and worm.wcon (and the OME-Zarr when
-// asked): the formats other OpenWorm tools read. Written under the group's temporary names.
-std::vector<std::string> WriteWormOutputs(const Trajectory& t, const RunRequest& r,
-                                          const std::string& source, OutputGroup* group) {
-  std::vector<std::string> written;
-  const fs::path out = r.out;
-  if (r.zarr) {
-    WriteOmeZarr(t, group->Stage(out / "trajectory.zarr"));
-    written.push_back((out / "trajectory.zarr").string());
+// The writers of the outputs computed from the run's frames: the OME-Zarr (--zarr) and, for a
+// worm, Sibernetic's worm_motion_log.txt and worm.wcon (the formats other OpenWorm tools read),
+// each under the group's temporary name.
+struct FrameOutputs {
+  std::unique_ptr<OmeZarrWriter> zarr;
+  std::unique_ptr<kinematics::WormMotionLogWriter> motion_log;
+  std::unique_ptr<kinematics::WormWconWriter> wcon;
+
+  void Append(const FrameRef& frame) {
+    const Trajectory& t = frame.trajectory;
+    if (zarr) zarr->AppendFrame(t.time_s[frame.frame], t.position(frame.frame, 0));
+    if (motion_log) motion_log->Append(t, frame.frame);
+    if (wcon) wcon->Append(t, frame.frame);
   }
-  if (!kinematics::IsWorm(t)) return written;
-  kinematics::WriteWormMotionLog(t, group->Stage(out / "worm_motion_log.txt"));
-  const nlohmann::json settings = {
-      {"configuration", source}, {"configuration_fnv1a64", ConfigurationHash(source)},
-      {"backend", r.backend},    {"integrator", r.integrator},
-      {"muscles", r.muscles},    {"log_step", r.log_step},
-      {"time_s", r.time_s}};
-  WriteWormWcon(t, settings, group->Stage(out / "worm.wcon"));
-  written.push_back((out / "worm_motion_log.txt").string());
-  written.push_back((out / "worm.wcon").string());
-  return written;
+};
+
+nlohmann::json WconSettings(const RunRequest& r, const std::string& source) {
+  return {{"configuration", source}, {"configuration_fnv1a64", ConfigurationHash(source)},
+          {"backend", r.backend},    {"integrator", r.integrator},
+          {"muscles", r.muscles},    {"log_step", r.log_step},
+          {"time_s", r.time_s}};
 }
 
-// Worm outputs and OME-Zarr need every frame: read back from the finished trajectory.h5 (still
-// under its temporary name), so only such runs hold the trajectory in memory.
-std::vector<std::string> WriteWholeTrajectoryOutputs(const Trajectory& header, const RunRequest& r,
-                                                     const std::string& source,
-                                                     OutputGroup* group) {
+// Worm outputs and OME-Zarr need every frame: the finished trajectory.h5 (still under its
+// temporary name) is read back frame by frame, each frame handed to every writer, so memory holds
+// one frame and one Zarr chunk whatever the run's length (and a resumed run's frames are all in
+// the file).
+std::vector<std::string> WriteFrameOutputs(const Trajectory& header, const RunRequest& r,
+                                           const std::string& source, OutputGroup* group) {
   if (!r.zarr && !kinematics::IsWorm(header)) return {};
-  const fs::path finished = group->TemporaryOf(fs::path(r.out) / "trajectory.h5");
-  return WriteWormOutputs(ReadHdf5(finished), r, source, group);
+  const fs::path out = r.out;
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  const std::unique_ptr<FrameSource> frames =
+      OpenFrameSource(group->TemporaryOf(out / "trajectory.h5"), quiet);
+  const Trajectory& file = frames->header();
+  FrameOutputs writers;
+  std::vector<std::string> written;
+  if (r.zarr) {
+    writers.zarr = std::make_unique<OmeZarrWriter>(group->Stage(out / "trajectory.zarr"), file);
+    written.push_back((out / "trajectory.zarr").string());
+  }
+  if (kinematics::IsWorm(file)) {
+    writers.motion_log = std::make_unique<kinematics::WormMotionLogWriter>(
+        group->Stage(out / "worm_motion_log.txt"), file);
+    writers.wcon = std::make_unique<kinematics::WormWconWriter>(
+        group->Stage(out / "worm.wcon"), file, WconSettings(r, source), OWVAL_VERSION);
+    written.push_back((out / "worm_motion_log.txt").string());
+    written.push_back((out / "worm.wcon").string());
+  }
+  for (std::size_t f = 0; f < frames->frame_count(); ++f) writers.Append(frames->Frame(f));
+  if (writers.zarr) writers.zarr->Commit();
+  if (writers.motion_log) writers.motion_log->Commit();
+  if (writers.wcon) writers.wcon->Commit();
+  return written;
 }
 
 // An adaptive scheme's time steps, rollbacks and density variation, one entry per frame, written
@@ -155,20 +180,60 @@ void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings, const fs
   WriteWcon(track, path);
 }
 
-void ConvertTrajectory(const Trajectory& t, const std::string& source, const fs::path& out,
-                       TextLayout text_layout) {
+namespace {
+
+// Every frame of `frames` to `append`, in order.
+template <typename Append>
+void ForEachFrame(FrameSource& frames, Append append) {
+  for (std::size_t f = 0; f < frames.frame_count(); ++f) append(frames.Frame(f));
+}
+
+void ConvertToWcon(FrameSource& frames, const fs::path& in, const fs::path& out) {
+  const Trajectory& header = frames.header();
+  if (!kinematics::IsWorm(header)) throw InputError(in.string(), 0, kinematics::kNotAWorm);
+  nlohmann::json settings = {{"source", in.string()}};
+  for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
+    if (header.provenance.count(key)) settings[key] = header.provenance.at(key);
+  kinematics::WormWconWriter wcon(out, header, settings, OWVAL_VERSION);
+  ForEachFrame(frames, [&](const FrameRef& f) { wcon.Append(f.trajectory, f.frame); });
+  wcon.Commit();
+}
+
+void ConvertToZarr(FrameSource& frames, const fs::path& out) {
+  OmeZarrWriter zarr(out, frames.header());
+  ForEachFrame(frames, [&](const FrameRef& f) {
+    zarr.AppendFrame(f.trajectory.time_s[f.frame], f.trajectory.position(f.frame, 0));
+  });
+  zarr.Commit();
+}
+
+// Sibernetic text through the streaming writer: WriteSiberneticText's bytes.
+void ConvertToText(FrameSource& frames, const fs::path& out, TextLayout layout) {
+  const Trajectory& h = frames.header();
+  TrajectoryWriterOptions options;
+  options.layout = layout == TextLayout::kAuto ? TextLayout::kOpenCL : layout;
+  const std::unique_ptr<TrajectoryWriter> text =
+      OpenTrajectoryWriter(out, {h.box, h.time_step_s, h.log_step, h.type, h.provenance}, options);
+  ForEachFrame(frames, [&](const FrameRef& f) {
+    text->AppendFrame(f.trajectory.time_s[f.frame], f.trajectory.position(f.frame, 0));
+  });
+  text->Close();
+}
+
+}  // namespace
+
+void ConvertTrajectoryFile(const fs::path& in, const TextReadOptions& read, const fs::path& out,
+                           TextLayout text_layout, TextReadReport* report) {
+  const std::unique_ptr<FrameSource> frames = OpenFrameSource(in, read, report);
   const std::string extension = out.extension().string();
-  if (extension == ".wcon") {
-    if (!kinematics::IsWorm(t)) throw InputError(source, 0, kinematics::kNotAWorm);
-    nlohmann::json settings = {{"source", source}};
-    for (const char* key : {"producer", "configuration", "configuration_fnv1a64", "backend"})
-      if (t.provenance.count(key)) settings[key] = t.provenance.at(key);
-    WriteWormWcon(t, settings, out);
-  } else if (extension == ".zarr") {
-    WriteOmeZarr(t, out);
-  } else {
-    WriteTrajectory(t, out, text_layout);
-  }
+  if (extension == ".wcon")
+    ConvertToWcon(*frames, in, out);
+  else if (extension == ".zarr")
+    ConvertToZarr(*frames, out);
+  else if (extension == ".h5" || extension == ".hdf5")
+    WriteHdf5(*frames, out);
+  else
+    ConvertToText(*frames, out, text_layout);
 }
 
 nlohmann::json RunRequest::ToJson() const {
@@ -281,8 +346,7 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   for (const fs::path& output : engine::LongRunOutputs(request.out))
     summary->outputs.push_back((interrupted ? PartialPath(output) : output).string());
   if (!interrupted) {
-    for (const std::string& path :
-         WriteWholeTrajectoryOutputs(seen.header, request, config.source, &outputs))
+    for (const std::string& path : WriteFrameOutputs(seen.header, request, config.source, &outputs))
       summary->outputs.push_back(path);
     if (const std::string path = seen.step_log->FinishInto(&outputs); !path.empty())
       summary->outputs.push_back(path);

@@ -82,11 +82,16 @@ struct RunDirectorySummary {
 void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings,
                    const std::filesystem::path& path);
 
-// `owval convert`: `t`, read from `source`, written in the format `out`'s extension names: .wcon
-// (a worm's WCON, InputError naming `source` for anything else; `t`'s provenance as its settings),
-// .zarr (OME-Zarr), else a trajectory file (text in `text_layout`, or HDF5).
-void ConvertTrajectory(const Trajectory& t, const std::string& source,
-                       const std::filesystem::path& out, TextLayout text_layout);
+// `owval convert`: the trajectory file `in` (any format OpenFrameSource reads, with `read`;
+// `report` filled as ReadTrajectory fills it) written in the format `out`'s extension names, frame
+// by frame (memory: a frame and a chunk of frames, never the trajectory), the bytes the
+// whole-trajectory writers wrote: .wcon (a worm's WCON, InputError naming `in` for anything else;
+// the file's provenance as its settings), .zarr (OME-Zarr), .h5/.hdf5 (owval HDF5, with the
+// per-frame fields `in` holds), else Sibernetic text in `text_layout`. A bad frame midway leaves
+// no `out`.
+void ConvertTrajectoryFile(const std::filesystem::path& in, const TextReadOptions& read,
+                           const std::filesystem::path& out, TextLayout text_layout,
+                           TextReadReport* report = nullptr);
 
 // The engine's options for the request: unknown backend, bad --set assignment: InputError.
 engine::RunOptions EngineOptions(const RunRequest& request);
