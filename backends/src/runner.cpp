@@ -16,6 +16,7 @@
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/writer.hpp"
 
 namespace owval::backends {
 namespace fs = std::filesystem;
@@ -35,12 +36,21 @@ TemplateValues ValuesFor(const Backend& b, const RunRequest& r, const std::strin
   return v;
 }
 
-Trajectory ReadOutput(const fs::path& file, const std::string& layout) {
-  if (layout == "hdf5") return ReadHdf5(file);
+// How a backend's output in `layout` ("hdf5", or a text layout) is read, quietly.
+TextReadOptions Reading(const std::string& layout) {
   TextReadOptions options;
-  options.layout = ParseLayout(layout);
+  options.layout = layout == "hdf5" ? TextLayout::kAuto : ParseLayout(layout);
   options.quiet = true;
-  return ReadTrajectory(file, options);
+  return options;
+}
+
+// Every frame of a backend's output read once, with every check a whole read makes (InputError
+// naming the file otherwise), one frame in memory at a time.
+void CheckOutput(const fs::path& file, const std::string& layout) {
+  if (layout == "hdf5" && DetectFormat(file) != FileFormat::kHdf5)
+    throw InputError(file.string(), 0, "expected an owval HDF5 file (layout hdf5)");
+  const std::unique_ptr<FrameSource> frames = OpenFrameSource(file, Reading(layout));
+  for (std::size_t f = 0; f < frames->frame_count(); ++f) frames->Frame(f);
 }
 
 // "backend NAME: what (stderr: tail)", clamped to 300 printable characters.
@@ -54,6 +64,24 @@ InputError BackendError(const std::string& name, std::string what, const fs::pat
   return InputError("backend " + name + ": " + what + suffix);
 }
 
+// The engine's frames appended to Sibernetic text as they come (WriteSiberneticText's bytes):
+// memory O(particles), whatever the run's length.
+class TextSink : public engine::FrameSink {
+ public:
+  explicit TextSink(fs::path destination) : destination_(std::move(destination)) {}
+  void Begin(const Trajectory& h, int /*threads*/) override {
+    writer_ = OpenTrajectoryWriter(destination_, {h.box, h.time_step_s, h.log_step, h.type, {}});
+  }
+  void Frame(const engine::FrameView& f) override {
+    writer_->AppendFrame(f.time_s, f.positions.data());
+  }
+  void Close() { writer_->Close(); }
+
+ private:
+  fs::path destination_;
+  std::unique_ptr<TrajectoryWriter> writer_;
+};
+
 // The engine in process; the trajectory is written as Sibernetic text (6 digits, as a command
 // backend's would be) so that a fresh run and a cache hit read the same numbers.
 void RunBuiltin(const Backend& b, const RunRequest& r, const fs::path& dir) {
@@ -65,8 +93,9 @@ void RunBuiltin(const Backend& b, const RunRequest& r, const fs::path& dir) {
   options.record_fields = false;
   if (r.scenario.time_step_s != options.constants.time_step_s)
     options.constants.time_step_s = r.scenario.time_step_s;
-  const Trajectory t = engine::Run(config, options);
-  WriteSiberneticText(t, dir / "position_buffer.txt", TextLayout::kOpenCL);
+  TextSink text(dir / "position_buffer.txt");
+  engine::Run(config, options, &text);
+  text.Close();
 }
 
 fs::path RunCommand(const Backend& b, const RunRequest& r, const fs::path& dir) {
@@ -92,7 +121,7 @@ fs::path RunCommand(const Backend& b, const RunRequest& r, const fs::path& dir) 
   if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) == 0)
     throw BackendError(b.name, "command wrote nothing at " + file.string(), p.stderr_path);
   try {
-    ReadOutput(file, b.layout);
+    CheckOutput(file, b.layout);
   } catch (const InputError& e) {
     throw BackendError(b.name, std::string("unreadable output: ") + e.what(), p.stderr_path);
   }
@@ -104,7 +133,7 @@ RunOutcome Outcome(const std::string& source, const std::string& detail, const f
   RunOutcome o;
   o.source = source;
   o.detail = detail;
-  o.file = file;
+  o.file = fs::absolute(file);  // read later, maybe from another working directory
   return o;
 }
 
@@ -124,11 +153,13 @@ RunOutcome ReadStore(const Backend& b, const RunRequest& r, const std::string& w
     throw InputError("backend " + b.name + ": store " + b.store.string() + " has no run of " +
                      r.scenario.name + " (no position_buffer.txt[.gz] or trajectory.h5)");
   RunOutcome o = Outcome("store", why + file.string(), file);
-  o.trajectory = ReadOutput(file, b.kind == BackendKind::kStore ? "auto" : b.layout);
+  o.reading = Reading(b.kind == BackendKind::kStore ? "auto" : b.layout);
   return o;
 }
 
 }  // namespace
+
+std::unique_ptr<FrameSource> RunOutcome::Frames() const { return OpenFrameSource(file, reading); }
 
 std::string ResolvedCommand(const Backend& b, const RunRequest& r, const fs::path& out_dir) {
   return ExpandTemplate(
@@ -178,7 +209,7 @@ RunOutcome ObtainRun(const Backend& b, const RunRequest& r, const RunCache& cach
     const nlohmann::json run = ReadJsonFile(*hit / "run.json");
     const fs::path file = *hit / run.at("output").get<std::string>();
     RunOutcome o = Outcome("cache hit", hit->string(), file);
-    o.trajectory = ReadOutput(file, layout);
+    o.reading = Reading(layout);
     return o;
   }
   const fs::path temporary = cache.Begin(key);
@@ -199,8 +230,14 @@ RunOutcome ObtainRun(const Backend& b, const RunRequest& r, const RunCache& cach
     const fs::path dir = cache.Commit(temporary, key);
     RunOutcome o = Outcome("ran", cache.enabled() ? dir.string() : "not cached", dir / output);
     o.wall_s = wall_s;
-    o.trajectory = ReadOutput(o.file, layout);
-    if (!cache.enabled()) fs::remove_all(dir);
+    o.reading = Reading(layout);
+    if (!cache.enabled())  // the file is read after this returns: removed with the last outcome
+      o.uncached_directory =
+          std::shared_ptr<const fs::path>(new fs::path(dir), [](const fs::path* d) {
+            std::error_code ec;
+            fs::remove_all(*d, ec);
+            delete d;
+          });
     return o;
   } catch (...) {
     std::error_code ec;

@@ -119,9 +119,9 @@ SuiteReport CompareBackends(const Backend& a, const Backend& b, const SuiteOptio
     const RunOutcome ra = ObtainRun(a, request, cache);
     if (options.on_progress) options.on_progress(s.name + ": " + b.name);
     const RunOutcome rb = ObtainRun(b, request, cache);
+    const std::unique_ptr<FrameSource> frames_a = ra.Frames(), frames_b = rb.Frames();
     report.scenarios.push_back(
-        {s.name, Side(ra), Side(rb),
-         compare::CompareTrajectories(ra.trajectory, rb.trajectory, parity)});
+        {s.name, Side(ra), Side(rb), compare::CompareFrameSources(*frames_a, *frames_b, parity)});
   }
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -275,8 +275,8 @@ TEST(Runner, CommandWritingIntoOutRunsWithARelativeCacheAndAnotherWorkingDirecto
   fs::current_path(previous);
   EXPECT_EQ(ran.source, "ran");
   EXPECT_EQ(hit.source, "cache hit");
-  EXPECT_EQ(ran.trajectory.frame_count(), hit.trajectory.frame_count());
-  EXPECT_GT(ran.trajectory.frame_count(), 0u);
+  EXPECT_EQ(ran.Frames()->frame_count(), hit.Frames()->frame_count());
+  EXPECT_GT(ran.Frames()->frame_count(), 0u);
   EXPECT_TRUE(fs::is_empty(dir / "elsewhere"));
 }
 
@@ -295,7 +295,7 @@ TEST(Runner, CommandWithoutItsProgramFallsBackToTheStore) {
   const RunOutcome o = ObtainRun(b, request, RunCache(CacheOptions{"", false}));
   EXPECT_EQ(o.source, "store");
   EXPECT_NE(o.detail.find("fallback"), std::string::npos);
-  EXPECT_EQ(o.trajectory.frame_count(), 500u);
+  EXPECT_EQ(o.Frames()->frame_count(), 500u);
 }
 
 }  // namespace
