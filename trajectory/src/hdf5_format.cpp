@@ -149,8 +149,9 @@ namespace {
 using WriteField = std::function<void(hid_t file, const char* name, int components)>;
 
 // owval's HDF5 file: `t`'s box, steps, types, times and provenance (its per-frame arrays are not
-// read), and the per-frame fields `fields` lists, in the order WriteHdf5 has always written them.
-void WriteHdf5File(const Trajectory& t, const std::vector<const char*>& fields,
+// read), and the per-frame fields `fields` lists (asked once the positions are written), in the
+// order WriteHdf5 has always written them.
+void WriteHdf5File(const Trajectory& t, const std::function<std::vector<const char*>()>& fields,
                    const std::filesystem::path& path, const WriteField& write_field) {
   const std::lock_guard<std::recursive_mutex> lock(internal::Hdf5Mutex());
   SilenceHdf5Errors();
@@ -166,7 +167,7 @@ void WriteHdf5File(const Trajectory& t, const std::vector<const char*>& fields,
     write_field(file, "positions", 3);
     WriteDataset(file, "time", H5T_NATIVE_DOUBLE, t.time_s.data(), {frames}, {}, 0, name);
     WriteDataset(file, "type", H5T_NATIVE_FLOAT, t.type.data(), {particles}, {}, 0, name);
-    for (const char* field : fields)
+    for (const char* field : fields())
       write_field(file, field, std::string(field) == "velocities" ? 3 : 1);
     const float box[6] = {t.box.xmin, t.box.xmax, t.box.ymin, t.box.ymax, t.box.zmin, t.box.zmax};
     WriteNumericAttribute(file, "box", H5T_NATIVE_FLOAT, box, 6);
@@ -202,19 +203,23 @@ const std::vector<float>& FieldValues(const Trajectory& t, const std::string& na
 void WriteHdf5(const Trajectory& t, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
   t.CheckShape();
   const std::string name = path.string();
-  WriteHdf5File(t, FieldsOf(t), path, [&](hid_t file, const char* field, int components) {
-    WriteFrameField(file, field, FieldValues(t, field), t.frame_count(), t.particle_count(),
-                    components, o, name);
-  });
+  WriteHdf5File(
+      t, [&] { return FieldsOf(t); }, path,
+      [&](hid_t file, const char* field, int components) {
+        WriteFrameField(file, field, FieldValues(t, field), t.frame_count(), t.particle_count(),
+                        components, o, name);
+      });
 }
 
 void WriteHdf5(FrameSource& frames, const std::filesystem::path& path, const Hdf5WriteOptions& o) {
   const Trajectory& header = frames.header();
   const std::size_t particles = header.particle_count();
-  frames.ReadFields();
-  // The fields the source holds show in its frames (a source with no frame has none).
-  const std::vector<const char*> fields =
-      frames.frame_count() ? FieldsOf(frames.Frame(0).trajectory) : std::vector<const char*>{};
+  // Positions are read alone; then the fields the source holds, which show in its frames (a
+  // source with no frame has none).
+  const auto fields = [&frames] {
+    frames.ReadFields();
+    return frames.frame_count() ? FieldsOf(frames.Frame(0).trajectory) : std::vector<const char*>{};
+  };
   const FillFrames fill = [&](const char* field, std::size_t first, std::size_t count, float* out) {
     const std::size_t values =
         particles * (std::string(field) == "density" || std::string(field) == "pressure" ? 1 : 3);
