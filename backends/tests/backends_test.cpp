@@ -280,6 +280,32 @@ TEST(Runner, CommandWritingIntoOutRunsWithARelativeCacheAndAnotherWorkingDirecto
   EXPECT_TRUE(fs::is_empty(dir / "elsewhere"));
 }
 
+// With the cache off, a run's directory is scratch: it lives as long as an outcome that reads it.
+TEST(Runner, AnUncachedRunIsReadableUntilItsLastOutcomeGoes) {
+  const fs::path root = fs::path(OWVAL_SHARED_DIR) / "reference";
+  const fs::path recorded = root / "one_sprig" / "position_buffer.txt";
+  if (!fs::exists(recorded)) GTEST_SKIP() << "no reference";
+  Backend b;
+  b.name = "copyref";
+  b.kind = BackendKind::kCommand;
+  b.command = "cp " + recorded.string() + " {out}/position_buffer.txt";
+  RunRequest request;
+  request.scenario = ReadScenario(root / "one_sprig");
+  fs::path file;
+  {
+    RunOutcome copy;
+    {
+      const RunOutcome o = ObtainRun(b, request, RunCache(CacheOptions{"", false}));
+      EXPECT_EQ(o.source, "ran");
+      file = o.file;
+      EXPECT_TRUE(file.is_absolute()) << file;
+      copy = o;
+    }
+    EXPECT_EQ(copy.Frames()->frame_count(), 2500u);
+  }
+  EXPECT_FALSE(fs::exists(file)) << file;
+}
+
 TEST(Runner, CommandWithoutItsProgramFallsBackToTheStore) {
   const fs::path root = fs::path(OWVAL_SHARED_DIR) / "reference";
   if (!fs::exists(root / "test_gravity" / "position_buffer.txt")) GTEST_SKIP() << "no reference";
