@@ -21,10 +21,8 @@ inline engine::SiberneticConfig ResolveConfig(const std::string& name_or_path) {
 inline TextReadOptions Reading(const std::string& layout = "auto") {
   return {ParseLayout(layout), QuietMode()};
 }
-inline Trajectory ReadTrajectoryArgument(const std::string& path) {
-  return ReadTrajectory(path, Reading());
-}
-// The same, read frame by frame (compare, render: memory O(particles), whatever the length).
+// A trajectory named on the command line, read frame by frame: memory O(particles), whatever the
+// length (no command reads one whole).
 inline std::unique_ptr<FrameSource> OpenTrajectoryArgument(const std::string& path) {
   return OpenFrameSource(path, Reading());
 }
