@@ -461,6 +461,7 @@ Trajectory ReadHdf5Metadata(const std::string& path) {
   CheckFinite("type", FirstNonFinite(t.type), path);
   CheckTypeCodes(t.type, path);
   CheckFinite("time", FirstNonFinite(t.time_s), path);
+  CheckFrameTimesIncrease(t.time_s, path, "HDF5: /time: ");
   return t;
 }
 
@@ -478,6 +479,7 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
   CheckFinite("type", FirstNonFinite(t.type), name);
   CheckTypeCodes(t.type, name);
   CheckFinite("time", FirstNonFinite(t.time_s), name);
+  CheckFrameTimesIncrease(t.time_s, name, "HDF5: /time: ");
   CheckFinitePositions(t, name);
   return t;
 }

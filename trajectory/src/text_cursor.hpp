@@ -164,6 +164,10 @@ bool SwitchesToNative(const RowCounts& r, const Header& h, bool boundary_row, Te
 // or the requested one checked), as ParseSiberneticText decides it. InputError naming `name`.
 TextLayout ResolveLayout(const RowCounts& r, const std::vector<float>& first_frame_type,
                          const Header& h, TextLayout requested, const std::string& name);
+// Frame f's time, f x log step x time step (the text has no time column), for `frames` frames;
+// InputError naming `name` unless they increase (a time step and log step so large that the
+// product overflows to infinity).
+std::vector<double> FrameTimes(const Header& h, std::size_t frames, const std::string& name);
 // Frames the rows make in `layout`.
 std::size_t FrameCount(TextLayout layout, std::size_t rows, const Header& h);
 // The OpenCL layout needs the moving particles first.

@@ -266,6 +266,14 @@ TextLayout ResolveLayout(const RowCounts& r, const std::vector<float>& first_fra
   return layout;
 }
 
+std::vector<double> FrameTimes(const Header& h, std::size_t frames, const std::string& name) {
+  std::vector<double> time_s(frames);
+  for (std::size_t f = 0; f < frames; ++f)
+    time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
+  CheckFrameTimesIncrease(time_s, name, "frame time = frame x log step x time step (header): ");
+  return time_s;
+}
+
 std::size_t FrameCount(TextLayout layout, std::size_t rows, const Header& h) {
   const std::size_t n = h.particles();
   return layout == TextLayout::kNative ? rows / n
@@ -304,9 +312,7 @@ Trajectory Assemble(Rows&& r, const Header& h, TextLayout layout) {
   t.type = std::move(r.first_frame_type);
   const std::size_t frames = internal::FrameCount(layout, r.rows, h);
   t.positions = std::move(r.xyz);
-  t.time_s.resize(frames);
-  for (std::size_t f = 0; f < frames; ++f)
-    t.time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
+  t.time_s = internal::FrameTimes(h, frames, r.name);
   return t;
 }
 

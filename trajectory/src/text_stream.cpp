@@ -270,9 +270,7 @@ class TextFrameSource : public FrameSource {
     header_.log_step = frame_.log_step = h.log_step;
     header_.type = frame_.type = type_;
     const std::size_t frames = frame_offset_.size();
-    header_.time_s.resize(frames);
-    for (std::size_t f = 0; f < frames; ++f)
-      header_.time_s[f] = static_cast<double>(f) * h.log_step * h.time_step_s;
+    header_.time_s = FrameTimes(h, frames, name_);
     header_.provenance["source_file"] = name_;
     header_.provenance["source_layout"] = LayoutName(layout_);
     if (partial) header_.provenance["partial"].assign(1, '1');

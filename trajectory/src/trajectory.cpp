@@ -1,6 +1,8 @@
 #include "owval/trajectory/trajectory.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <stdexcept>
 
 #include "owval/base/errors.hpp"
@@ -51,6 +53,30 @@ void Trajectory::CheckShape() const {
 void Trajectory::AppendFrame(double frame_time_s, const float* frame_positions) {
   time_s.push_back(frame_time_s);
   positions.insert(positions.end(), frame_positions, frame_positions + 3 * particle_count());
+}
+
+namespace {
+
+// The shortest text that reads back as `value`: two times that print alike are equal.
+std::string ExactSeconds(double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end) + " s";
+}
+
+}  // namespace
+
+void CheckFrameTimesIncrease(const std::vector<double>& time_s, const std::string& file,
+                             const std::string& where) {
+  for (std::size_t f = 0; f < time_s.size(); ++f) {
+    const std::string frame = "frame " + std::to_string(f) + "'s time " + ExactSeconds(time_s[f]);
+    if (!std::isfinite(time_s[f]))
+      throw InputError(file, 0, where + frame + " is not finite: frame times must be finite");
+    if (f > 0 && !(time_s[f] > time_s[f - 1]))
+      throw InputError(file, 0,
+                       where + frame + " is not after frame " + std::to_string(f - 1) + "'s " +
+                           ExactSeconds(time_s[f - 1]) + ": frame times must increase");
+  }
 }
 
 std::vector<std::size_t> GroupIndices(const Trajectory& trajectory, const std::string& group) {

@@ -313,9 +313,8 @@ WormTrack ReadWcon(const std::filesystem::path& path) {
     if (sw.contains("settings")) t.software_settings = sw["settings"];
   }
   if (doc.contains("@owval")) t.owval = doc["@owval"];
-  for (std::size_t i = 1; i < t.time_s.size(); ++i)
-    if (!(t.time_s[i] > t.time_s[i - 1]))
-      reader.Fail("data: t must increase (time point " + std::to_string(i) + ")");
+  // Finite too: a t of 1e308 in hours is infinite in seconds.
+  CheckFrameTimesIncrease(t.time_s, path.string(), "data: t: ");
   return t;
 }
 

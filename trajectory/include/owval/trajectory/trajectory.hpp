@@ -75,6 +75,13 @@ struct Trajectory {
   void AppendFrame(double time_s, const float* frame_positions);
 };
 
+// Frames are paired by time (PairFramesByTime), so a file whose frame times repeat or go back
+// would pair a candidate's frames with the wrong reference frames. InputError naming `file`, the
+// first frame whose time is not finite or not after its predecessor's, and both times, after
+// `where` (the dataset or header the times come from); nothing otherwise.
+void CheckFrameTimesIncrease(const std::vector<double>& time_s, const std::string& file,
+                             const std::string& where = "");
+
 // Particle indices of a group: "elastic", "liquid", "boundary", "all" (every non-boundary
 // particle when moving_only) . Throws InputError for an unknown name.
 std::vector<std::size_t> GroupIndices(const Trajectory& trajectory, const std::string& group);
