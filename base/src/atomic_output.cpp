@@ -46,6 +46,7 @@ fs::path TemporarySibling(const fs::path& destination) {
 
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
+  RefuseSpecialFileOutput(destination_);
   CreateOutputDirectories(destination_.parent_path());
   signal_slot_ = internal::RememberTemporary(fs::absolute(temporary_));
 }
@@ -141,6 +142,7 @@ void OutputGroup::Commit() {
   // A directory is replaced only by a directory (whose writer checked it may replace it): a
   // user's directory in the way of a file is refused before anything is removed.
   std::error_code error;
+  for (const Member& m : members_) RefuseSpecialFileOutput(m.destination);
   for (const Member& m : members_)
     if (fs::is_directory(fs::symlink_status(m.destination, error)) &&
         !fs::is_directory(fs::symlink_status(m.temporary, error)))
@@ -165,6 +167,7 @@ void OutputGroup::Commit() {
 
 void AtomicOutput::CommitAs(const fs::path& destination) {
   CloseStream(destination);
+  RefuseSpecialFileOutput(destination);  // nothing of the kind was put there while the work ran
   std::error_code error;
   fs::rename(temporary_, destination, error);
   if (error)

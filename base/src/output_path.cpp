@@ -80,11 +80,20 @@ void CheckAncestor(const fs::path& path, const Ancestry& a) {
 
 }  // namespace
 
+void RefuseSpecialFileOutput(const fs::path& destination) {
+  std::error_code error;
+  const fs::file_status status = fs::status(destination, error);
+  if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status))
+    throw InputError(destination.string(), 0,
+                     "is a device, FIFO or socket, not a regular file; expected a file to write");
+}
+
 void CheckOutputPath(const fs::path& destination) {
   if (destination.empty()) throw InputError("output path is empty");
   std::error_code error;
   if (fs::is_directory(destination, error))
     throw InputError(destination.string(), 0, "is a directory; expected a file to write");
+  RefuseSpecialFileOutput(destination);
   CheckAncestor(destination, AncestryOf(destination));
 }
 

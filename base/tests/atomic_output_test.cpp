@@ -1,6 +1,7 @@
 #include "owval/base/atomic_output.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -178,6 +179,44 @@ TEST(OutputPath, MissingDirectoriesOfARelativePathCanBeCreated) {
   fs::current_path(before);
   EXPECT_EQ(CheckError(dir / "new" / "deeper" / "index.html"), "no error");
   EXPECT_EQ(CheckError(""), "output path is empty");
+}
+
+// As root, `bench engine --json-out /dev/full` ran, then renamed its JSON over /dev/full: the
+// device node became a regular file. A FIFO stands for any such node (mkfifo needs no root):
+// refused before work, by every writer, and at commit when one appeared meanwhile; kept as it is.
+TEST(OutputPath, ADeviceFifoOrSocketIsNeverReplaced) {
+  const fs::path dir = Fresh("special");
+  const fs::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string refused =
+      fifo.string() + ": is a device, FIFO or socket, not a regular file; expected a file to write";
+  EXPECT_EQ(CheckError(fifo), refused);
+  try {
+    WriteFileAtomically(fifo, "x");
+    ADD_FAILURE() << "wrote over a FIFO";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.what(), refused);
+  }
+  const fs::path later = dir / "later";
+  {
+    AtomicOutput out(later);
+    out.stream() << "x";
+    ASSERT_EQ(::mkfifo(later.c_str(), 0600), 0);
+    EXPECT_THROW(out.Commit(), InputError);
+  }
+  try {
+    WriteFilesTogether({{dir / "a.txt", "a"}, {fifo, "b"}});
+    ADD_FAILURE() << "a group wrote over a FIFO";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.what(), refused);
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_fifo(later));
+  EXPECT_FALSE(fs::exists(dir / "a.txt"));
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(dir)) left.push_back(entry.path().filename());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"fifo", "later"}));  // no temporary either
 }
 
 // As root, access() allowed /proc, so `bench engine --json-out /proc/x.json` ran the whole

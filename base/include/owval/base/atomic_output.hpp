@@ -146,6 +146,12 @@ void WriteFileAtomically(const std::filesystem::path& destination, const std::st
 // When directories must be made first, the error names the outermost of them (what the user
 // typed: "/proc/x" of "/proc/x/position_buffer.txt") and what stops it.
 void CheckOutputPath(const std::filesystem::path& destination);
+
+// InputError naming `destination` when it exists as a device, FIFO or socket (through a symlink
+// too): a rename over it replaces the node itself (as root, `--json-out /dev/full` left /dev/full
+// a regular file holding the JSON). CheckOutputPath, AtomicOutput's constructor and every commit
+// call it.
+void RefuseSpecialFileOutput(const std::filesystem::path& destination);
 // The same for a directory written whole (AtomicDirectory: a Zarr store, a report): not an
 // existing file, and its parent (or nearest existing ancestor) takes new entries. InputError
 // naming `directory`, or the outermost missing directory above it.
