@@ -86,7 +86,24 @@ SkeletonSeries SkeletonsFromTrack(const WormTrack& track) {
   return s;
 }
 
-SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
+namespace {
+
+// What Analyse needs, said with the file's name (Analyse itself knows no file): two frames, and
+// a skeleton of two points at each (a WCON may hold one point a time, a centroid track).
+void CheckAnalysable(const SkeletonSeries& s, const std::filesystem::path& path) {
+  if (s.time_s.size() < 2)
+    throw InputError(path.string(), 0,
+                     "holds " + std::to_string(s.time_s.size()) +
+                         " frame(s): kinematics need at least 2 frames");
+  for (std::size_t f = 0; f < s.skeletons.size(); ++f)
+    if (s.skeletons[f].size() < 2)
+      throw InputError(path.string(), 0,
+                       "frame " + std::to_string(f) + "'s skeleton has " +
+                           std::to_string(s.skeletons[f].size()) +
+                           " point(s): kinematics need at least 2 midline points a frame");
+}
+
+SkeletonSeries ReadSkeletons(const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (ext == ".wcon" || ext == ".json") return SkeletonsFromTrack(ReadWcon(path));
   TextReadOptions quiet;
@@ -94,6 +111,14 @@ SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
   const std::unique_ptr<FrameSource> frames = OpenFrameSource(path, quiet);
   if (!IsWorm(frames->header())) throw InputError(path.string(), 0, kNotAWorm);
   return SkeletonsFromFrames(*frames);
+}
+
+}  // namespace
+
+SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
+  SkeletonSeries s = ReadSkeletons(path);
+  CheckAnalysable(s, path);
+  return s;
 }
 
 }  // namespace owval::kinematics

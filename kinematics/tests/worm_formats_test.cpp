@@ -174,6 +174,30 @@ TEST(Wcon, ATrajectoryWithoutAWormIsRefusedNamingTheFile) {
   }
 }
 
+// "kinematics need at least 2 frames with one skeleton each" and "skeleton needs at least 2
+// points" named no file: a WCON of one time point, or of one point a time (a centroid track).
+TEST(Wcon, KinematicsOfTooFewFramesOrPointsNameTheFile) {
+  const fs::path file = Temp("too_little.wcon");
+  auto message = [&](const std::string& t, const std::string& x) -> std::string {
+    std::ofstream(file) << R"({"units": {"t": "s", "x": "mm", "y": "mm"}, "data": {"id": "1", )"
+                        << "\"t\": " << t << ", \"x\": " << x << ", \"y\": " << x << "}}";
+    try {
+      LoadSkeletons(file);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(message("[0]", "[[0, 1]]"),
+            file.string() + ": holds 1 frame(s): kinematics need at least 2 frames");
+  EXPECT_EQ(message("[0, 1]", "[[0, 1], [2]]"),
+            file.string() +
+                ": frame 1's skeleton has 1 point(s): kinematics need at least 2 midline points a "
+                "frame");
+  EXPECT_EQ(message("[0, 1]", "[[0, 1], [2, 3]]"), "accepted");
+  fs::remove(file);
+}
+
 template <typename T>
 void WriteRaw(const fs::path& path, const std::vector<T>& values) {
   std::ofstream(path, std::ios::binary)

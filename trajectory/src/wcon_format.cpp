@@ -1,10 +1,12 @@
 // WCON writer and reader (tracker-commons WCON_format.md). See worm_formats.hpp.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
@@ -232,6 +234,18 @@ struct WconReader {
     return out;
   }
 
+  // A coordinate in mm as the track stores it (x, y as floats, cx, cy as doubles): 1e308 mm, or
+  // 1e38 m, became infinite and the kinematics printed an infinite body length and NaN speeds.
+  template <typename Stored>
+  Stored Millimetres(double value_mm, const std::string& field) const {
+    // Compared before the cast: a double beyond a float's range does not convert (undefined).
+    if (!(std::fabs(value_mm) <= double(std::numeric_limits<Stored>::max())))
+      Fail(field + ": " + FormatNumber(value_mm) +
+           " mm is out of range: expected a coordinate below " +
+           FormatNumber(std::numeric_limits<Stored>::max(), 2) + " mm");
+    return static_cast<Stored>(value_mm);
+  }
+
   // One record's time points appended to the track.
   void Record(const json& r, std::size_t index, WormTrack* t) const {
     const std::string at = "data[" + std::to_string(index) + "].";
@@ -253,8 +267,8 @@ struct WconReader {
       if (xi.size() != yi.size() || xi.empty()) Fail(w + ": x and y must be equal in length");
       std::vector<float> fx, fy;
       for (std::size_t k = 0; k < xi.size(); ++k) {
-        fx.push_back(static_cast<float>((xi[k] + ox[i]) * x_factor));
-        fy.push_back(static_cast<float>((yi[k] + oy[i]) * y_factor));
+        fx.push_back(Millimetres<float>((xi[k] + ox[i]) * x_factor, w));
+        fy.push_back(Millimetres<float>((yi[k] + oy[i]) * y_factor, w));
       }
       t->time_s.push_back(time[i] * t_factor);
       t->x_mm.push_back(std::move(fx));
@@ -265,8 +279,9 @@ struct WconReader {
       const std::vector<double> cx = Numbers(r["cx"], at + "cx"), cy = Numbers(r["cy"], at + "cy");
       if (cx.size() != time.size() || cy.size() != time.size()) Fail(at + "cx/cy: one per time");
       for (std::size_t i = 0; i < time.size(); ++i) {
-        t->cx_mm.push_back((cx[i] + ox[i]) * cx_factor);
-        t->cy_mm.push_back((cy[i] + oy[i]) * cy_factor);
+        const std::string w = at + "cx/cy[" + std::to_string(i) + "]";
+        t->cx_mm.push_back(Millimetres<double>((cx[i] + ox[i]) * cx_factor, w));
+        t->cy_mm.push_back(Millimetres<double>((cy[i] + oy[i]) * cy_factor, w));
       }
     }
   }

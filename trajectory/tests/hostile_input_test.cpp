@@ -169,6 +169,32 @@ TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
   }
 }
 
+// 1e308 mm is a double but no float: the track held an infinite coordinate and `owval kinematics`
+// printed an infinite body length and NaN speeds with exit 0. So did 1e36 m (1e39 mm) and a
+// centroid of 1e308 cm (infinite in mm as a double).
+TEST(HostileWcon, ACoordinateBeyondWhatTheTrackStoresIsRefused) {
+  auto error = [](const std::string& units, const std::string& record) -> std::string {
+    const fs::path path = TempPath("huge_coordinate.wcon");
+    std::ofstream(path) << R"({"units":{"t":"s",)" << units << R"(},"data":[{"id":"1","t":[0,1],)"
+                        << record << "}]}";
+    try {
+      ReadWcon(path);
+    } catch (const InputError& e) {
+      return std::string(e.what()).substr(path.string().size());
+    }
+    return "no error";
+  };
+  const std::string mm = R"("x":"mm","y":"mm")";
+  EXPECT_EQ(error(mm, R"("x":[[0,1e308],[0,1]],"y":[[0,0],[0,0]])"),
+            ": data[0].x/y[0]: 1e+308 mm is out of range: expected a coordinate below 3.4e+38 mm");
+  EXPECT_EQ(error(R"("x":"m","y":"mm")", R"("x":[[0,1],[0,1]],"y":[[0,0],[0,0]])"), "no error");
+  EXPECT_EQ(error(R"("x":"m","y":"mm")", R"("x":[[0,1],[0,1e36]],"y":[[0,0],[0,0]])"),
+            ": data[0].x/y[1]: 1e+39 mm is out of range: expected a coordinate below 3.4e+38 mm");
+  EXPECT_EQ(error(mm + R"(,"cx":"cm","cy":"mm")",
+                  R"("x":[[0,1],[0,1]],"y":[[0,0],[0,0]],"cx":[0,1e308],"cy":[0,0])"),
+            ": data[0].cx/cy[1]: inf mm is out of range: expected a coordinate below 1.8e+308 mm");
+}
+
 // One moving particle and many boundary particles: each 8-byte row of a later frame costs a whole
 // frame of memory in the opencl layout. The growth is checked against the budget.
 TEST(HostileText, RefusesAnOpenclExpansionOverTheMemoryBudget) {

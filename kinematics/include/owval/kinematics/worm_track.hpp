@@ -45,7 +45,8 @@ class WormWconWriter {
 SkeletonSeries SkeletonsFromTrack(const WormTrack& track);
 
 // A .wcon/.json file through ReadWcon, anything else as a trajectory read frame by frame
-// (OpenFrameSource: memory holds the skeletons, not the particles).
+// (OpenFrameSource: memory holds the skeletons, not the particles). InputError naming the file
+// unless Analyse can use it: at least 2 frames, each skeleton of at least 2 points.
 SkeletonSeries LoadSkeletons(const std::filesystem::path& path);
 
 }  // namespace owval::kinematics
