@@ -1,6 +1,7 @@
 // owval's scenario generators (see generators.hpp for the parameters and their defaults).
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -37,10 +38,22 @@ int Count(const Parameters& p, const char* name, int minimum, const char* genera
   return static_cast<int>(v);
 }
 
+// A length stored as a float: inf (and 1e300, infinite as a float) was written into the
+// configuration as a spring's rest length.
 float Positive(const Parameters& p, const char* name, const char* generator) {
   const double v = p.at(name);
-  if (!(v > 0)) throw InputError(std::string(generator) + ": parameter '" + name + "' must be > 0");
+  if (!(v > 0 && v <= std::numeric_limits<float>::max()))
+    throw InputError(std::string(generator) + ": parameter '" + name +
+                     "' must be a finite number > 0 (as a float, below 3.4e38)");
   return static_cast<float>(v);
+}
+
+// A switch: 0 or 1 (NaN, 0.5 and -1 were taken as "on").
+bool Switch(const Parameters& p, const char* name, const char* generator) {
+  const double v = p.at(name);
+  if (v != 0 && v != 1)
+    throw InputError(std::string(generator) + ": parameter '" + name + "' must be 0 or 1");
+  return v == 1;
 }
 
 // The lattice spacing r0_cu, in (0, 2h]: 2h (6.68 cu with Sibernetic's h) is the neighbour
@@ -69,7 +82,7 @@ WallOptions CubicWalls(const Parameters& p, const char* generator) {
   WallOptions w;
   w.sites_x = w.sites_y = w.sites_z = Count(p, "box_sites", 3, generator);
   w.r0_cu = Spacing(p, generator);
-  w.reference_edge_normals = p.at("reference_edge_normals") != 0;
+  w.reference_edge_normals = Switch(p, "reference_edge_normals", generator);
   return w;
 }
 
@@ -188,7 +201,7 @@ engine::SiberneticConfig LiquidColumn(const Parameters& given) {
   w.sites_x = w.sites_z = Count(p, "sites_xz", 3, "liquid_column");
   w.sites_y = Count(p, "sites_y", 3, "liquid_column");
   w.r0_cu = Spacing(p, "liquid_column");
-  w.reference_edge_normals = p.at("reference_edge_normals") != 0;
+  w.reference_edge_normals = Switch(p, "reference_edge_normals", "liquid_column");
   const int layers = Count(p, "layers", 1, "liquid_column");
   if (layers > w.sites_y - 2)
     throw InputError("liquid_column: at most sites_y - 2 = " + std::to_string(w.sites_y - 2) +

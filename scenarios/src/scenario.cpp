@@ -122,8 +122,13 @@ std::map<std::string, double> ParseOverrides(const std::vector<std::string>& ass
       if (eq == std::string::npos) throw std::invalid_argument(a);
       std::size_t used = 0;
       const std::string number = a.substr(eq + 1);
-      out[a.substr(0, eq)] = std::stod(number, &used);
+      const double value = std::stod(number, &used);
       if (used != number.size()) throw std::invalid_argument(a);
+      // Given twice, the last one won silently (a typo in a long command line went unseen).
+      if (!out.emplace(a.substr(0, eq), value).second)
+        throw InputError("--param " + a + ": " + a.substr(0, eq) + " is given twice");
+    } catch (const InputError&) {
+      throw;
     } catch (const std::exception&) {
       throw InputError("--param " + a + ": expected NAME=NUMBER");
     }

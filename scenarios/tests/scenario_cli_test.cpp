@@ -27,6 +27,16 @@ TEST(ParseOverrides, TakesNameEqualsNumberOnly) {
   EXPECT_THROW(ParseOverrides({"rest_length_cu="}), InputError);
 }
 
+// The last of two values won silently.
+TEST(ParseOverrides, RefusesANameGivenTwice) {
+  try {
+    ParseOverrides({"beads=3", "rest_length_cu=1", "beads=4"});
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--param beads=4: beads is given twice");
+  }
+}
+
 struct CliRun {
   int exit_code;
   std::string out;

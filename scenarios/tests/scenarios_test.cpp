@@ -176,6 +176,35 @@ TEST(Generators, RefuseAParticleOutsideTheBoxAndALatticeSpacingPastTheKernel) {
   EXPECT_EQ(error("free_fall", {{"r0_cu", 6.68}, {"start_y_cu", 25}}), "no error");
 }
 
+// rest_length_cu=inf (or 1e300, infinite as a float) was written into the configuration as the
+// spring's rest length, and reference_edge_normals=0.5, -1 or NaN read as "on".
+TEST(Generators, RefuseALengthThatIsNotAFiniteFloatAndASwitchThatIsNot0Or1) {
+  auto error = [](const char* generator, const Parameters& p) -> std::string {
+    try {
+      Generate(generator, p);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  for (double length : {HUGE_VAL, 1e300, 0.0, std::nan("")})
+    EXPECT_EQ(error("one_sprig", {{"rest_length_cu", length}}),
+              "one_sprig: parameter 'rest_length_cu' must be a finite number > 0 (as a float, "
+              "below 3.4e38)")
+        << length;
+  EXPECT_EQ(error("hanging_chain", {{"beads", 1}, {"spacing_cu", HUGE_VAL}}),
+            "hanging_chain: parameter 'spacing_cu' must be a finite number > 0 (as a float, "
+            "below 3.4e38)");
+  for (const char* generator : {"one_sprig", "free_fall", "hanging_chain", "liquid_column"}) {
+    for (double flag : {0.5, -1.0, 2.0, std::nan("")})
+      EXPECT_EQ(error(generator, {{"reference_edge_normals", flag}}),
+                std::string(generator) + ": parameter 'reference_edge_normals' must be 0 or 1")
+          << generator << " " << flag;
+    EXPECT_EQ(error(generator, {{"reference_edge_normals", 1}}), "no error") << generator;
+    EXPECT_EQ(error(generator, {{"reference_edge_normals", 0}}), "no error") << generator;
+  }
+}
+
 TEST(WcsphTanks, DamBreakColumnIsTwiceAsHighAsWideAndWallsAreThreeLayers) {
   const engine::SiberneticConfig c = DamBreak({});
   EXPECT_EQ(c.liquid_count(), 16u * 32u * 6u);
