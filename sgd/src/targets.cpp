@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 
 #include "owval/base/command_template.hpp"
@@ -15,8 +16,11 @@ namespace owval::sgd {
 namespace fs = std::filesystem;
 namespace {
 
+// At least one part: "" is one empty part (parts.at(0) threw std::out_of_range, whose message
+// "vector::_M_range_check: __n (which is 0) >= this->size()" reached the user).
 std::vector<std::string> Split(const std::string& text, char separator) {
   std::vector<std::string> parts;
+  if (text.empty()) return {""};
   std::stringstream in(text);
   for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
   return parts;
@@ -74,8 +78,11 @@ Target ParseTarget(const std::string& text) {
   std::string value;
   std::tie(t.metric, value) = KeyValue(parts.at(0), "--target " + text);
   t.value = Number(value, "--target " + text);
+  std::set<std::string> given;
   for (std::size_t i = 1; i < parts.size(); ++i) {
     const auto [key, v] = KeyValue(parts[i], "--target " + text);
+    if (!given.insert(key).second)  // the last one won silently
+      throw InputError("--target " + text + ": " + key + " is given twice");
     if (key == "scale")
       t.scale = Number(v, "--target scale");
     else if (key == "weight")
@@ -86,6 +93,9 @@ Target ParseTarget(const std::string& text) {
       throw InputError("--target " + text + ": unknown option '" + key + "' (scale, weight, ref)");
   }
   if (!(t.scale > 0)) throw InputError("--target " + text + ": scale must be positive");
+  // A negative weight made every residual NaN (its square root), refused only once the first
+  // simulation had run.
+  if (!(t.weight >= 0)) throw InputError("--target " + text + ": weight must be 0 or more");
   if (t.metric == "rms" && t.reference_file.empty())
     throw InputError("--target rms needs ref=FILE");
   return t;
@@ -101,8 +111,8 @@ Parameter ParseParameter(const std::string& text) {
   if (i < parts.size() && (parts[i] == "log" || parts[i] == "lin"))
     p.log_space = parts[i++] == "log";
   if (i + 2 == parts.size()) {
-    p.lower = Number(parts[i], "--param lower bound");
-    p.upper = Number(parts[i + 1], "--param upper bound");
+    p.lower = Number(parts[i], "--param " + text + ": lower bound");
+    p.upper = Number(parts[i + 1], "--param " + text + ": upper bound");
   } else if (i != parts.size()) {
     throw InputError("--param " + text + ": expected NAME=START[:log|:lin][:LOWER:UPPER]");
   }

@@ -124,6 +124,29 @@ TEST(Targets, ParameterBoundsMustBeOrderedAndEncloseTheStart) {
   EXPECT_NO_THROW(ParseParameter("k=1.62e8:log:1e8:1e9"));
 }
 
+// An empty --param or --target printed libstdc++'s "vector::_M_range_check: __n (which is 0) >=
+// this->size() (which is 0)"; weight=-5 made every residual NaN once the first simulation had
+// run; a repeated option kept its last value silently.
+TEST(Targets, EmptyNegativeWeightAndRepeatedOptionsAreRefusedNamingTheText) {
+  auto error = [](auto parse, const std::string& text) -> std::string {
+    try {
+      parse(text);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(error(ParseTarget, ""), "--target : expected NAME=VALUE, found ''");
+  EXPECT_EQ(error(ParseParameter, ""), "--param : expected NAME=VALUE, found ''");
+  EXPECT_EQ(error(ParseTarget, "period=1:weight=-5"),
+            "--target period=1:weight=-5: weight must be 0 or more");
+  EXPECT_EQ(error(ParseTarget, "period=1:weight=0"), "accepted");
+  EXPECT_EQ(error(ParseTarget, "period=1:scale=1:scale=2"),
+            "--target period=1:scale=1:scale=2: scale is given twice");
+  EXPECT_EQ(error(ParseParameter, "k=5:lin:nan:7"),
+            "--param k=5:lin:nan:7: lower bound: expected a number, found 'nan'");
+}
+
 // One particle at y = 1, 2, 3 over three frames, shifted by `dy`.
 Trajectory Line(double dy) {
   Trajectory t;
