@@ -7,6 +7,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
+#include "owval/base/memory_budget.hpp"
 #include "owval/scenarios/generators.hpp"
 
 namespace owval::scenarios {
@@ -78,9 +79,21 @@ float HeightInBox(const Parameters& p, const char* name, double ymax, const char
   return float(v);
 }
 
+// The particles a lattice of sx x sy x sz sites can hold (walls and liquid take its sites), a
+// position and a velocity each, checked against the memory budget before any is made:
+// box_sites=100000 (6e10 wall particles) ran until the machine ran out of memory.
+void CheckLatticeFits(int sx, int sy, int sz, const char* generator) {
+  const std::size_t sites =
+      SaturatingProduct(SaturatingProduct(std::size_t(sx), std::size_t(sy)), std::size_t(sz));
+  CheckAllocation(SaturatingProduct(sites, 2 * sizeof(engine::Row4)), generator,
+                  "a lattice of " + std::to_string(sx) + " x " + std::to_string(sy) + " x " +
+                      std::to_string(sz) + " sites");
+}
+
 WallOptions CubicWalls(const Parameters& p, const char* generator) {
   WallOptions w;
   w.sites_x = w.sites_y = w.sites_z = Count(p, "box_sites", 3, generator);
+  CheckLatticeFits(w.sites_x, w.sites_y, w.sites_z, generator);
   w.r0_cu = Spacing(p, generator);
   w.reference_edge_normals = Switch(p, "reference_edge_normals", generator);
   return w;
@@ -200,6 +213,7 @@ engine::SiberneticConfig LiquidColumn(const Parameters& given) {
   WallOptions w;
   w.sites_x = w.sites_z = Count(p, "sites_xz", 3, "liquid_column");
   w.sites_y = Count(p, "sites_y", 3, "liquid_column");
+  CheckLatticeFits(w.sites_x, w.sites_y, w.sites_z, "liquid_column");
   w.r0_cu = Spacing(p, "liquid_column");
   w.reference_edge_normals = Switch(p, "reference_edge_normals", "liquid_column");
   const int layers = Count(p, "layers", 1, "liquid_column");
@@ -272,6 +286,7 @@ engine::SiberneticConfig HydrostaticTank(const Parameters& given) {
   const int layers = Count(p, "layers", 1, name), walls = Count(p, "wall_layers", 1, name);
   const Tank t{Count(p, "sites_x", 1, name), Count(p, "sites_z", 1, name),
                walls + layers + Count(p, "headroom_layers", 0, name), walls, p.at("r0_cu")};
+  CheckLatticeFits(t.nx + 2 * t.wall_layers, t.height, t.nz + 2 * t.wall_layers, name);
   engine::SiberneticConfig c;
   c.source = "owval generator hydrostatic_tank";
   AddLiquidBlock(t, t.nx, layers, t.nz, &c);
@@ -298,6 +313,7 @@ engine::SiberneticConfig DamBreak(const Parameters& given) {
   const int length = Count(p, "tank_sites", a, name);
   const Tank t{length, Count(p, "sites_z", 1, name),
                walls + column_height + Count(p, "headroom_layers", 0, name), walls, p.at("r0_cu")};
+  CheckLatticeFits(t.nx + 2 * t.wall_layers, t.height, t.nz + 2 * t.wall_layers, name);
   engine::SiberneticConfig c;
   c.source = "owval generator dam_break";
   AddLiquidBlock(t, a, column_height, t.nz, &c);

@@ -176,6 +176,32 @@ TEST(Generators, RefuseAParticleOutsideTheBoxAndALatticeSpacingPastTheKernel) {
   EXPECT_EQ(error("free_fall", {{"r0_cu", 6.68}, {"start_y_cu", 25}}), "no error");
 }
 
+// box_sites=100000 asked for 6e10 wall particles and ran until memory ran out: every generator
+// checks its lattice against the memory budget before making a particle.
+TEST(Generators, ALatticeBeyondTheMemoryBudgetIsRefusedFirst) {
+  auto error = [](const char* generator, const Parameters& p) -> std::string {
+    try {
+      Generate(generator, p);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::vector<std::pair<const char*, Parameters>> huge = {
+      {"one_sprig", {{"box_sites", 100000}}},
+      {"free_fall", {{"box_sites", 100000}}},
+      {"hanging_chain", {{"box_sites", 100000}}},
+      {"liquid_column", {{"sites_xz", 100000}, {"sites_y", 100000}}},
+      {"hydrostatic_tank", {{"sites_x", 100000}, {"sites_z", 100000}}},
+      {"dam_break", {{"tank_sites", 100000}, {"sites_z", 100000}}}};
+  for (const auto& [generator, p] : huge) {
+    const std::string e = error(generator, p);
+    EXPECT_EQ(e.rfind(std::string(generator) + ": a lattice of ", 0), 0u) << e;
+    EXPECT_NE(e.find("more than the memory budget"), std::string::npos) << e;
+  }
+  EXPECT_EQ(error("hydrostatic_tank", {}), "no error");
+}
+
 // rest_length_cu=inf (or 1e300, infinite as a float) was written into the configuration as the
 // spring's rest length, and reference_edge_normals=0.5, -1 or NaN read as "on".
 TEST(Generators, RefuseALengthThatIsNotAFiniteFloatAndASwitchThatIsNot0Or1) {
