@@ -359,21 +359,10 @@ std::vector<engine::LossTerm> TrackLoss(FrameSource& reference, const Track& tra
   return TrackLosses(reference, {tracking}, steps, scale, every_axis);
 }
 
-std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
-                                        std::size_t steps, double scale, bool every_axis) {
-  return TrackLoss(*MemoryFrameSource(reference), tracking, steps, scale, every_axis);
-}
-
 std::vector<engine::LossTerm> GroupCentroidLoss(FrameSource& reference,
                                                 const std::vector<std::string>& groups,
                                                 std::size_t steps, double scale) {
   return TrackLosses(reference, CentroidTracks(groups), steps, scale, /*every_axis=*/true);
-}
-
-std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
-                                                const std::vector<std::string>& groups,
-                                                std::size_t steps, double scale) {
-  return GroupCentroidLoss(*MemoryFrameSource(reference), groups, steps, scale);
 }
 
 std::vector<engine::LossTerm> OscillatorLoss(std::int32_t particle, int axis, double period_s,

@@ -70,15 +70,10 @@ nlohmann::json ToJson(const GradientFitOptions& options, const std::vector<Param
 // the reference.
 std::vector<engine::LossTerm> TrackLoss(FrameSource& reference, const Track& tracking,
                                         std::size_t steps, double scale, bool every_axis = false);
-std::vector<engine::LossTerm> TrackLoss(const Trajectory& reference, const Track& tracking,
-                                        std::size_t steps, double scale, bool every_axis = false);
 
 // TrackLoss of each group's centroid, every axis (demo1's fit loss: {"elastic", "liquid"}), in
 // one pass over the reference.
 std::vector<engine::LossTerm> GroupCentroidLoss(FrameSource& reference,
-                                                const std::vector<std::string>& groups,
-                                                std::size_t steps, double scale);
-std::vector<engine::LossTerm> GroupCentroidLoss(const Trajectory& reference,
                                                 const std::vector<std::string>& groups,
                                                 std::size_t steps, double scale);
 
