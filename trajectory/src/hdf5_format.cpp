@@ -455,13 +455,19 @@ void DryRunHdf5Contained(const std::string& path) {
   RunContained(path, "HDF5: libhdf5", [&] { ReadHdf5InProcess(path, file_bytes, true); });
 }
 
-Trajectory ReadHdf5Metadata(const std::string& path) {
-  const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
-  Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
+// The columns every reader checks before a frame is used: finite type codes in [1, 4), finite
+// frame times that increase.
+void CheckTypesAndTimes(const Trajectory& t, const std::string& path) {
   CheckFinite("type", FirstNonFinite(t.type), path);
   CheckTypeCodes(t.type, path);
   CheckFinite("time", FirstNonFinite(t.time_s), path);
   CheckFrameTimesIncrease(t.time_s, path, "HDF5: /time: ");
+}
+
+Trajectory ReadHdf5Metadata(const std::string& path) {
+  const std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+  Trajectory t = ReadHdf5InProcess(path, std::filesystem::file_size(path), false, false);
+  CheckTypesAndTimes(t, path);
   return t;
 }
 
@@ -476,10 +482,7 @@ Trajectory ReadHdf5(const std::filesystem::path& path) {
   // succeeds does owval make them in process and decode the chunks.
   internal::DryRunHdf5Contained(name);
   Trajectory t = ReadHdf5InProcess(name, std::filesystem::file_size(path), false);
-  CheckFinite("type", FirstNonFinite(t.type), name);
-  CheckTypeCodes(t.type, name);
-  CheckFinite("time", FirstNonFinite(t.time_s), name);
-  CheckFrameTimesIncrease(t.time_s, name, "HDF5: /time: ");
+  internal::CheckTypesAndTimes(t, name);
   CheckFinitePositions(t, name);
   return t;
 }
