@@ -8,6 +8,7 @@
 
 namespace owval::compare {
 
+// In order of precedence: a flag overrides a manifest, which overrides the default.
 enum class ThresholdSource { kDefault, kManifest, kFlag };
 const char* SourceName(ThresholdSource source);  // "default" | "manifest" | "flag"
 

@@ -11,7 +11,10 @@
 //  - window: the common window must cover the reference's duration (every other gate is
 //    measured over it only, so a candidate with one frame would otherwise agree with anything).
 //  - sampling: the longest stretch between paired frames that skips reference frames must be
-//    short (a candidate logged at two instants would otherwise be judged on those alone).
+//    short (a candidate logged at two instants would otherwise be judged on those alone);
+//    sampling.oscillation: and shorter than half the reference's period when it oscillates.
+//    Only frames at the same time are paired (to 1% of the finer frame interval): a candidate
+//    whose header claims another time step is not compared at the wrong instants.
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -25,6 +28,9 @@
 //    the mean per-particle distance of the moving particles at the first paired frame, averaged
 //    over all paired frames, and at the last. All relative to the reference's box: its largest
 //    extent for distances, its extent on the same axis for extents.
+//  - Per kind of particle that exists (elastic, liquid, boundary): the worst single particle,
+//    max over its particles and the paired frames of its 3-D distance, of the box (the means
+//    above let one particle be anywhere).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -49,6 +55,9 @@ struct ParityGates {
   Threshold extent{0.05};             // fraction of the box's extent on that axis
   Threshold final_distance{0.05};     // fraction of the box's largest extent
   Threshold particle_distance{0.05};  // fraction of the box's largest extent
+  // One particle's largest distance over the paired frames, per kind (elastic, liquid,
+  // boundary): the particle_distance gates are means, which one far-off particle hardly moves.
+  Threshold worst_particle{0.05};  // fraction of the box's largest extent
   // Scene gates, applied when the scene has the body they measure (body_gates.cpp):
   Threshold body_shape{0.05};  // worm span and cross-section diameter, relative to the reference
   Threshold membrane_liquid_fraction{0.05};  // |difference| of the liquid fraction above a sheet
@@ -58,6 +67,9 @@ struct ParityGates {
   // The longest time between two paired frames that skips reference frames: the other gates see
   // only paired frames, so a candidate logged at two instants would be judged on those alone.
   Threshold sampling{0.05};  // fraction of the reference's duration
+  // The same gap against the reference's own period, when it oscillates: half a period or more
+  // cannot resolve the oscillation (Nyquist), and aliased samples of a wrong one can agree.
+  Threshold sampling_period{0.5};  // fraction of the reference's period
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
@@ -132,6 +144,10 @@ struct ParityReport {
   // window, paired or not: when these reach min_crossings the oscillation gates apply, and fail
   // if the paired frames do not show the oscillation.
   std::size_t reference_crossings_all_frames = 0;
+  std::optional<double> reference_period_all_frames_s;  // the same frames' zero-crossing period
+  // Frames PairFramesByTime paired (within half a frame interval) at different times, left out:
+  // only frames at the same time (to 1% of the finer interval) are compared.
+  std::size_t misaligned_pairs = 0;
   std::optional<double> period_gap, half_amplitude_gap, equilibrium_gap_cu;
   std::vector<Gate> gates;
   // An interrupted run's trajectory is compared over the frames it has, and the report says so.
