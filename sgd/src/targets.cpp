@@ -98,6 +98,13 @@ Target ParseTarget(const std::string& text) {
   if (!(t.weight >= 0)) throw InputError("--target " + text + ": weight must be 0 or more");
   if (t.metric == "rms" && t.reference_file.empty())
     throw InputError("--target rms needs ref=FILE");
+  if (t.metric != "period" && t.metric != "half_amplitude" && t.metric != "equilibrium" &&
+      t.metric != "rms")  // refused before any simulation runs, not after the first
+    throw InputError("--target " + text + ": unknown metric '" + t.metric +
+                     "' (period, half_amplitude, equilibrium, rms)");
+  // Only rms reads a reference: "period=1:ref=x" fitted the period to 1 and ignored x silently.
+  if (t.metric != "rms" && given.count("ref"))
+    throw InputError("--target " + text + ": ref applies only to rms targets, not " + t.metric);
   return t;
 }
 
