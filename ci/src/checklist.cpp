@@ -13,6 +13,7 @@
 #include "owval/predict/predict.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/track.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
@@ -144,6 +145,20 @@ void CheckCandidate(Evidence& e, ChecklistItem* item) {
   CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), e.candidate, item);
 }
 
+// The video's decoded frame count against the runs it claims to show: `owval render sxs` draws
+// one frame per paired frame (evenly sampled down to --max-frames), so a video of the two runs
+// has at least two frames (one frame is a still) and no more than the runs have paired frames
+// (more is some other video). Without both trajectories there is nothing to hold it to.
+bool VideoFramesFitTheRuns(const Evidence& e, const VideoInfo& v, std::string* detail) {
+  if (!e.reference || !e.candidate) return true;
+  const std::size_t paired = PairFramesByTime(e.reference->header(), e.candidate->header()).size();
+  if (paired < 2) return true;
+  if (v.decoded_frames >= 2 && v.decoded_frames <= paired) return true;
+  *detail += " (expected 2 to " + std::to_string(paired) +
+             " frames: the runs' paired frames, one video frame each at most)";
+  return false;
+}
+
 void CheckVideo(Evidence& e, ChecklistItem* item) {
   const VideoInfo v = ProbeVideo(e.dir / "sxs.mp4");
   std::ostringstream s;
@@ -154,7 +169,7 @@ void CheckVideo(Evidence& e, ChecklistItem* item) {
   if (!two_panels) s << " (not two panels wide: width/height < 1.5)";
   if (v.codec != "h264") s << " (expected h264)";
   item->detail = s.str();
-  item->pass = two_panels && v.codec == "h264";
+  item->pass = two_panels && v.codec == "h264" && VideoFramesFitTheRuns(e, v, &item->detail);
 }
 
 std::size_t DecodedPngs(const fs::path& frames_dir) {
@@ -257,6 +272,51 @@ void CheckFrames(Evidence& e, ChecklistItem* item) {
   }
 }
 
+// A number of a JSON object, or NaN when absent or not a number.
+double NumberOr(const nlohmann::json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
+bool SameNumber(double a, double b) {
+  return std::abs(a - b) <= 1e-9 * std::max({1e-300, std::abs(a), std::abs(b)});
+}
+
+// history.json's claims against its own numbers (docs/fit_history.md): every iteration's loss is
+// the sum of its squared residuals, final.loss is the best iteration's loss and converged says
+// final.loss < loss_threshold. "converged": true written over a fit that did not converge (or a
+// final loss copied from nowhere) was taken on trust. Returns the first contradiction, or "".
+// Losses without residuals (gradient fits record none) cannot be recomputed: `unverified`
+// counts them.
+std::string HistoryContradiction(const nlohmann::json& h, std::size_t* unverified) {
+  double best = INFINITY;
+  for (const auto& it : h["iterations"]) {
+    const double loss = NumberOr(it, "loss");
+    if (!std::isfinite(loss)) return "an iteration has no finite loss";
+    best = std::min(best, loss);
+    const nlohmann::json none;
+    const nlohmann::json& residuals =
+        it.is_object() && it.contains("residuals") ? it["residuals"] : none;
+    if (!residuals.is_array() || residuals.empty()) {
+      ++*unverified;
+      continue;
+    }
+    double sum = 0;
+    for (const auto& r : residuals) sum += r.is_number() ? r.get<double>() * r.get<double>() : NAN;
+    if (!SameNumber(sum, loss))
+      return "iteration " + it.value("iteration", nlohmann::json()).dump() + " claims loss " +
+             FormatNumber(loss, 6) + ", its residuals' sum of squares is " + FormatNumber(sum, 6);
+  }
+  const double final_loss = h.contains("final") ? NumberOr(h["final"], "loss") : NAN;
+  if (!SameNumber(final_loss, best))
+    return "final loss " + FormatNumber(final_loss, 6) + " is not the best iteration's, " +
+           FormatNumber(best, 6);
+  const double threshold = NumberOr(h, "loss_threshold");
+  if (!(final_loss < threshold))
+    return "converged is claimed, but the final loss " + FormatNumber(final_loss, 6) +
+           " is not below loss_threshold " + FormatNumber(threshold, 6);
+  return "";
+}
+
 void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
   if (!h.is_object())
@@ -275,6 +335,22 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   item->detail = s.str();
   item->pass = converged && iterations > 0;
   if (!converged) item->detail += " (not converged)";
+  if (!item->pass) return;
+  std::size_t unverified = 0;
+  const std::string contradiction = HistoryContradiction(h, &unverified);
+  if (!contradiction.empty()) {
+    item->pass = false;
+    item->detail += "; CONTRADICTED by its own numbers: " + contradiction;
+  } else if (unverified > 0) {
+    // Nothing in the file to recompute those losses from: a claim, not evidence.
+    item->pass = false;
+    item->detail += "; converged claimed, not verified: " + std::to_string(unverified) +
+                    " iteration(s) record no residuals to recompute the loss from";
+  } else {
+    item->detail +=
+        "; recomputed from the history's residuals: each loss, the best one and converged agree "
+        "(the simulations behind the residuals are not rerun)";
+  }
 }
 
 // A test's "pass" is a claim; its own relative error against its own tolerance (gradcheck's

@@ -1,0 +1,86 @@
+// Item 6 recomputes fit/history.json's claims from its own numbers instead of taking
+// "converged": true on trust (docs/checklist.md).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "owval/ci/checklist.hpp"
+
+namespace owval::ci {
+namespace {
+namespace fs = std::filesystem;
+
+// A directory holding only fit/history.json; item 6 of its checklist.
+ChecklistItem ItemSix(const std::string& name, const nlohmann::json& history) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("owval_ci_history_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir / "fit");
+  std::ofstream(dir / "fit/history.json") << history.dump(2);
+  const ChecklistReport r = RunChecklist(dir);
+  fs::remove_all(dir);
+  for (const ChecklistItem& i : r.items)
+    if (i.number == 6) return i;
+  throw std::runtime_error("no item 6");
+}
+
+// one_sprig's pipeline fit as it wrote it (reports/one_sprig/fit/history.json), trimmed.
+nlohmann::json ConvergedFit() {
+  return nlohmann::json::parse(R"({
+    "schema": "owval.fit.history/1", "solver": "levenberg_marquardt", "loss_threshold": 1e-4,
+    "converged": true, "stop_reason": "loss below threshold",
+    "iterations": [
+      {"iteration": 0, "loss": 0.13077667303336002,
+       "residuals": [0.3616132018723555, 0.0035447517519681493]},
+      {"iteration": 1, "loss": 0.0019326329159522996,
+       "residuals": [0.04396057030647004, 0.00031807905024410453]},
+      {"iteration": 2, "loss": 8.277120222159476e-07,
+       "residuals": [0.0009097501778876778, 8.163090669981444e-06]}],
+    "final": {"loss": 8.277120222159476e-07, "parameters": {"elasticity_coefficient": 2.99e8}}})");
+}
+
+TEST(FitHistoryClaims, AConsistentConvergedHistoryPasses) {
+  const ChecklistItem i = ItemSix("consistent", ConvergedFit());
+  EXPECT_TRUE(i.pass) << i.detail;
+  EXPECT_NE(i.detail.find("recomputed from the history's residuals"), std::string::npos);
+}
+
+TEST(FitHistoryClaims, ConvergedOverALossAboveTheThresholdFails) {
+  nlohmann::json h = ConvergedFit();
+  h["iterations"].erase(2);  // stopped after iteration 1, loss 0.0019 > 1e-4
+  h["final"]["loss"] = 0.0019326329159522996;
+  const ChecklistItem i = ItemSix("above_threshold", h);
+  EXPECT_FALSE(i.pass);
+  EXPECT_NE(i.detail.find("is not below loss_threshold"), std::string::npos) << i.detail;
+}
+
+TEST(FitHistoryClaims, ALossItsResidualsDoNotMakeFails) {
+  nlohmann::json h = ConvergedFit();
+  h["iterations"][1]["loss"] = 1e-7;  // the residuals still say 0.0019
+  h["iterations"][2]["loss"] = 1e-7, h["final"]["loss"] = 1e-7;
+  const ChecklistItem i = ItemSix("forged_loss", h);
+  EXPECT_FALSE(i.pass);
+  EXPECT_NE(i.detail.find("iteration 1 claims loss 1e-07"), std::string::npos) << i.detail;
+}
+
+TEST(FitHistoryClaims, AFinalLossNoIterationReachedFails) {
+  nlohmann::json h = ConvergedFit();
+  h["final"]["loss"] = 1e-9;
+  const ChecklistItem i = ItemSix("forged_final", h);
+  EXPECT_FALSE(i.pass);
+  EXPECT_NE(i.detail.find("is not the best iteration's"), std::string::npos) << i.detail;
+}
+
+TEST(FitHistoryClaims, LossesWithoutResidualsAreClaimedNotVerified) {
+  nlohmann::json h = ConvergedFit();
+  for (auto& it : h["iterations"]) it.erase("residuals");
+  const ChecklistItem i = ItemSix("no_residuals", h);
+  EXPECT_FALSE(i.pass);
+  EXPECT_NE(i.detail.find("converged claimed, not verified"), std::string::npos) << i.detail;
+}
+
+}  // namespace
+}  // namespace owval::ci
