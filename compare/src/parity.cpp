@@ -430,6 +430,32 @@ void LabelMinCrossings(const Threshold& min_crossings, Gate* g) {
                FormatNumber(ParityGates{}.min_crossings.value) + ")";
 }
 
+// The candidate's frame times evenly spaced: every interval within a fraction of the mean one.
+// Every writer logs every log_step steps (WCSPH lands its adaptive steps on the frame times), but
+// an HDF5 /time column can say anything: a stiffer spring's frames, each relabelled with the
+// reference frame time nearest its stretched time, met the reference's frames densely and in
+// phase. n/a below three frames.
+void GateTimeBase(const Trajectory& cand, const ParityOptions& o, ParityReport* r) {
+  const std::vector<double>& t = cand.time_s;
+  const double mean = t.size() > 2 ? (t.back() - t.front()) / double(t.size() - 1) : 0;
+  double worst = 0;
+  std::size_t at = 0;
+  for (std::size_t j = 1; j < t.size() && mean > 0; ++j) {
+    const double off = std::abs(t[j] - t[j - 1] - mean) / mean;
+    if (!(off <= worst)) worst = off, at = j;
+  }
+  Gate g = MakeGate("time_base",
+                    "largest departure of a candidate frame interval from its mean interval", worst,
+                    o.gates.time_base, "of the mean interval");
+  char detail[160];
+  std::snprintf(detail, sizeof detail,
+                "mean interval %.6g s; worst between candidate frames %zu and %zu", mean,
+                at ? at - 1 : 0, at);
+  g.detail = mean > 0 ? detail : "fewer than three frames";
+  if (mean > 0) Decide(&g);
+  r->gates.push_back(g);
+}
+
 // The longest time between two paired frames that skips reference frames, against the
 // reference's own period when it oscillates over its frames (min_crossings upward crossings): a
 // gap of half a period or more cannot resolve the oscillation (Nyquist), and aliased samples of
@@ -657,6 +683,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   r.misaligned_pairs = misaligned;
   GateSampling(ref, pairs, o, &r);
   GateSamplingOscillation(ref, pairs, o, &r);
+  GateTimeBase(cand, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
@@ -818,7 +845,9 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "sampling gate: the longest time between paired frames that skips reference frames, "
      "fraction of the reference's duration"},
     {"sampling_period_threshold", "--sampling-period-threshold", &G::sampling_period,
-     "sampling.oscillation gate: the same gap, fraction of the reference's own period"}};
+     "sampling.oscillation gate: the same gap, fraction of the reference's own period"},
+    {"time_base_threshold", "--time-base-threshold", &G::time_base,
+     "time_base gate: a candidate frame interval's departure from the mean, fraction"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

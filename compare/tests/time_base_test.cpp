@@ -105,6 +105,15 @@ TEST(TimeBase, AStifferSpringRelabelledFrameByFrameFails) {
   }
   const ParityReport r = CompareTrajectories(ref, out, {});
   EXPECT_FALSE(r.pass()) << r.ToTable();
+  // Intervals of one and two steps about a mean of 1.05: the time column is not a time base.
+  EXPECT_EQ(r.gate("time_base")->status, GateStatus::kFail);
+  EXPECT_NEAR(r.gate("time_base")->value, 2 / stretch - 1, 1e-3) << r.ToTable();
+}
+
+TEST(TimeBase, EvenlySpacedCandidatesPassTheTimeBaseGate) {
+  EXPECT_LT(CompareTrajectories(OneSprig(), OneSprig(), {}).gate("time_base")->value, 1e-9);
+  const ParityReport r = CompareTrajectories(OneSprig(), StifferSpring(2.09789e-5), {});
+  EXPECT_EQ(r.gate("time_base")->status, GateStatus::kPass);
 }
 
 }  // namespace

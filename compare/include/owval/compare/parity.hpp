@@ -15,6 +15,7 @@
 //    sampling.oscillation: and shorter than half the reference's period when it oscillates.
 //    Only frames at the same time are paired (to 1% of the finer frame interval): a candidate
 //    whose header claims another time step is not compared at the wrong instants.
+//  - time_base: the candidate's frames evenly spaced in time (n/a below three frames).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -70,6 +71,8 @@ struct ParityGates {
   // The same gap against the reference's own period, when it oscillates: half a period or more
   // cannot resolve the oscillation (Nyquist), and aliased samples of a wrong one can agree.
   Threshold sampling_period{0.5};  // fraction of the reference's period
+  // The candidate's frames evenly spaced in time (an HDF5 /time column can relabel frames).
+  Threshold time_base{0.01};  // departure of an interval from the mean interval, fraction
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
