@@ -22,7 +22,11 @@ const char* kGatesHelp =
     "applied only when both signals have --min-crossings upward mean crossings (else n/a); per "
     "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
     "per axis), final_distance (last frame), fractions of the box; particle_distance.initial/"
-    "mean/final of moving particles. Worms (both runs): worm.centre_of_mass (of the box), "
+    "mean/final of moving particles; per kind (elastic, liquid, boundary): worst_particle, one "
+    "particle's largest distance, of the box. window, sampling, sampling.oscillation and "
+    "time_base: the paired frames cover the reference, often enough to resolve its oscillation, "
+    "at evenly spaced times (frames pair only where their times meet). Worms (both runs): "
+    "worm.centre_of_mass (of the box), "
     "worm.span and worm.cross_section_diameter (relative). Liquid over an elastic sheet (demo2): "
     "liquid.fraction_above_membrane difference. Both runs are measured over their common time "
     "window only.";
