@@ -171,26 +171,6 @@ struct WorstParticle {
   }
 };
 
-// The pairs whose two frames are at the same time, up to rounding (1% of the finer frame
-// interval). PairFramesByTime pairs frames up to half an interval apart: one_sprig at k = 3.3e8
-// (period 4.7% short) written with the header's time step changed from 2e-5 to 2.09789e-5 s had
-// its oscillation stretched onto the reference's, its frames met the reference's at the wrong
-// instants, and it passed every gate (and the checklist, ready). Frames that do not meet are
-// not compared; the sampling gates judge what is left. `dropped`: how many were left out.
-Pairs AlignedPairs(const Pairs& pairs, const Trajectory& ref, const Trajectory& cand,
-                   std::size_t* dropped) {
-  auto interval = [](const std::vector<double>& t) {
-    return t.size() > 1 ? (t.back() - t.front()) / double(t.size() - 1) : INFINITY;
-  };
-  const double finer = std::min(interval(ref.time_s), interval(cand.time_s));
-  const double tolerance = std::isfinite(finer) ? 0.01 * finer : 1e-12;
-  Pairs aligned;
-  for (const auto& [fr, fc] : pairs)
-    if (std::abs(cand.time_s[fc] - ref.time_s[fr]) <= tolerance) aligned.emplace_back(fr, fc);
-  *dropped = pairs.size() - aligned.size();
-  return aligned;
-}
-
 std::optional<double> RelativeGap(const std::optional<double>& ref,
                                   const std::optional<double>& cand) {
   if (!ref || !cand || *ref == 0) return std::nullopt;
@@ -666,7 +646,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
                      std::to_string(cand.particle_count()));
   o.track.Validate(ref);
   std::size_t misaligned = 0;
-  const Pairs pairs = AlignedPairs(PairFramesByTime(ref, cand), ref, cand, &misaligned);
+  const Pairs pairs = PairFramesByTime(ref, cand, &misaligned);
   if (pairs.empty()) throw InputError("the reference and candidate share no frame time");
   const std::vector<std::size_t> gated = GatedPairs(pairs, ref, o);
   ParityReport r;

@@ -116,21 +116,32 @@ Track Track::FromJson(const nlohmann::json& j, const std::string& where) {
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const Trajectory& ref,
-                                                                  const Trajectory& cand) {
-  return PairFramesByTime(ref.time_s, cand.time_s);
+                                                                  const Trajectory& cand,
+                                                                  std::size_t* near_misses) {
+  return PairFramesByTime(ref.time_s, cand.time_s, near_misses);
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> PairFramesByTime(const std::vector<double>& ref,
-                                                                  const std::vector<double>& cand) {
+                                                                  const std::vector<double>& cand,
+                                                                  std::size_t* near_misses) {
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   const double finer = std::min(FrameInterval(ref), FrameInterval(cand));
-  const double tolerance = std::isfinite(finer) ? finer / 2 : 1e-12;
-  std::size_t c = 0;
+  // Rounding of the times (a float time column, a printed time step) is far below 1% of an
+  // interval; half an interval is where a frame of the other run starts to be nearer.
+  const double tolerance = std::isfinite(finer) ? finer / 100 : 1e-12;
+  const double near = std::isfinite(finer) ? finer / 2 : 1e-12;
+  std::size_t c = 0, missed = 0;
   for (std::size_t f = 0; f < ref.size(); ++f) {
     const double t = ref[f];
     while (c + 1 < cand.size() && std::abs(cand[c + 1] - t) <= std::abs(cand[c] - t)) ++c;
-    if (c < cand.size() && std::abs(cand[c] - t) < tolerance) pairs.emplace_back(f, c);
+    if (c >= cand.size()) continue;
+    const double apart = std::abs(cand[c] - t);
+    if (apart <= tolerance)
+      pairs.emplace_back(f, c);
+    else if (apart < near)
+      ++missed;
   }
+  if (near_misses) *near_misses = missed;
   return pairs;
 }
 

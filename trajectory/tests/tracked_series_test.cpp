@@ -60,14 +60,14 @@ TEST(TrackedSeries, RecorderRefusesATrackThatNamesNothing) {
   EXPECT_THROW(TrackedSeriesRecorder(whole, Track{0, "liquid", Axis::kY}), InputError);
 }
 
-// A reference at every frame against a candidate at every third frame, shifted by a tenth of a
-// frame: the series pair exactly as the trajectories do.
+// A reference at every frame against a candidate at every third frame, shifted by a thousandth of
+// a frame (rounding of its time column): the series pair exactly as the trajectories do.
 TEST(TrackedSeries, FramesPairAsTheTrajectoriesDo) {
   const Trajectory reference = ReadTrajectory(kOneSprig);
   Trajectory candidate = reference;
   candidate.time_s.clear();
   candidate.positions.clear();
-  const double shift_s = 0.1 * (reference.time_s[1] - reference.time_s[0]);
+  const double shift_s = 0.001 * (reference.time_s[1] - reference.time_s[0]);
   for (std::size_t f = 0; f < reference.frame_count(); f += 3)
     candidate.AppendFrame(reference.time_s[f] + shift_s, reference.position(f, 0));
   const Track track;
@@ -76,6 +76,23 @@ TEST(TrackedSeries, FramesPairAsTheTrajectoriesDo) {
   EXPECT_EQ(pairs, PairFramesByTime(reference, candidate));
   ASSERT_FALSE(pairs.empty());
   EXPECT_EQ(pairs[1], std::make_pair(std::size_t(3), std::size_t(1)));
+}
+
+// The pairing rule on frame times alone: frames meet to rounding (1% of the finer interval) or
+// not at all; a frame a tenth of an interval off is a near miss, counted and not paired.
+TEST(PairFramesByTime, PairsOnlyFramesAtTheSameTime) {
+  const std::vector<double> reference = {0, 1, 2, 3, 4};
+  std::size_t near_misses = 99;
+  const auto exact = PairFramesByTime(reference, {0.004, 2, 4.009}, &near_misses);
+  const std::vector<std::pair<std::size_t, std::size_t>> every_other = {{0, 0}, {2, 1}, {4, 2}};
+  EXPECT_EQ(exact, every_other);
+  EXPECT_EQ(near_misses, 0u);
+  EXPECT_TRUE(PairFramesByTime(reference, {0.1, 1.1, 2.1, 3.1, 4.1}, &near_misses).empty());
+  EXPECT_EQ(near_misses, 5u);
+  EXPECT_EQ(PairFramesByTime(reference, {0.02, 1, 2.6}, &near_misses).size(), 1u);
+  // 0.02 (2% of the finer 1 s) misses frame 0 and 2.6 misses frame 3 (0.4 off); frame 2, 0.6
+  // off, has no frame of the other run within half an interval.
+  EXPECT_EQ(near_misses, 2u);
 }
 
 }  // namespace

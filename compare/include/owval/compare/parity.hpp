@@ -148,8 +148,8 @@ struct ParityReport {
   // if the paired frames do not show the oscillation.
   std::size_t reference_crossings_all_frames = 0;
   std::optional<double> reference_period_all_frames_s;  // the same frames' zero-crossing period
-  // Frames PairFramesByTime paired (within half a frame interval) at different times, left out:
-  // only frames at the same time (to 1% of the finer interval) are compared.
+  // Reference frames with a candidate frame within half a frame interval but at another time
+  // (PairFramesByTime's near misses): not compared, since only frames at the same time are.
   std::size_t misaligned_pairs = 0;
   std::optional<double> period_gap, half_amplitude_gap, equilibrium_gap_cu;
   std::vector<Gate> gates;
