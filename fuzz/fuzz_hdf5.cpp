@@ -6,13 +6,14 @@
 #include <fstream>
 
 #include "fuzz_common.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   owval::fuzz::SetUpOnce();
-  static const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("owval_fuzz_hdf5_" + std::to_string(::getpid()) + ".h5");
+  // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
+  static const owval::testing::ScratchDirectory scratch("fuzz_hdf5");
+  static const std::filesystem::path path = scratch / "input.h5";
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));

@@ -7,12 +7,14 @@
 
 #include "fuzz_common.hpp"
 #include "owval/scenarios/scenario.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   owval::fuzz::SetUpOnce();
   namespace fs = std::filesystem;
-  static const fs::path dir =
-      fs::temp_directory_path() / ("owval_fuzz_manifest_" + std::to_string(::getpid()));
+  // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
+  static const owval::testing::ScratchDirectory scratch("fuzz_manifest");
+  static const fs::path dir = scratch.path();
   static const bool made = fs::create_directories(dir / "scenarios" / "manifests") || true;
   (void)made;
   {

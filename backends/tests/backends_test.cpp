@@ -16,18 +16,13 @@
 #include "owval/backends/sha256.hpp"
 #include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::backends {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_backends_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return owval::testing::TestScratch(name); }
 
 void Write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 

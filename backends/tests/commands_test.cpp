@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::backends {
 namespace {
@@ -29,7 +30,7 @@ TEST(BackendCommands, SetsAreNameValuePairs) {
 }
 
 TEST(BackendCommands, AFileIsNeverComparedWithABackendName) {
-  const fs::path dir = fs::temp_directory_path() / "owval_commands_test";
+  const fs::path dir = owval::testing::TestScratch("commands");
   fs::create_directories(dir / "sub");
   std::ofstream(dir / "ref.txt") << "x\n";
   CompareRequest r;

@@ -15,18 +15,13 @@
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path Fresh(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_atomic_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Fresh(const std::string& name) { return owval::testing::TestScratch(name); }
 
 std::size_t Entries(const fs::path& dir) {
   return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));

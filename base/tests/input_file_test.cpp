@@ -11,16 +11,13 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/mapped_file.hpp"
 #include "owval/base/memory_budget.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("owval_base_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Scratch(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 std::string MessageOf(void (*read)(const fs::path&), const fs::path& path) {
   try {

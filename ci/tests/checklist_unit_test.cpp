@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "owval/ci/checklist.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::ci {
@@ -16,13 +17,7 @@ namespace fs = std::filesystem;
 const fs::path kOneSprig =
     fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
 
-fs::path Fresh(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_ci_unit_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Fresh(const std::string& name) { return owval::testing::TestScratch(name); }
 
 const ChecklistItem& Item(const ChecklistReport& r, int number) {
   for (const ChecklistItem& i : r.items)

@@ -12,6 +12,7 @@
 #include "owval/ci/gates.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/compare/stability.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -21,13 +22,7 @@ namespace fs = std::filesystem;
 
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
 
-fs::path Directory(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_gates_stream_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Directory(const std::string& name) { return owval::testing::TestScratch(name); }
 
 // demo1's first 40 frames with fields: speeds from the positions, density around rest with a few
 // liquid particles outside 700-1300 kg/m^3 in some frames, pressure.

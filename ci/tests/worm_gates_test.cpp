@@ -7,6 +7,7 @@
 
 #include "owval/ci/gates.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
@@ -18,11 +19,7 @@ const fs::path kWorm =
     fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
 
 fs::path WormDirectory() {
-  // One directory per test process: ctest runs tests in parallel.
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_worm_gates_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = owval::testing::TestScratch("worm");
   fs::create_symlink(kWorm, dir / "reference.txt.gz");
   fs::create_symlink(kWorm, dir / "candidate.txt.gz");
   return dir;

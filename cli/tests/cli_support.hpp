@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include "owval/testing/scratch_directory.hpp"
+
 namespace owval::testing {
 
 struct Result {
@@ -15,12 +17,8 @@ struct Result {
   std::string out, err;
 };
 
-inline std::filesystem::path Scratch() {
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("owval_cli_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// The running test's own directory, removed when it ends.
+inline std::filesystem::path Scratch() { return TestScratch(); }
 
 inline std::string Slurp(const std::filesystem::path& p) {
   std::ifstream in(p);

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "owval/testing/scratch_directory.hpp"
+
 namespace {
 namespace fs = std::filesystem;
 
@@ -19,11 +21,7 @@ struct Result {
   std::string out, err;
 };
 
-fs::path Scratch() {
-  fs::path dir = fs::temp_directory_path() / ("owval_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch() { return owval::testing::TestScratch(); }
 
 std::string Slurp(const fs::path& p) {
   std::ifstream in(p);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "long_run_support.hpp"  // engine/tests: owval as a child process, its peak memory
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/writer.hpp"
@@ -26,11 +27,7 @@ namespace fs = std::filesystem;
 const fs::path kDemo1Frames = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
 constexpr double kBoundMb = 150;
 
-fs::path Scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("owval_stream_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch() { return owval::testing::TestScratch(); }
 
 // demo1's frames forward, backward, forward...: `frames` frames at its own time step and log step.
 // Read frame by frame too: posix_spawn's child starts in this process's memory, and its peak

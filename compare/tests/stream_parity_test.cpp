@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "owval/compare/parity.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -16,11 +17,7 @@ namespace fs = std::filesystem;
 
 const fs::path kReference = fs::path(OWVAL_SHARED_DIR) / "reference";
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_stream_parity_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 void ExpectStreamedEqualsWhole(const fs::path& reference, const fs::path& candidate,
                                const ParityOptions& options) {

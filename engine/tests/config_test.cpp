@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::engine {
 namespace {
@@ -125,7 +126,7 @@ TEST(Config, RefusesPositionVelocityMismatch) {
 TEST(Config, WriteThenReadRoundTrips) {
   const SiberneticConfig c =
       ParseSiberneticConfig(Minimal(Connections("1.1\t2.5\t0\t0\n")) + "[end]\n", "cfg");
-  const fs::path path = fs::temp_directory_path() / ("owval_cfg_" + std::to_string(::getpid()));
+  const fs::path path = owval::testing::TestScratch() / "written.cfg";
   WriteSiberneticConfig(c, path);
   const SiberneticConfig back = ReadSiberneticConfig(path);
   EXPECT_EQ(back.position, c.position);

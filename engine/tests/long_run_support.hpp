@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 extern char** environ;
@@ -28,11 +29,10 @@ namespace fs = std::filesystem;
 inline const fs::path kOwval = fs::path(OWVAL_BINARY_DIR) / "owval";
 inline const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/configuration";
 
+// DIR for a run's output, not yet made, in the running test's scratch directory.
 inline fs::path ScratchDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_longrun_" + std::to_string(::getpid())) / name;
+  const fs::path dir = TestScratch() / name;
   fs::remove_all(dir);
-  fs::create_directories(dir.parent_path());
   return dir;
 }
 

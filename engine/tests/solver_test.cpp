@@ -10,6 +10,7 @@
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "state/non_finite.hpp"
 
 namespace owval::engine {
@@ -111,8 +112,7 @@ TEST(NonFinite, FindsTheFirstMovingPositionThenVelocity) {
 
 TEST(RunDump, NaNStateDumpGoesToTheDumpDirectory) {
   // Two particles at one point: the pressure term's direction is 0/0 at the first integration.
-  const fs::path dir = fs::temp_directory_path() / ("owval_dump_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = owval::testing::TestScratch() / "dump";
   RunOptions o;
   o.duration_s = 10 * 2e-5;
   o.dump_dir = dir;

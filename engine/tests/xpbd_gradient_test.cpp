@@ -13,6 +13,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/gradient.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "xpbd/xpbd.hpp"
 
 namespace owval::engine {
@@ -21,7 +22,7 @@ namespace {
 const std::filesystem::path kDemo1 =
     std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1/configuration";
 
-class GradCheckKernel : public testing::TestWithParam<std::string> {};
+class GradCheckKernel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(GradCheckKernel, BackwardMatchesCentralDifferencesInDouble) {
   GradCheckOptions o;
@@ -38,11 +39,11 @@ TEST_P(GradCheckKernel, BackwardMatchesCentralDifferencesInDouble) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, GradCheckKernel,
-                         testing::Values("sph_density", "forces", "predict", "density_projection",
-                                         "bond_projection", "bond_projection_jacobi", "box",
-                                         "velocity", "velocity_correction", "step"));
+                         ::testing::Values("sph_density", "forces", "predict", "density_projection",
+                                           "bond_projection", "bond_projection_jacobi", "box",
+                                           "velocity", "velocity_correction", "step"));
 
-class SabotagedKernel : public testing::TestWithParam<std::string> {};
+class SabotagedKernel : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SabotagedKernel, AFlippedSignInTheBackwardIsCaught) {
   GradCheckOptions o;
@@ -54,8 +55,9 @@ TEST_P(SabotagedKernel, AFlippedSignInTheBackwardIsCaught) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, SabotagedKernel,
-                         testing::Values("forces", "density_projection", "bond_projection",
-                                         "bond_projection_jacobi", "velocity_correction", "step"));
+                         ::testing::Values("forces", "density_projection", "bond_projection",
+                                           "bond_projection_jacobi", "velocity_correction",
+                                           "step"));
 
 TEST(GradCheck, UnknownKernelIsBadInput) {
   GradCheckOptions o;
@@ -211,8 +213,7 @@ TEST(GradientReverse, FortyStepTestEnergyGradientOfTheSplitStepMatchesFiniteDiff
 // Their ratio was 1, and free_fall's pipeline failed its gradient check on a right gradient.
 // A zero is compared absolutely, as Ceres' GradientChecker does; a wrong nonzero one still fails.
 TEST(GradientReverse, AZeroGradientAtTheLossMinimumIsComparedAbsolutely) {
-  const std::filesystem::path config =
-      std::filesystem::temp_directory_path() / ("owval_fall_" + std::to_string(::getpid()));
+  const std::filesystem::path config = owval::testing::TestScratch() / "fall.cfg";
   {
     std::ofstream out(config);
     out << "[simulation box]\n0\n33.4\n0\n33.4\n0\n33.4\n[position]\n16.7\t20\t16.7\t1.1\n"

@@ -11,6 +11,7 @@
 
 #include "../../trajectory/src/gzip.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::kinematics {
 namespace {
@@ -20,9 +21,7 @@ TEST(RunMidline, OwvalRunOfTheWormWritesSiberneticsMotionLogByteForByte) {
   const fs::path ref = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
   const fs::path exe = fs::path(OWVAL_BINARY_DIR) / "owval";
   if (!fs::exists(ref) || !fs::exists(exe)) GTEST_SKIP() << "needs " << ref << " and " << exe;
-  const fs::path out = fs::temp_directory_path() / "owval_run_midline_test";
-  fs::remove_all(out);
-  fs::create_directories(out);
+  const fs::path out = owval::testing::TestScratch("run");
   const std::string command = exe.string() + " --quiet run " + (ref / "configuration").string() +
                               " --time 0.015 --log-step 150 --muscles waves --no-fields --out " +
                               out.string();
@@ -51,7 +50,7 @@ TEST(RunMidline, ConvertToWconThenKinematicsAgreesWithTheTrajectory) {
       fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
   const fs::path exe = fs::path(OWVAL_BINARY_DIR) / "owval";
   if (!fs::exists(traj) || !fs::exists(exe)) GTEST_SKIP() << "needs " << traj << " and " << exe;
-  const fs::path wcon = fs::temp_directory_path() / "owval_convert_test.wcon";
+  const fs::path wcon = owval::testing::TestScratch() / "converted.wcon";
   const std::string owval = exe.string() + " --quiet ";
   ASSERT_EQ(std::system((owval + "convert " + traj.string() + " " + wcon.string()).c_str()), 0);
   std::string from_wcon = Output(owval + "kinematics --json " + wcon.string());

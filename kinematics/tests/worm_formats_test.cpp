@@ -11,6 +11,7 @@
 #include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/skeleton.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -34,7 +35,7 @@ const Trajectory* Worm() {
   return worm;
 }
 
-fs::path Temp(const std::string& name) { return fs::temp_directory_path() / ("owval_" + name); }
+fs::path Temp(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 int Python(const std::string& args) {
   const std::string command = kPython.string() + " " + args + " > /dev/null";

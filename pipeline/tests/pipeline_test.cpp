@@ -14,6 +14,7 @@
 #include "owval/engine/gradient.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/scenarios/scenario.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::pipeline {
@@ -24,8 +25,7 @@ Summary RunScenario(const std::string& name) {
   Options o;
   o.scenario = name;
   o.data_dir = OWVAL_SOURCE_DIR;
-  o.out_dir =
-      fs::temp_directory_path() / ("owval_pipeline_" + std::to_string(::getpid()) + "_" + name);
+  o.out_dir = owval::testing::TestScratch() / name;
   o.max_video_frames = 10;
   o.quiet = true;
   Summary s;
@@ -83,7 +83,7 @@ TEST(Pipeline, XpbdCandidateFeedsItemSevenWithGradcheck) {
   o.scenario = "one_sprig";
   o.data_dir = OWVAL_SOURCE_DIR;
   o.backend = "xpbd";
-  o.out_dir = fs::temp_directory_path() / ("owval_pipeline_xpbd_" + std::to_string(::getpid()));
+  o.out_dir = owval::testing::TestScratch() / "xpbd";
   o.max_video_frames = 10;
   o.quiet = true;
   Summary s;
@@ -125,7 +125,7 @@ TEST(Pipeline, ReplacesAnEarlierOwvalReportButNotAUsersDirectory) {
   o.data_dir = OWVAL_SOURCE_DIR;
   o.max_video_frames = 10;
   o.quiet = true;
-  const fs::path base = fs::temp_directory_path() / ("owval_replace_" + std::to_string(::getpid()));
+  const fs::path base = owval::testing::TestScratch("replace");
   o.out_dir = base / "earlier_report";
   fs::create_directories(o.out_dir);
   for (const char* name : {"index.html", "checklist.json", "prediction.json"})
@@ -177,7 +177,7 @@ TEST(Pipeline, UnknownScenarioWritesNothing) {
   Options o;
   o.scenario = "no_such_scenario";
   o.data_dir = OWVAL_SOURCE_DIR;
-  o.out_dir = fs::temp_directory_path() / ("owval_pipeline_none_" + std::to_string(::getpid()));
+  o.out_dir = owval::testing::TestScratch() / "none";
   Summary s;
   EXPECT_THROW(pipeline::Run(o, &s), InputError);
   EXPECT_FALSE(fs::exists(o.out_dir));

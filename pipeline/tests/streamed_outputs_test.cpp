@@ -15,6 +15,7 @@
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/pipeline/run_directory.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -26,13 +27,7 @@ namespace fs = std::filesystem;
 const fs::path kWorm =
     fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_streamed_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return owval::testing::TestScratch(name); }
 
 TextReadOptions Quiet() {
   TextReadOptions quiet;

@@ -8,6 +8,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/generators.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "prediction_parts.hpp"
 
@@ -231,7 +232,7 @@ TEST(Prediction, FromJsonNamesTheFileAndTheMalformedField) {
 TEST(Cli, PredictAndReconcileExitCodes) {
   const fs::path owval = fs::path(OWVAL_BINARY_DIR) / "owval";
   if (!fs::exists(owval)) GTEST_SKIP() << "owval not built";
-  const fs::path dir = fs::path(testing::TempDir());
+  const fs::path dir = owval::testing::TestScratch();
   const std::string exe = owval.string() + " -q ";
   const std::string good = (dir / "owval_pred.json").string();
   const std::string bad = (dir / "owval_pred_noq.json").string();

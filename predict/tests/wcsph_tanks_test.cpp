@@ -13,6 +13,7 @@
 #include "owval/engine/run.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/generators.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -126,8 +127,7 @@ TEST(WcsphDamBreak, FrontAdvancesAndStaysBehindTheShallowWaterFront) {
 // streamed), every row is the whole trajectory's, value for value.
 TEST(WcsphHydrostaticTank, ReconciledFromTheStreamedFileEqualsTheWholeTrajectory) {
   const TankRun& run = WithDiffusion();
-  const std::filesystem::path h5 =
-      std::filesystem::temp_directory_path() / ("owval_tank_" + std::to_string(::getpid()) + ".h5");
+  const std::filesystem::path h5 = owval::testing::TestScratch() / "tank.h5";
   WriteHdf5(run.trajectory, h5);
   const auto frames = OpenFrameSource(h5);
   EXPECT_EQ(Reconcile(run.prediction, *frames).ToJson().dump(), run.reconciliation.ToJson().dump());

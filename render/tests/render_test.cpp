@@ -8,17 +8,14 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/ci/checklist.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::render {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path Scratch() {
-  fs::path dir = fs::temp_directory_path() / ("owval_render_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch() { return owval::testing::TestScratch(); }
 
 Trajectory OneParticle(float x, float y, float z, std::size_t frames = 1) {
   Trajectory t;

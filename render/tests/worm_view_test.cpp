@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "owval/render/render.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::render {
@@ -76,8 +77,7 @@ TEST(WormView, FramesPngShowsTheWormOverHalfThePanelHeightByDefault) {
       fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
   const fs::path exe = fs::path(OWVAL_BINARY_DIR) / "owval";
   if (!fs::exists(file) || !fs::exists(exe)) GTEST_SKIP() << "needs " << file << " and " << exe;
-  const fs::path out = fs::temp_directory_path() / "owval_worm_frames_test";
-  fs::remove_all(out);
+  const fs::path out = owval::testing::TestScratch() / "frames";
   // No --view: a worm trajectory gets the worm view.
   const std::string command = exe.string() + " --quiet frames " + file.string() + " " +
                               file.string() + " --at 100 --size 1280x720 -o " + out.string() +

@@ -13,6 +13,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/scenarios/scenario.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::scenarios {
 namespace {
@@ -43,9 +44,7 @@ struct CliRun {
 };
 
 CliRun Owval(const std::string& args) {
-  // One file per process: ctest runs tests in parallel.
-  const fs::path out =
-      fs::path(testing::TempDir()) / ("owval_scenario_cli." + std::to_string(::getpid()) + ".txt");
+  const fs::path out = owval::testing::TestScratch() / "output.txt";
   const std::string command = (fs::path(OWVAL_BINARY_DIR) / "owval").string() + " -q " + args +
                               " > " + out.string() + " 2>&1";
   const int status = std::system(command.c_str());
@@ -55,7 +54,7 @@ CliRun Owval(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
 }
 
-class ScenarioCli : public testing::Test {
+class ScenarioCli : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(fs::path(OWVAL_BINARY_DIR) / "owval")) GTEST_SKIP() << "owval not built";
@@ -77,7 +76,7 @@ TEST_F(ScenarioCli, ShowPrintsTheManifest) {
 }
 
 TEST_F(ScenarioCli, GenerateAppliesParametersAndRefusesUnknownOnes) {
-  const fs::path file = fs::path(testing::TempDir()) / "owval_scenario_cli.config";
+  const fs::path file = owval::testing::TestScratch() / "generated.config";
   fs::remove(file);
   const CliRun r = Owval("scenario generate one_sprig -o " + file.string() +
                          " --param rest_length_cu=12 --param start_y_cu=19");

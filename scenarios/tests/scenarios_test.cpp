@@ -8,6 +8,7 @@
 #include "owval/engine/config.hpp"
 #include "owval/scenarios/generators.hpp"
 #include "owval/scenarios/scenario.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::scenarios {
 namespace {
@@ -18,7 +19,7 @@ const fs::path kSource = OWVAL_SOURCE_DIR;
 
 // Writes through Sibernetic's format and reads back: what the engine and Sibernetic would load.
 engine::SiberneticConfig RoundTrip(const engine::SiberneticConfig& c, const std::string& name) {
-  const fs::path path = fs::path(testing::TempDir()) / ("owval_" + name + ".config");
+  const fs::path path = owval::testing::TestScratch() / (name + ".config");
   engine::WriteSiberneticConfig(c, path);
   engine::SiberneticConfig back = engine::ReadSiberneticConfig(path);
   fs::remove(path);
@@ -285,7 +286,7 @@ TEST(Manifests, EveryGateKeySetsItsOwnThresholdAndNoOther) {
 
 TEST(Manifests, ResolveTakesANameOrAConfigurationFile) {
   const engine::SiberneticConfig by_name = ResolveConfig("one_sprig", kSource);
-  const fs::path path = fs::path(testing::TempDir()) / "owval_resolve.config";
+  const fs::path path = owval::testing::TestScratch() / "resolve.config";
   engine::WriteSiberneticConfig(by_name, path);
   EXPECT_EQ(ResolveConfig(path.string(), kSource).particle_count(), by_name.particle_count());
   fs::remove(path);

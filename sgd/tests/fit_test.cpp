@@ -10,6 +10,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/sgd/targets.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::sgd {
@@ -162,9 +163,7 @@ Trajectory Line(double dy) {
 // points run on threads of their own, and reading HDF5 there (a fork from a busy process) left a
 // sanitizer build's containment child hung until its timeout, failing the fit.
 TEST(Targets, RmsReferenceIsReadOnceWhenTheObjectiveIsMade) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("owval_rms_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = owval::testing::TestScratch("rms");
   const std::filesystem::path reference = dir / "reference.h5";
   WriteTrajectory(Line(0), reference);
   const Objective objective =

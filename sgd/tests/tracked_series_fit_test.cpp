@@ -14,6 +14,7 @@
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::sgd {
@@ -87,7 +88,7 @@ TEST(Targets, ResidualsOfTrackedSeriesEqualTheWholeTrajectories) {
 
 // An external command (cp) writes the trajectory: its series is the file's.
 TEST(CommandSimulator, KeepsTheTrackedSeriesOfTheFileTheCommandWrote) {
-  const fs::path work = fs::temp_directory_path() / ("owval_cmdsim_" + std::to_string(::getpid()));
+  const fs::path work = owval::testing::TestScratch() / "cmdsim";
   const Simulator simulate = CommandSimulator(
       "cp " + kOneSprigRun.string() + " {out}/position_buffer.txt # {k}", {{"k", 1, false}}, work);
   const Track track{0, "elastic", Axis::kY};

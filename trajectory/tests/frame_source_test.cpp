@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
@@ -24,11 +25,7 @@ const fs::path kOneSprig =
     fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
 const fs::path kReference = fs::path(OWVAL_SHARED_DIR) / "reference";
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_frames_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 std::string Slurp(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

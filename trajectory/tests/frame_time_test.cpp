@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -20,11 +21,7 @@ namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_frame_time_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 // Three particles, one frame per time in `time_s`, written by owval's own HDF5 writer.
 fs::path Hdf5WithTimes(const std::string& name, const std::vector<double>& time_s) {

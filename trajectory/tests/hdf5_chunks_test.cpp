@@ -11,17 +11,14 @@
 
 #include "hdf5_chunks.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_chunks_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 // 37 frames x 2500 particles: three chunks along each axis, the last ones partial.
 Trajectory Wandering(std::size_t frames = 37, std::size_t particles = 2500) {

@@ -20,6 +20,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -28,11 +29,7 @@ namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_hostile_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 std::string ReadError(const fs::path& path) {
   try {

@@ -6,6 +6,7 @@
 #include <zlib.h>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
@@ -46,11 +47,7 @@ std::string ErrorOf(const std::string& text, TextLayout layout = TextLayout::kAu
   return "no error";
 }
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 TEST(TextFormat, ReadsOpenCLLayoutAndFillsBoundaryFromFrameZero) {
   const std::string text = std::string(kHeader) + kFrame0 + "2.5\t2.25\t3\t2.1\n4\t4.5\t6\t1.1\n";

@@ -10,16 +10,13 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path TempPath(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("owval_writer_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 std::string Bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

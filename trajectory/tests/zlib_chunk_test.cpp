@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hdf5_chunks.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "zlib_chunk.hpp"
 
 namespace owval {
@@ -234,8 +235,7 @@ TEST(ZlibChunk, RefusesAWrongChecksumAndAWrongHeader) {
 // pipeline.
 TEST(ZlibChunk, HandMadeChunksReadInParallelEqualToHdf5sPipeline) {
   namespace fs = std::filesystem;
-  const fs::path path =
-      fs::temp_directory_path() / ("owval_inflate_" + std::to_string(::getpid()) + ".h5");
+  const fs::path path = owval::testing::TestScratch() / "inflate.h5";
   const hsize_t dims[3] = {4, 4, 3}, chunk[3] = {2, 4, 3};
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   const hid_t space = H5Screate_simple(3, dims, nullptr);
