@@ -12,6 +12,7 @@
 #include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
+#include "owval/base/temporary_directory.hpp"
 #include "owval/engine/config.hpp"
 
 namespace owval::backends {
@@ -27,9 +28,9 @@ double Median(std::vector<double> v) {
 
 // Run `run` (0-based) of backend b, its wall time and peak memory added to t.
 void TimeOneRun(const Backend& b, const BenchOptions& o, int run, BackendTiming* t) {
-  const fs::path dir = fs::temp_directory_path() / ("owval-bench-" + std::to_string(::getpid()) +
-                                                    "-" + b.name + "-" + std::to_string(run));
-  fs::remove_all(dir);
+  // Removed however the run ends: success, a failed command, an exception, SIGINT or SIGTERM.
+  const TemporaryDirectory scratch("owval-bench-run" + std::to_string(run + 1));
+  const fs::path& dir = scratch.path();
   fs::create_directories(dir / "out");
   ProcessOptions p;
   p.command = BenchCommand(b, o, dir / "out");
@@ -41,11 +42,9 @@ void TimeOneRun(const Backend& b, const BenchOptions& o, int run, BackendTiming*
   const ProcessResult r = RunShellCommand(p);
   if (!r.ok()) {
     const std::string tail = LogTail(p.stderr_path, 5, 150);
-    fs::remove_all(dir);
     throw InputError("backend " + b.name + ": command failed, " + r.Describe() +
                      (tail.empty() ? "" : " (stderr: " + tail + ")"));
   }
-  fs::remove_all(dir);
   t->wall_s.push_back(r.wall_s);
   t->cpu_s.push_back(r.cpu_s);
   t->peak_rss_kib.push_back(r.peak_rss_kib);

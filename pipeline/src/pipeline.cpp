@@ -6,6 +6,7 @@
 #include "fit_phase.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/temporary_directory.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/render/render.hpp"
@@ -231,17 +232,10 @@ bool IsOwvalReport(const fs::path& existing) {
 ScenarioReference MakeScenarioReference(const std::string& name, const fs::path& data_dir) {
   const scenarios::Scenario scenario = scenarios::LoadScenario(name, data_dir);
   if (!scenario.reference.empty()) return {scenario.reference, BundledSource(scenario), nullptr};
-  // The engine's run streamed into a scratch directory, removed with the last copy of the result.
-  fs::path scratch = fs::temp_directory_path() / "owval-reference-XXXXXX";
-  std::string pattern = scratch.string();
-  if (!mkdtemp(pattern.data()))
-    throw EnvironmentError("cannot create a temporary directory under " +
-                           fs::temp_directory_path().string());
-  std::shared_ptr<const fs::path> owner(new fs::path(pattern), [](const fs::path* dir) {
-    std::error_code ignored;
-    fs::remove_all(*dir, ignored);
-    delete dir;
-  });
+  // The engine's run streamed into a scratch directory, removed with the last copy of the result
+  // (or by SIGINT/SIGTERM: a Ctrl-C during the run left it behind).
+  const auto directory = std::make_shared<TemporaryDirectory>("owval-reference");
+  const std::shared_ptr<const fs::path> owner(directory, &directory->path());
   engine::RunOptions positions_only = ReferenceRunOptions(scenario);
   positions_only.record_fields = false;  // item 2 compares positions
   RunIntoFile(scenarios::GenerateConfig(scenario), positions_only, *owner / "reference.h5");

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <random>
 
+#include "owval/base/temporary_directory.hpp"
 #include "owval/render/render.hpp"
 #include "owval/trajectory/formats.hpp"
 
@@ -42,7 +43,9 @@ nlohmann::json Time(const Trajectory& t, bool side_by_side, std::size_t frames) 
   RenderOptions o;
   o.boundary = BoundaryMode::kShown;  // draw every particle
   o.quiet = true;
-  const fs::path out = fs::temp_directory_path() / "owval_bench_render.mp4";
+  // Its own directory (a fixed /tmp name was shared by two runs at once), removed however it ends.
+  const TemporaryDirectory scratch("owval-bench-render");
+  const fs::path out = scratch.path() / "render.mp4";
   const Trajectory clip = Frames(t, frames);
   const auto start = std::chrono::steady_clock::now();
   const VideoSummary s =

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
+#include "owval/base/temporary_directory.hpp"
 
 namespace owval {
 namespace {
@@ -84,7 +86,11 @@ nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
       static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * double(kMoving))));
   CheckAllocation(SaturatingProduct(frames, (kMoving + kBoundary) * 12), "owval bench io",
                   "--size-mb");
-  GeneratedFiles generated(a.directory, a.keep_files);
+  std::optional<TemporaryDirectory> scratch;
+  fs::path directory = a.directory;
+  if (directory.empty() && a.keep_files) directory = fs::temp_directory_path();
+  if (directory.empty()) directory = scratch.emplace("owval-bench-io").path();
+  GeneratedFiles generated(directory, a.keep_files);
   const fs::path text = generated.Add("owval_bench_position_buffer.txt");
   const fs::path h5 = generated.Add("owval_bench_trajectory.h5");
   {

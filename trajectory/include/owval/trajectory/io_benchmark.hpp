@@ -11,7 +11,9 @@ namespace owval {
 
 struct IoBenchmarkOptions {
   double text_size_mb = 500;  // size of the generated position_buffer.txt
-  std::filesystem::path directory = std::filesystem::temp_directory_path();  // for both files
+  // For both files; empty: a fresh directory under temp_directory_path() (removed with them, on
+  // SIGINT too), or temp_directory_path() itself when the files are kept.
+  std::filesystem::path directory;
   Hdf5WriteOptions hdf5;
   bool keep_files = false;  // leave the generated files for inspection
   bool quiet = false;       // no progress line while parsing
