@@ -1,13 +1,13 @@
 // Item 6 recomputes fit/history.json's claims from its own numbers instead of taking
 // "converged": true on trust (docs/checklist.md).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "owval/ci/checklist.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::ci {
 namespace {
@@ -15,13 +15,10 @@ namespace fs = std::filesystem;
 
 // A directory holding only fit/history.json; item 6 of its checklist.
 ChecklistItem ItemSix(const std::string& name, const nlohmann::json& history) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_ci_history_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
+  const fs::path dir = owval::testing::TestScratch(name);
   fs::create_directories(dir / "fit");
   std::ofstream(dir / "fit/history.json") << history.dump(2);
   const ChecklistReport r = RunChecklist(dir);
-  fs::remove_all(dir);
   for (const ChecklistItem& i : r.items)
     if (i.number == 6) return i;
   throw std::runtime_error("no item 6");

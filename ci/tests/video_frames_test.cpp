@@ -1,12 +1,12 @@
 // Item 4 holds sxs.mp4's decoded frame count to the runs it shows: a one-frame "video" (a still)
 // of the right shape and codec passed as the side-by-side video of a 2,500-frame run.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 
 #include "owval/ci/checklist.hpp"
+#include "owval/testing/scratch_directory.hpp"
 
 namespace owval::ci {
 namespace {
@@ -18,10 +18,7 @@ const fs::path kOneSprig =
 // Item 4 of a directory with one_sprig as reference and candidate and an H.264 video of
 // `frames` black 320x160 frames made by ffmpeg's own encoder (not owval's).
 ChecklistItem ItemFour(int frames) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("owval_ci_video_" + std::to_string(::getpid())) / std::to_string(frames);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = owval::testing::TestScratch(std::to_string(frames));
   fs::copy_file(kOneSprig, dir / "reference.txt");
   fs::copy_file(kOneSprig, dir / "candidate.txt");
   const std::string encode =
@@ -30,7 +27,6 @@ ChecklistItem ItemFour(int frames) {
       "'";
   if (std::system(encode.c_str()) != 0) throw std::runtime_error("ffmpeg failed: " + encode);
   const ChecklistReport r = RunChecklist(dir);
-  fs::remove_all(dir);
   return r.items.at(3);
 }
 
