@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 // --json-out is checked before the benchmark runs and written atomically after it.
 void AddJsonOut(CLI::App* cmd, std::string* json_out) {
-  cmd->add_option("--json-out", *json_out, "Also write the JSON result here");
+  cmd->add_option("--json-out", *json_out, "Also write the JSON result here")->check(OutputPath());
   cmd->parse_complete_callback([json_out] {
     if (!json_out->empty()) CheckOutputPath(*json_out);
   });
@@ -69,7 +69,7 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
       bench.add_subcommand("io", "Text parse and HDF5 read throughput on a large generated file");
   cmd->add_option("--size-mb", o.text_size_mb, "Size of the generated position_buffer.txt (MB)")
       ->check(Positive());
-  cmd->add_option("--dir", o.directory, "Where to write the generated files");
+  cmd->add_option("--dir", o.directory, "Where to write the generated files")->check(OutputPath());
   AddJsonOut(cmd, &a->json_out);
   cmd->add_option("--hdf5-level", o.hdf5.compression_level, "HDF5 deflate level (0-9)");
   cmd->add_option("--hdf5-chunk-frames", o.hdf5.frames_per_chunk, "HDF5 frames per chunk");

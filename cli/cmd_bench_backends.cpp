@@ -41,8 +41,8 @@ void SetUp(CLI::App& app) {
                   "Built-in backends' threads, every run (default: all cores)")
       ->check(CLI::Range(1, engine::kMaxThreads));
   cmd->add_option("--set", r->sets, "NAME=VALUE for {set:NAME}");
-  cmd->add_option("--json", r->json, "Also write the JSON here");
-  cmd->add_option("--markdown", r->markdown, "Write the Markdown table here");
+  cmd->add_option("--json", r->json, "Also write the JSON here")->check(OutputPath());
+  cmd->add_option("--markdown", r->markdown, "Write the Markdown table here")->check(OutputPath());
   AddBackendFlags(cmd, &r->backends, false);
   cmd->callback([r] { RunBench(*r); });
 }

@@ -50,7 +50,8 @@ void SetUp(CLI::App& app) {
       ->excludes(scenario);
   cmd->add_option("--git-range", r.git_range,
                   "BASE..HEAD: check that prediction.json was committed before the trajectories");
-  cmd->add_option("--markdown", r.markdown, "Also write the Markdown comment to this file");
+  cmd->add_option("--markdown", r.markdown, "Also write the Markdown comment to this file")
+      ->check(OutputPath());
   cmd->add_flag("--json", args->json, "Machine-readable output");
   cmd->callback([args] { RunChecklistCommand(*args); });
 }

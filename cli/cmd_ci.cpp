@@ -61,8 +61,10 @@ void SetUp(CLI::App& app) {
       ->add_option("--log-step", stability->options.log_step,
                    "With --stability: steps between frames")
       ->check(Positive());
-  validate->add_option("-o,--out", stability->options.out,
-                       "With --stability: where the run's trajectory goes");
+  validate
+      ->add_option("-o,--out", stability->options.out,
+                   "With --stability: where the run's trajectory goes")
+      ->check(OutputPath());
   auto reference = std::make_shared<std::string>();
   validate->add_option("--reference", *reference, "Trajectory the directory's reference must be");
   validate->callback([dir, stability, reference] {

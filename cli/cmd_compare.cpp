@@ -75,7 +75,8 @@ void SetUp(CLI::App& app) {
                     compare::GateThresholdHelp(compare::kGateThresholdFields[i]))
         ->check(Positive());
   cmd->add_option("--manifest", r.manifest, "Scenario manifest JSON (its track and gates)");
-  cmd->add_option("--markdown", r.markdown, "Also write the report as Markdown (for a PR)");
+  cmd->add_option("--markdown", r.markdown, "Also write the report as Markdown (for a PR)")
+      ->check(OutputPath());
   cmd->add_flag("--json", args->json, "Machine-readable output");
   cmd->callback([args] { RunCompare(*args); });
 }

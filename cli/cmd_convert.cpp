@@ -34,7 +34,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("output", args->out,
                   "Output by extension: .h5/.hdf5 (owval HDF5), .txt (Sibernetic text), .wcon "
                   "(WCON, worms), .zarr (OME-Zarr); other extensions are refused")
-      ->required();
+      ->required()
+      ->check(OutputPath());
   cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
       ->check(CLI::IsMember({"auto", "opencl", "native"}));
   cmd->add_option("--out-layout", args->out_layout, "Output text layout: opencl or native")

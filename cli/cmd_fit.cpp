@@ -77,7 +77,8 @@ void SetUp(CLI::App& app) {
       ->check(NonNegative());
   cmd->add_option("-o,--out", a->request.out,
                   "Output directory (history.json, parameters.json, convergence.svg)")
-      ->required();
+      ->required()
+      ->check(OutputPath());
   cmd->add_flag("--json", a->json, "Print the history as JSON");
   cmd->add_option("--backend", a->request.backend,
                   "Engine scheme of the finite-difference fit's simulations (pcisph, xpbd)");

@@ -47,7 +47,7 @@ void SetUp(CLI::App& app) {
                   "rigid constraint, as in bench gradient; default 4e-8: at the model's own "
                   "value demo1's 100-step loss is chaotic, docs/xpbd.md)")
       ->check(NonNegative());
-  cmd->add_option("-o,--out,--output", r.output, "Write fd_tests.json here");
+  cmd->add_option("-o,--out,--output", r.output, "Write fd_tests.json here")->check(OutputPath());
   cmd->add_flag("--json", a->json, "Machine-readable output on stdout");
   cmd->callback([a] {
     PrintReport(RunGradCheckRequest(a->request), a->json, &pipeline::GradCheckResult::ToText);

@@ -19,7 +19,8 @@ void SetUp(CLI::App& app) {
       app.add_subcommand("predict", "Phase 1: analytic prediction from the configuration alone");
   predict->add_option("config", p.config, "Scenario name (owval scenario list) or configuration")
       ->required();
-  predict->add_option("-o,--out", p.out, "Also write the prediction JSON here");
+  predict->add_option("-o,--out", p.out, "Also write the prediction JSON here")
+      ->check(OutputPath());
   predict->add_flag("--json", a->json, "Print JSON instead of Markdown");
   predict->add_option("--param", p.params, "Override a scenario generator parameter, NAME=NUMBER");
   predict->add_option("--set", p.constants,
@@ -39,7 +40,8 @@ void SetUp(CLI::App& app) {
   reconcile->add_option("--tolerance", r.tolerances,
                         "Gate tolerance for every gated quantity (VALUE) or one (QUANTITY=VALUE); "
                         "relative for periods and amplitudes, cu for positions");
-  reconcile->add_option("-o,--out", r.out, "Also write the reconciliation JSON here");
+  reconcile->add_option("-o,--out", r.out, "Also write the reconciliation JSON here")
+      ->check(OutputPath());
   reconcile->add_flag("--json", a->json, "Print JSON instead of Markdown");
   reconcile->callback([a] {
     a->reconcile.reading.quiet = QuietMode();

@@ -50,7 +50,8 @@ void SetUp(CLI::App& app) {
   cmd->add_option("--log-step", r.log_step, "Steps between frames")->check(Positive());
   cmd->add_option("-o,--out", r.out,
                   "Output directory (position_buffer.txt and trajectory.h5, written as frames "
-                  "are produced)");
+                  "are produced)")
+      ->check(OutputPath());
   std::string backends;
   for (const std::string& name : engine::KnownBackends())
     backends += (backends.empty() ? "" : ", ") + name;

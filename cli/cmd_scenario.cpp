@@ -30,7 +30,9 @@ void SetUp(CLI::App& app) {
   CLI::App* generate =
       cmd->add_subcommand("generate", "Write a scenario's configuration in Sibernetic's format");
   generate->add_option("name", a->name)->required();
-  generate->add_option("-o,--out", a->out, "Configuration file to write")->required();
+  generate->add_option("-o,--out", a->out, "Configuration file to write")
+      ->required()
+      ->check(OutputPath());
   generate->add_option("--param", a->params, "Override a generator parameter, NAME=NUMBER");
   generate->callback([a] {
     const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),

@@ -33,6 +33,8 @@ const CLI::Validator& NonNegative();
 const CLI::Validator& Fraction();  // 0 to 1 (NaN refused, which CLI::Range lets through)
 // A count for an unsigned option: digits only ("-1" is refused, not wrapped).
 const CLI::Validator& Count();
+// Every option naming an output (-o/--out, --markdown, --json-out, ...): a path, not empty.
+const CLI::Validator& OutputPath();
 
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
 // --PREFIXaxis); `subject` says what the track is for ("Tracked", "Print this").

@@ -8,6 +8,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/failure.hpp"
 #include "owval/base/memory_budget.hpp"
+#include "owval/base/number_text.hpp"
 #include "owval/base/one_line.hpp"
 #include "owval/base/process_settings.hpp"
 #include "owval/render/render.hpp"
@@ -30,20 +31,27 @@ CLI::Validator DigitsOnly(const std::string& expected, const std::string& name) 
       },
       name);
 }
-// A validator accepting a finite decimal number (as strtod reads it) for which `holds` is true:
-// an infinite threshold would pass every frame, as a NaN one would.
+// A validator accepting a finite decimal number (ParseDecimal: strtod also read "0x10" and " 1")
+// for which `holds` is true: an infinite threshold would pass every frame, as a NaN one would.
 CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
                           const std::string& name) {
   return CLI::Validator(
       [holds, expected](std::string& text) {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        const bool number = !text.empty() && end == text.c_str() + text.size();
-        if (number && std::isfinite(value) && holds(value)) return std::string();
+        const std::optional<double> value = owval::ParseDecimal(text);
+        if (value && holds(*value)) return std::string();
         return "expected " + expected + ", found '" + OneLine(text, 40) + "'";
       },
       name);
 }
+// An output path (file or directory) given on the command line. Commands read an empty path as
+// "not given" (`predict -o ''` printed and wrote nothing, `pipeline -o ''` wrote reports/NAME):
+// an empty one is refused here, where "given" is still known.
+const CLI::Validator kOutputPath(
+    [](std::string& text) {
+      return text.empty() ? std::string("expected a path to write, found an empty one")
+                          : std::string();
+    },
+    "PATH");
 const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
 const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
 const CLI::Validator kPositive =
@@ -72,6 +80,7 @@ const CLI::Validator& Count() { return kCount; }
 const CLI::Validator& Positive() { return kPositive; }
 const CLI::Validator& Fraction() { return kFraction; }
 const CLI::Validator& NonNegative() { return kNonNegative; }
+const CLI::Validator& OutputPath() { return kOutputPath; }
 
 void AddTrackFlags(CLI::App* cmd, TrackChoice* flags, const std::string& prefix,
                    const std::string& subject) {

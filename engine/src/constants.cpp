@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/number_text.hpp"
 
 namespace owval::engine {
 namespace {
@@ -243,18 +244,10 @@ std::vector<std::string> ApplyPhysicalParameters(const SiberneticConfig& config,
   return applied;
 }
 
-void SetConstantAssignment(PhysicsConstants* constants, const std::string& assignment) {
-  const auto eq = assignment.find('=');
-  if (eq == std::string::npos) throw InputError("--set " + assignment + ": expected NAME=VALUE");
-  double value = 0;
-  try {
-    std::size_t used = 0;
-    value = std::stod(assignment.substr(eq + 1), &used);
-    if (used != assignment.size() - eq - 1) throw std::invalid_argument("trailing");
-  } catch (const std::exception&) {
-    throw InputError("--set " + assignment + ": expected a number after '='");
-  }
-  SetConstant(constants, assignment.substr(0, eq), value);
+void SetConstantAssignments(PhysicsConstants* constants,
+                            const std::vector<std::string>& assignments) {
+  for (const auto& [name, value] : ParseAssignments(assignments, "--set"))
+    SetConstant(constants, name, value);
 }
 
 }  // namespace owval::engine

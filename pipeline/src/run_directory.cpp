@@ -322,8 +322,7 @@ engine::RunOptions EngineOptions(const RunRequest& r) {
   options.backend = engine::CanonicalBackend(r.backend);  // unknown: exit 2 naming the known ones
   options.dump_dir = r.out;
   options.checkpoint_every = r.checkpoint_every;
-  for (const std::string& assignment : r.set)
-    engine::SetConstantAssignment(&options.constants, assignment);
+  engine::SetConstantAssignments(&options.constants, r.set);
   return options;
 }
 

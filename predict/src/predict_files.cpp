@@ -15,7 +15,7 @@ Prediction PredictNamed(const PredictRequest& r) {
   options.scenario = s.name;
   options.predictor = s.predictor;
   engine::PhysicsConstants constants;
-  for (const std::string& c : r.constants) engine::SetConstantAssignment(&constants, c);
+  engine::SetConstantAssignments(&constants, r.constants);
   const Prediction p = Predict(s.config, constants, options);
   if (!r.out.empty()) WriteFileAtomically(r.out, p.ToJson().dump(2) + "\n");
   return p;

@@ -9,6 +9,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
+#include "owval/base/number_text.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/trajectory/track.hpp"
@@ -162,14 +163,21 @@ std::optional<double> SurgeFront(FrameSource& t, const Prediction& p, double big
   return std::nullopt;
 }
 
+// T of a "..._at_T_<T>" quantity name from prediction.json: std::stod threw std::invalid_argument
+// on an edited name ("surge_front_Z_at_T_x"), a message naming neither file nor quantity.
+double TimeInQuantityName(const std::string& q, std::size_t prefix) {
+  if (const std::optional<double> t = ParseDecimal(std::string_view(q).substr(prefix))) return *t;
+  throw InputError("prediction quantity " + q + ": expected a time in seconds after its '_at_T_'");
+}
+
 std::optional<double> Measure(const std::string& q, const Signal& s, FrameSource& t,
                               const Prediction& p) {
   if (q == "mid_depth_pressure") return MidDepthPressure(t, p);
   if (q == "mid_depth_pressure_rms_error") return MidDepthPressureError(t, p);
   const std::string front = "surge_front_Z_at_T_";
-  if (q.rfind(front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(front.size())));
+  if (q.rfind(front, 0) == 0) return SurgeFront(t, p, TimeInQuantityName(q, front.size()));
   const std::string ko_front = "koshizuka_oka_front_Z_at_T_";
-  if (q.rfind(ko_front, 0) == 0) return SurgeFront(t, p, std::stod(q.substr(ko_front.size())));
+  if (q.rfind(ko_front, 0) == 0) return SurgeFront(t, p, TimeInQuantityName(q, ko_front.size()));
   const compare::SignalMetrics& m = s.metrics;
   if (q == "zero_crossing_period" || q == "period_continuous" || q == "fundamental_period")
     return m.period_s;
@@ -335,14 +343,10 @@ std::string ReconcileMarkdown(const Reconciliation& r) {
 void ReconcileOptions::AddTolerance(const std::string& text) {
   const auto eq = text.find('=');
   const std::string number = eq == std::string::npos ? text : text.substr(eq + 1);
-  double value = 0;
-  try {
-    std::size_t used = 0;
-    value = std::stod(number, &used);
-    if (used != number.size() || !(value >= 0)) throw std::invalid_argument(text);
-  } catch (const std::exception&) {
+  const std::optional<double> parsed = ParseDecimal(number);
+  if (!parsed || !(*parsed >= 0))
     throw InputError("--tolerance " + text + ": expected a number >= 0 or QUANTITY=NUMBER");
-  }
+  const double value = *parsed;
   if (eq == 0)
     throw InputError("--tolerance " + text + ": expected QUANTITY=NUMBER, the quantity is missing");
   if (eq == std::string::npos)

@@ -7,6 +7,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
+#include "owval/base/number_text.hpp"
 
 namespace owval::scenarios {
 namespace fs = std::filesystem;
@@ -116,23 +117,7 @@ engine::SiberneticConfig GenerateConfig(const Scenario& s,
 
 std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
   std::map<std::string, double> out;
-  for (const std::string& a : assignments) {
-    const auto eq = a.find('=');
-    try {
-      if (eq == std::string::npos) throw std::invalid_argument(a);
-      std::size_t used = 0;
-      const std::string number = a.substr(eq + 1);
-      const double value = std::stod(number, &used);
-      if (used != number.size()) throw std::invalid_argument(a);
-      // Given twice, the last one won silently (a typo in a long command line went unseen).
-      if (!out.emplace(a.substr(0, eq), value).second)
-        throw InputError("--param " + a + ": " + a.substr(0, eq) + " is given twice");
-    } catch (const InputError&) {
-      throw;
-    } catch (const std::exception&) {
-      throw InputError("--param " + a + ": expected NAME=NUMBER");
-    }
-  }
+  for (const auto& [name, value] : ParseAssignments(assignments, "--param")) out[name] = value;
   return out;
 }
 

@@ -8,6 +8,7 @@
 
 #include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/number_text.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/trajectory/frame_source.hpp"
@@ -26,13 +27,9 @@ std::vector<std::string> Split(const std::string& text, char separator) {
   return parts;
 }
 
+// ParseDecimal's numbers: std::stod took "0x10", and " 1" with its leading space.
 double Number(const std::string& text, const std::string& context) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<double> v = ParseDecimal(text)) return *v;
   throw InputError(context + ": expected a number, found '" + text + "'");
 }
 

@@ -10,6 +10,7 @@
 // a zero mass, 1e39 an infinite one.
 #include <span>
 #include <string>
+#include <vector>
 
 #include "owval/engine/config.hpp"
 
@@ -50,9 +51,11 @@ std::string CheckConstant(const ConstantInfo& constant, double value);
 // or a value its rule refuses (naming the constant and the rule).
 void SetConstant(PhysicsConstants* constants, const std::string& name, double value);
 
-// "NAME=VALUE" (a --set argument) onto the constant: InputError quoting the assignment when it is
-// not NAME=NUMBER, and as SetConstant otherwise.
-void SetConstantAssignment(PhysicsConstants* constants, const std::string& assignment);
+// "NAME=VALUE" arguments (--set, of `owval run` and `owval predict`) onto the constants, read by
+// ParseAssignments (base/number_text.hpp): InputError quoting an argument that is not
+// NAME=NUMBER or whose NAME was given before, and as SetConstant otherwise.
+void SetConstantAssignments(PhysicsConstants* constants,
+                            const std::vector<std::string>& assignments);
 
 // Throws InputError naming the first constant whose value its rule refuses.
 void ValidateConstants(const PhysicsConstants& constants);

@@ -54,8 +54,8 @@ std::vector<std::string> ListScenarios(const std::filesystem::path& data_dir);
 engine::SiberneticConfig GenerateConfig(const Scenario& scenario,
                                         const std::map<std::string, double>& overrides = {});
 
-// "NAME=NUMBER" strings (the --param options) → generator parameter overrides; InputError on
-// anything else.
+// "NAME=NUMBER" strings (the --param options) → generator parameter overrides, read by
+// ParseAssignments (base/number_text.hpp): InputError on anything else or a NAME given twice.
 std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments);
 
 // A scenario name or a configuration file path → configuration.

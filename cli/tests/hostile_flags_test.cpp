@@ -1,0 +1,141 @@
+// Hostile values of the flags every command shares in kind: a NAME=NUMBER given twice (--set,
+// --param), an empty output path (-o '', --markdown '', ...), numbers strtod reads but a person
+// does not mean (0x10, inf, " 1"), and inspect's time window. Each is one line naming the flag,
+// exit 2, and nothing written.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+namespace owval::testing {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kOneSprig =
+    std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
+
+// An empty directory of its own, for commands run inside it (cd DIR && owval ...).
+fs::path FreshDirectory(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("owval_hostile_flags_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> Entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    names.push_back(e.path().lexically_relative(dir).string());
+  return names;
+}
+
+// `owval --quiet ARGS` run inside `dir`.
+Result OwvalIn(const fs::path& dir, const std::string& args) {
+  return RunCaptured("cd '" + dir.string() + "' && " + OWVAL_EXE + " --quiet " + args);
+}
+
+// Exit 2 with one line on stderr saying `says`.
+void ExpectOneLineRefusal(const Result& r, const std::string& says, const std::string& command) {
+  EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << command << ": one line: " << r.err;
+  EXPECT_NE(r.err.find(says), std::string::npos) << command << ": " << r.err;
+}
+
+TEST(HostileFlags, ARepeatedSetOrParamNameIsRefusedByEveryCommand) {
+  const fs::path dir = FreshDirectory("repeated");
+  const std::string twice = " --set elasticity_coefficient=1e8 --set elasticity_coefficient=2e8";
+  const std::vector<std::string> commands = {
+      "predict one_sprig" + twice,
+      "predict one_sprig --param rest_length_cu=2 --param rest_length_cu=3",
+      "run one_sprig --time 0.001 --out " + (dir / "run").string() + twice,
+      "scenario generate one_sprig -o " + (dir / "c.txt").string() +
+          " --param rest_length_cu=2 --param rest_length_cu=3"};
+  for (const std::string& c : commands) {
+    const Result r = Owval(c);
+    ExpectOneLineRefusal(r, "is given twice", c);
+    EXPECT_EQ(r.out, "") << c;
+  }
+  EXPECT_TRUE(Entries(dir).empty());
+}
+
+// Commands read an empty path as "not given": `predict -o ''` printed and exited 0, `compare
+// --markdown ''` too, `pipeline -o ''` wrote reports/one_sprig into the working directory.
+TEST(HostileFlags, AnEmptyOutputPathIsRefusedByEveryCommandBeforeWork) {
+  const fs::path dir = FreshDirectory("empty_out");
+  const std::string traj = kOneSprig;
+  const std::vector<std::string> commands = {
+      "predict one_sprig -o ''",
+      "reconcile p.json " + traj + " -o ''",
+      "scenario generate one_sprig -o ''",
+      "run one_sprig --time 0.001 -o ''",
+      "convert " + traj + " ''",
+      "compare " + traj + " " + traj + " --markdown ''",
+      "render " + traj + " -o ''",
+      "render sxs " + traj + " " + traj + " -o ''",
+      "frames " + traj + " " + traj + " --at 0 -o ''",
+      "fit one_sprig --param elasticity_coefficient=1.62e8:log --target period=7e-4 -o ''",
+      "gradcheck -o ''",
+      "pipeline one_sprig -o ''",
+      "checklist . --scenario one_sprig --markdown ''",
+      "ci validate --stability 10s -o ''",
+      "bench io --json-out ''",
+      "bench io --dir ''",
+      "bench backends owval --scenario one_sprig --markdown ''",
+      "bench backends owval --scenario one_sprig --json ''"};
+  for (const std::string& c : commands) {
+    const Result r = OwvalIn(dir, c);
+    ExpectOneLineRefusal(r, "expected a path to write, found an empty one", c);
+    EXPECT_EQ(r.out, "") << c;
+    EXPECT_TRUE(Entries(dir).empty()) << c << " left " << Entries(dir).front();
+  }
+}
+
+TEST(HostileFlags, InspectWindowMessagesNameTheFlagsAndTheTimes) {
+  struct Case {
+    std::string flags, says;
+  };
+  const std::vector<Case> cases = {
+      {"--from 0.03 --to 0.01", "--from 0.03 s --to 0.01 s: expected --from before --to"},
+      {"--from 100", "--from 100 s: the window holds 0 frame(s) of the trajectory's t = 0 .. "},
+      {"--to 0", "--to 0 s: the window holds 1 frame(s)"},
+      {"--from 0x10", "--from: expected a number >= 0, found '0x10'"},
+      {"--to ' 1'", "--to: expected a number >= 0, found ' 1'"}};
+  for (const Case& c : cases) {
+    const std::string command = "inspect " + kOneSprig + " " + c.flags;
+    const Result r = Owval(command);
+    ExpectOneLineRefusal(r, c.says, command);
+  }
+}
+
+// strtod (and std::stod) read "0x10" as 16, "inf", "nan" and " 1": --set, --param and --target
+// take decimal numbers only, through one parser.
+TEST(HostileFlags, NumbersAreDecimalOnlyInSetParamAndTarget) {
+  const fs::path dir = FreshDirectory("numbers");
+  const std::string fit = "fit one_sprig --time 0.002 -o " + (dir / "fit").string();
+  const std::vector<std::string> commands = {
+      "predict one_sprig --set elasticity_coefficient=0x10",
+      "predict one_sprig --set 'elasticity_coefficient= 1e8'",
+      "predict one_sprig --param rest_length_cu=0x10",
+      "predict one_sprig --param rest_length_cu=inf",
+      "scenario generate one_sprig -o " + (dir / "c.txt").string() + " --param rest_length_cu=1e",
+      "run one_sprig --time 0.001 --out " + (dir / "run").string() +
+          " --set elasticity_coefficient=nan",
+      fit + " --param elasticity_coefficient=0x1p27:log --target period=7e-4",
+      fit + " --param elasticity_coefficient=1.6e8:log --target period=0x1p-10",
+      fit + " --param elasticity_coefficient=1.6e8:log --target 'period=7e-4:scale= 1'"};
+  for (const std::string& c : commands) {
+    const Result r = Owval(c);
+    EXPECT_EQ(r.exit_code, 2) << c << "\n" << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << c << ": one line: " << r.err;
+    EXPECT_NE(r.err.find("expected"), std::string::npos) << c << ": " << r.err;
+  }
+  EXPECT_TRUE(Entries(dir).empty());
+}
+
+}  // namespace
+}  // namespace owval::testing
