@@ -2,13 +2,19 @@
 // Hdf5FrameReader, Sibernetic text through text_stream.cpp.
 #include "owval/trajectory/frame_source.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "owval/trajectory/writer.hpp"
 #include "text_stream.hpp"
 
 namespace owval {
 namespace {
+
+std::size_t ValuesPerParticle(const std::string& array) {
+  return array == "density" || array == "pressure" ? 1 : 3;
+}
 
 class MemorySource : public FrameSource {
  public:
@@ -50,6 +56,15 @@ class Hdf5Source : public FrameSource {
     }
     return {frame_, 0};
   }
+  void CopyFrames(const std::string& array, std::size_t first, std::size_t count,
+                  float* out) override {
+    const std::size_t values = ValuesPerParticle(array) * header_.particle_count();
+    for (std::size_t f = first; f < first + count; ++f, out += values)
+      if (array == "positions")
+        reader_.ReadFrame(f, out);  // the same finiteness check as Frame()
+      else
+        reader_.ReadField(array, f, out);
+  }
   void ReadFields() override {
     const TrajectoryHeader& h = reader_.header();
     const std::size_t n = h.type.size();
@@ -74,6 +89,23 @@ class Hdf5Source : public FrameSource {
 };
 
 }  // namespace
+
+void FrameSource::CopyFrames(const std::string& array, std::size_t first, std::size_t count,
+                             float* out) {
+  const std::size_t values = ValuesPerParticle(array) * particle_count();
+  for (std::size_t f = first; f < first + count; ++f, out += values) {
+    const FrameRef frame = Frame(f);
+    const Trajectory& t = frame.trajectory;
+    const std::vector<float>& from = array == "positions"    ? t.positions
+                                     : array == "velocities" ? t.velocities
+                                     : array == "density"    ? t.density
+                                                             : t.pressure;
+    if (from.size() < (frame.frame + 1) * values)
+      throw std::out_of_range("frame source: no " + array + " in frame " + std::to_string(f));
+    std::copy(from.begin() + std::ptrdiff_t(frame.frame * values),
+              from.begin() + std::ptrdiff_t((frame.frame + 1) * values), out);
+  }
+}
 
 std::unique_ptr<FrameSource> MemoryFrameSource(const Trajectory& trajectory) {
   return std::make_unique<MemorySource>(trajectory);

@@ -221,13 +221,7 @@ void WriteHdf5(FrameSource& frames, const std::filesystem::path& path, const Hdf
     return frames.frame_count() ? FieldsOf(frames.Frame(0).trajectory) : std::vector<const char*>{};
   };
   const FillFrames fill = [&](const char* field, std::size_t first, std::size_t count, float* out) {
-    const std::size_t values =
-        particles * (std::string(field) == "density" || std::string(field) == "pressure" ? 1 : 3);
-    for (std::size_t f = first; f < first + count; ++f, out += values) {
-      const FrameRef frame = frames.Frame(f);
-      const float* from = FieldValues(frame.trajectory, field).data() + frame.frame * values;
-      std::copy(from, from + values, out);
-    }
+    frames.CopyFrames(field, first, count, out);  // that dataset alone
   };
   const std::string name = path.string();
   WriteHdf5File(header, fields, path, [&](hid_t file, const char* field, int components) {

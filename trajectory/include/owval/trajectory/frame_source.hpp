@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/trajectory.hpp"
@@ -49,6 +50,14 @@ class FrameSource {
   // the fields are most of an HDF5 file. Sibernetic text holds none; a trajectory in memory
   // gives its own.
   virtual void ReadFields() {}
+
+  // Frames [first, first + count) of one per-frame array into `out`, frame after frame:
+  // "positions" (3 floats a particle), or a field the source's frames hold ("velocities", 3;
+  // "density" or "pressure", 1). What WriteHdf5 copies a dataset at a time. This one goes through
+  // Frame(); an HDF5 file reads that one dataset, where Frame() would also read every field asked
+  // for (HDF5 to HDF5 with fields read each field three times, positions four).
+  virtual void CopyFrames(const std::string& array, std::size_t first, std::size_t count,
+                          float* out);
 
   std::size_t frame_count() const { return header().frame_count(); }
   std::size_t particle_count() const { return header().particle_count(); }
