@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/scenarios/scenario.hpp"
 
@@ -35,6 +36,7 @@ void SetUp(CLI::App& app) {
       ->check(OutputPath());
   generate->add_option("--param", a->params, "Override a generator parameter, NAME=NUMBER");
   generate->callback([a] {
+    CheckOutputPath(a->out);  // before the lattice is made: a directory failed at the rename
     const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),
                                                   scenarios::ParseOverrides(a->params));
     engine::WriteSiberneticConfig(config, a->out);

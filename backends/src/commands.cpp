@@ -67,7 +67,9 @@ std::map<std::string, std::string> ParseSets(const std::vector<std::string>& set
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0)
       throw InputError("--set " + s + ": expected NAME=VALUE");
-    out[s.substr(0, eq)] = s.substr(eq + 1);
+    // Given twice, the last one won silently (as --set's of run and predict did).
+    if (!out.emplace(s.substr(0, eq), s.substr(eq + 1)).second)
+      throw InputError("--set " + s + ": " + s.substr(0, eq) + " is given twice");
   }
   return out;
 }

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <string_view>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/number_text.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/engine/long_run.hpp"
 
@@ -44,20 +46,21 @@ GateReport StreamedStability(const engine::SiberneticConfig& config,
   return GateReport{{gate}};
 }
 
+// "10s", "500ms", "10 s" or "10": the number by ParseDecimal (std::stod took "0x10s" as 16 s).
 double ParseDuration(const std::string& text, const std::string& flag) {
-  std::size_t used = 0;
-  double value = NAN;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+  std::string_view number(text);
+  double scale = 1;
+  if (number.ends_with("ms")) {
+    number.remove_suffix(2);
+    scale = 1e-3;
+  } else if (number.ends_with("s")) {
+    number.remove_suffix(1);
   }
-  std::string unit = text.substr(used);
-  while (!unit.empty() && unit.front() == ' ') unit.erase(0, 1);
-  const double scale = unit == "ms" ? 1e-3 : (unit.empty() || unit == "s") ? 1 : NAN;
-  if (used == 0 || !(value * scale > 0) || !std::isfinite(value * scale))
+  while (number.ends_with(' ')) number.remove_suffix(1);
+  const std::optional<double> value = ParseDecimal(number);
+  if (!value || !(*value * scale > 0))
     throw InputError(flag + " '" + text + "': expected a positive duration such as 10s or 500ms");
-  return value * scale;
+  return *value * scale;
 }
 
 }  // namespace owval::ci

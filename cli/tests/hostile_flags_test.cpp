@@ -137,5 +137,19 @@ TEST(HostileFlags, NumbersAreDecimalOnlyInSetParamAndTarget) {
   EXPECT_TRUE(Entries(dir).empty());
 }
 
+// Probe round: `scenario generate -o DIR` failed only at the rename ("cannot rename into place: Is
+// a directory"), -o /proc/x with "No such file or directory"; `ci validate --stability 0x10s`
+// started a 16 s run.
+TEST(HostileFlags, ScenarioOutputsAndStabilityDurationsAreCheckedBeforeWork) {
+  const fs::path dir = FreshDirectory("probe");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"scenario generate one_sprig -o " + dir.string(), "is a directory; expected a file"},
+      {"scenario generate one_sprig -o /proc/owval_c.txt", "/proc accepts no new files"},
+      {"ci validate --stability 0x10s --out " + (dir / "run").string(),
+       "--stability '0x10s': expected a positive duration"}};
+  for (const auto& [command, says] : cases) ExpectOneLineRefusal(Owval(command), says, command);
+  EXPECT_TRUE(Entries(dir).empty());
+}
+
 }  // namespace
 }  // namespace owval::testing

@@ -82,6 +82,13 @@ nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& a) {
   if (!(a.text_size_mb > 0 && a.text_size_mb <= 1e9))
     throw InputError("--size-mb: expected a size above 0 and at most 1e9 MB, found " +
                      FormatNumber(a.text_size_mb, 6));
+  // Checked before the text file is generated: libhdf5 refused a level of 99 only after it
+  // ("HDF5: set deflate"), and took -1 or 0 frames a chunk.
+  if (a.hdf5.compression_level < 0 || a.hdf5.compression_level > 9)
+    throw InputError("--hdf5-level: expected a deflate level 0..9, found " +
+                     std::to_string(a.hdf5.compression_level));
+  if (a.hdf5.frames_per_chunk < 1)
+    throw InputError("--hdf5-chunk-frames: expected 1 or more frames a chunk, found 0");
   const std::size_t frames =
       static_cast<std::size_t>(std::ceil(a.text_size_mb * 1e6 / (27.0 * double(kMoving))));
   CheckAllocation(SaturatingProduct(frames, (kMoving + kBoundary) * 12), "owval bench io",

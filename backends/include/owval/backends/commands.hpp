@@ -20,7 +20,8 @@
 
 namespace owval::backends {
 
-// "NAME=VALUE" strings (values of {set:NAME}) as a map; InputError naming --set otherwise.
+// "NAME=VALUE" strings (values of {set:NAME}) as a map; InputError naming --set otherwise, or
+// naming NAME when it is given twice.
 std::map<std::string, std::string> ParseSets(const std::vector<std::string>& sets);
 
 // Which registry file and run cache a command uses.
