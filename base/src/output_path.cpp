@@ -156,4 +156,19 @@ MissingDirectories::~MissingDirectories() {
   for (const fs::path& d : missing_) fs::remove(d, error);  // only if empty
 }
 
+ScratchFile::ScratchFile(fs::path path)
+    : path_(std::move(path)), signal_slot_(internal::RememberTemporary(fs::absolute(path_))) {}
+
+void ScratchFile::Keep() {
+  internal::ForgetTemporary(&signal_slot_);
+  keep_ = true;
+}
+
+ScratchFile::~ScratchFile() {
+  internal::ForgetTemporary(&signal_slot_);
+  if (keep_) return;
+  std::error_code error;
+  fs::remove(path_, error);
+}
+
 }  // namespace owval

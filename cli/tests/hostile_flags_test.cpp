@@ -2,8 +2,15 @@
 // --param), an empty output path (-o '', --markdown '', ...), numbers strtod reads but a person
 // does not mean (0x10, inf, " 1"), and inspect's time window. Each is one line naming the flag,
 // exit 2, and nothing written.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include <filesystem>
 #include <string>
@@ -18,14 +25,27 @@ namespace fs = std::filesystem;
 const std::string kOneSprig =
     std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
 
+fs::path ScratchRoot() {
+  return fs::temp_directory_path() / ("owval_hostile_flags_" + std::to_string(::getpid()));
+}
+
 // An empty directory of its own, for commands run inside it (cd DIR && owval ...).
 fs::path FreshDirectory(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_hostile_flags_" + std::to_string(::getpid())) / name;
+  const fs::path dir = ScratchRoot() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
 }
+
+// Removes this process's scratch folders once every test has run.
+class RemoveScratch : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(ScratchRoot(), ignored);
+  }
+};
+const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 std::vector<std::string> Entries(const fs::path& dir) {
   std::vector<std::string> names;
@@ -149,6 +169,40 @@ TEST(HostileFlags, ScenarioOutputsAndStabilityDurationsAreCheckedBeforeWork) {
        "--stability '0x10s': expected a positive duration"}};
   for (const auto& [command, says] : cases) ExpectOneLineRefusal(Owval(command), says, command);
   EXPECT_TRUE(Entries(dir).empty());
+}
+
+// `bench io` generates its text file, then parses it: SIGTERM during the parse left the file
+// (100 MB here, 500 MB by default) behind, since the signal's default action skips destructors.
+TEST(HostileFlags, BenchIoKilledLeavesNothingBehind) {
+  const fs::path dir = FreshDirectory("bench_io") / "made";
+  const fs::path text = dir / "owval_bench_position_buffer.txt";
+  const std::string dir_text = dir.string();
+  std::vector<std::string> args = {OWVAL_EXE,   "--quiet", "bench", "io",
+                                   "--size-mb", "100",     "--dir", dir_text};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t quiet;
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  ASSERT_EQ(posix_spawn(&pid, OWVAL_EXE, &quiet, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&quiet);
+  int status = 0;
+  bool finished = false;
+  while (!fs::exists(text) && !finished) {  // the generated file, complete, being parsed
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    finished = ::waitpid(pid, &status, WNOHANG) == pid;
+  }
+  ASSERT_FALSE(finished) << "bench io ended before its text file appeared";
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  const bool stopped = (WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) ||
+                       (WIFEXITED(status) && WEXITSTATUS(status) == 143);
+  EXPECT_TRUE(stopped) << "status " << status;
+  EXPECT_FALSE(fs::exists(text));
+  EXPECT_FALSE(fs::exists(dir)) << "left " << Entries(dir).size() << " entries";
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -45,29 +46,28 @@ Trajectory SyntheticTrajectory(std::size_t frames) {
   return t;
 }
 
-// The benchmark's generated files, removed however the benchmark ends (unless kept), with the
-// directories that were missing for them (the writers' AtomicOutput creates those) when they are
-// left empty.
+// The benchmark's generated files, removed however the benchmark ends (unless kept), SIGINT and
+// SIGTERM included, with the directories that were missing for them (the writers' AtomicOutput
+// creates those) when they are left empty.
 class GeneratedFiles {
  public:
   GeneratedFiles(const fs::path& directory, bool keep)
       : missing_(directory), directory_(directory), keep_(keep) {
     if (keep) missing_.Keep();
   }
-  ~GeneratedFiles() {  // the files first; then missing_ removes the folders left empty
-    if (keep_) return;
-    std::error_code error;
-    for (const fs::path& file : files_) fs::remove(file, error);
-  }
   GeneratedFiles(const GeneratedFiles&) = delete;
   GeneratedFiles& operator=(const GeneratedFiles&) = delete;
-  fs::path Add(const std::string& name) { return files_.emplace_back(directory_ / name); }
+  fs::path Add(const std::string& name) {
+    files_.push_back(std::make_unique<ScratchFile>(directory_ / name));
+    if (keep_) files_.back()->Keep();
+    return files_.back()->path();
+  }
 
  private:
-  MissingDirectories missing_;
+  MissingDirectories missing_;  // destroyed last: the folders once the files are gone
   fs::path directory_;
   bool keep_;
-  std::vector<fs::path> files_;
+  std::vector<std::unique_ptr<ScratchFile>> files_;
 };
 
 double Seconds(std::chrono::steady_clock::time_point since) {

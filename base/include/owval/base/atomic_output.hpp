@@ -183,6 +183,24 @@ class MissingDirectories {
   bool keep_ = false;
 };
 
+// A file a command makes for itself and removes (a benchmark's generated input): removed when
+// destroyed, and when SIGINT or SIGTERM ends the process, whose default action skips destructors
+// (a killed `owval bench io` left its 500 MB generated text behind). Keep() leaves it in place.
+class ScratchFile {
+ public:
+  explicit ScratchFile(std::filesystem::path path);
+  ~ScratchFile();
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  void Keep();
+
+ private:
+  std::filesystem::path path_;
+  int signal_slot_ = -1;
+  bool keep_ = false;
+};
+
 // Reads a whole file; throws InputError naming the file when it is missing or unreadable.
 std::string ReadWholeFile(const std::filesystem::path& path);
 
