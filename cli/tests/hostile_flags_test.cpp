@@ -25,27 +25,8 @@ namespace fs = std::filesystem;
 const std::string kOneSprig =
     std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
 
-fs::path ScratchRoot() {
-  return fs::temp_directory_path() / ("owval_hostile_flags_" + std::to_string(::getpid()));
-}
-
 // An empty directory of its own, for commands run inside it (cd DIR && owval ...).
-fs::path FreshDirectory(const std::string& name) {
-  const fs::path dir = ScratchRoot() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-// Removes this process's scratch folders once every test has run.
-class RemoveScratch : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(ScratchRoot(), ignored);
-  }
-};
-const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
+fs::path FreshDirectory(const std::string& name) { return TestScratch(name); }
 
 std::vector<std::string> Entries(const fs::path& dir) {
   std::vector<std::string> names;

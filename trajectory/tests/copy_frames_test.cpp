@@ -2,7 +2,6 @@
 // source copies a dataset at a time). An HDF5 file reads that dataset alone; whatever the source,
 // the values are its frames', and WriteHdf5 of any source gives WriteHdf5's bytes.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -11,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -18,12 +18,7 @@ namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path TempPath(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("owval_copy_frames_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 std::string Bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -1,11 +1,11 @@
 // `owval bench io`'s HDF5 options are checked before its text file is generated.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/io_benchmark.hpp"
 
 namespace owval {
@@ -27,7 +27,7 @@ TEST(IoBenchmarkOptions, RefusesADeflateLevelOrChunkLibhdf5WouldNot) {
   IoBenchmarkOptions o;
   o.text_size_mb = 1;
   o.quiet = true;
-  o.directory = fs::temp_directory_path() / ("owval_io_options_" + std::to_string(::getpid()));
+  o.directory = owval::testing::TestScratch() / "bench";
   o.hdf5.compression_level = 99;
   ExpectRefusedBeforeWork(o, "--hdf5-level: expected a deflate level 0..9, found 99");
   o.hdf5.compression_level = -1;
