@@ -44,7 +44,7 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
       bench.add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
   cmd->add_option("config", a->config,
                   "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
-  cmd->add_option("--steps", o.steps, "Steps to time")->check(Count());
+  cmd->add_option("--steps", o.steps, "Steps to time")->check(PositiveCount());
   AddJsonOut(cmd, &a->json_out);
   cmd->add_option("--backend", o.backend, "Solver to time (pcisph, xpbd; default pcisph)");
   cmd->add_flag("--phases", o.phases,
@@ -82,7 +82,7 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
 
 void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand("render", "Render + H.264 encode frames per second (JSON)");
-  cmd->add_option("--frames", a->render.frames, "Frames per case")->check(Count());
+  cmd->add_option("--frames", a->render.frames, "Frames per case")->check(PositiveCount());
   AddJsonOut(cmd, &a->json_out);
   cmd->callback([a] {
     a->render.demo1_trajectory = SharedReference() / "demo1/position_buffer.txt";

@@ -30,9 +30,11 @@ void SetUp(CLI::App& app) {
       "backends", "The same scenario on each backend, timed as whole processes (wait4 rusage)");
   cmd->add_option("backends", r->names, "Backend names; ratios are to the first")->required();
   cmd->add_option("--scenario", r->scenario, "Scenario folder (configuration + meta.json)")
-      ->required();
+      ->required()
+      ->check(GivenName());
   cmd->add_option("--reference-dir", r->reference_dir,
-                  "Where the scenario folders are (default ../shared/reference)");
+                  "Where the scenario folders are (default ../shared/reference)")
+      ->check(GivenName());
   cmd->add_option("--time", r->time_s, "Simulated seconds instead of the scenario's")
       ->check(Positive());
   cmd->add_option("--repeat", r->options.repeat, "Runs per backend (median and spread)")

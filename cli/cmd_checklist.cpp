@@ -41,13 +41,16 @@ void SetUp(CLI::App& app) {
       ->required();
   auto* scenario = cmd->add_option("--scenario", r.scenario,
                                    "Built-in scenario whose track, gates and reference apply (the "
-                                   "directory's reference must be the scenario's)");
+                                   "directory's reference must be the scenario's)")
+                       ->check(GivenName());
   cmd->add_option("--manifest", r.manifest, "Scenario manifest JSON whose track and gates apply")
-      ->excludes(scenario);
+      ->excludes(scenario)
+      ->check(GivenName());
   cmd->add_option("--reference", r.reference,
                   "Trajectory the directory's reference must be (another scenario's trusted run, "
                   "e.g. ../shared/reference/demo1/position_buffer.txt)")
-      ->excludes(scenario);
+      ->excludes(scenario)
+      ->check(GivenName());
   cmd->add_option("--git-range", r.git_range,
                   "BASE..HEAD: check that prediction.json was committed before the trajectories");
   cmd->add_option("--markdown", r.markdown, "Also write the Markdown comment to this file")

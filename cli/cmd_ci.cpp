@@ -54,9 +54,11 @@ void SetUp(CLI::App& app) {
       "the stability gate to every frame as it is produced (NaN, escapes, "
       "kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid particles "
       "outside)");
-  validate->add_option(
-      "--scenario", stability->scenario,
-      "With --stability: scenario name or configuration (default: the reference demo1)");
+  validate
+      ->add_option(
+          "--scenario", stability->scenario,
+          "With --stability: scenario name or configuration (default: the reference demo1)")
+      ->check(GivenName());
   validate
       ->add_option("--log-step", stability->options.log_step,
                    "With --stability: steps between frames")
@@ -66,7 +68,8 @@ void SetUp(CLI::App& app) {
                    "With --stability: where the run's trajectory goes")
       ->check(OutputPath());
   auto reference = std::make_shared<std::string>();
-  validate->add_option("--reference", *reference, "Trajectory the directory's reference must be");
+  validate->add_option("--reference", *reference, "Trajectory the directory's reference must be")
+      ->check(GivenName());
   validate->callback([dir, stability, reference] {
     if (!stability->duration.empty()) return RunStability(*stability);
     if (dir->empty()) throw InputError("owval ci validate: give DIRECTORY or --stability TIME");

@@ -60,10 +60,12 @@ void SetUp(CLI::App& app) {
       ->check(CLI::IsMember({"parity"}));
   cmd->add_option("--reference-dir", r.scenarios.reference_dir,
                   "With backend names: the scenario folders (default: the store of either "
-                  "backend, else ../shared/reference)");
+                  "backend, else ../shared/reference)")
+      ->check(GivenName());
   cmd->add_option("--sibernetic", r.scenarios.sibernetic,
                   "With backend names: Sibernetic's demos from this checkout of "
-                  "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/");
+                  "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/")
+      ->check(GivenName());
   cmd->add_option("--set", r.sets, "With backend names: NAME=VALUE for {set:NAME}");
   AddTrackFlags(cmd, &r.track, "", "Tracked");
   cmd->add_option("--frames", r.frames,
@@ -74,7 +76,8 @@ void SetUp(CLI::App& app) {
     cmd->add_option(compare::kGateThresholdFields[i].flag, r.thresholds[i],
                     compare::GateThresholdHelp(compare::kGateThresholdFields[i]))
         ->check(Positive());
-  cmd->add_option("--manifest", r.manifest, "Scenario manifest JSON (its track and gates)");
+  cmd->add_option("--manifest", r.manifest, "Scenario manifest JSON (its track and gates)")
+      ->check(GivenName());
   cmd->add_option("--markdown", r.markdown, "Also write the report as Markdown (for a PR)")
       ->check(OutputPath());
   cmd->add_flag("--json", args->json, "Machine-readable output");

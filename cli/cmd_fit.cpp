@@ -88,7 +88,8 @@ void SetUp(CLI::App& app) {
                   "differences instead of the reverse pass: the comparison run)")
       ->check(CLI::IsMember({"fd", "analytic", "model-fd"}));
   cmd->add_option("--reference", a->reference,
-                  "analytic: trajectory the loss compares with (frames paired by step)");
+                  "analytic: trajectory the loss compares with (frames paired by step)")
+      ->check(GivenName());
   cmd->add_option("--loss-group", a->request.loss_groups,
                   "analytic: group centroids (all axes) in the loss instead of the tracked "
                   "coordinate; repeatable");

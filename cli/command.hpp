@@ -35,6 +35,10 @@ const CLI::Validator& Fraction();  // 0 to 1 (NaN refused, which CLI::Range lets
 const CLI::Validator& Count();
 // Every option naming an output (-o/--out, --markdown, --json-out, ...): a path, not empty.
 const CLI::Validator& OutputPath();
+// Every option naming an input (--backends, --manifest, --reference, --scenario, ...): not empty.
+const CLI::Validator& GivenName();
+// A count that must be 1 or more (bench --steps, --frames), digits only.
+const CLI::Validator& PositiveCount();
 
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
 // --PREFIXaxis); `subject` says what the track is for ("Tracked", "Print this").

@@ -52,8 +52,25 @@ const CLI::Validator kOutputPath(
                           : std::string();
     },
     "PATH");
+// The same for an option naming an input (--backends, --manifest, --reference, ...): commands
+// read an empty one as "not given" too (`compare --manifest ''` compared with the defaults).
+const CLI::Validator kGivenName(
+    [](std::string& text) {
+      return text.empty() ? std::string("expected a path or name, found an empty one")
+                          : std::string();
+    },
+    "NAME");
 const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
 const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
+const CLI::Validator kPositiveCount(
+    [](std::string& text) {
+      const bool digits = !text.empty() && text.size() <= 18 &&
+                          text.find_first_not_of("0123456789") == std::string::npos;
+      return digits && text.find_first_not_of('0') != std::string::npos
+                 ? std::string()
+                 : "expected a whole number >= 1, found '" + OneLine(text, 40) + "'";
+    },
+    "COUNT");
 const CLI::Validator kPositive =
     NumberThat([](double x) { return x > 0; }, "a number > 0", "POSITIVE");
 const CLI::Validator kNonNegative =
@@ -81,6 +98,8 @@ const CLI::Validator& Positive() { return kPositive; }
 const CLI::Validator& Fraction() { return kFraction; }
 const CLI::Validator& NonNegative() { return kNonNegative; }
 const CLI::Validator& OutputPath() { return kOutputPath; }
+const CLI::Validator& GivenName() { return kGivenName; }
+const CLI::Validator& PositiveCount() { return kPositiveCount; }
 
 void AddTrackFlags(CLI::App* cmd, TrackChoice* flags, const std::string& prefix,
                    const std::string& subject) {

@@ -96,6 +96,47 @@ TEST(HostileFlags, AnEmptyOutputPathIsRefusedByEveryCommandBeforeWork) {
   }
 }
 
+// An empty input (a backends file, a cache, a manifest, a reference, a scenario) was read as
+// "not given": `compare --manifest ''` compared with the defaults and exited 0.
+TEST(HostileFlags, AnEmptyInputNameIsRefusedByEveryCommand) {
+  const fs::path dir = FreshDirectory("empty_in");
+  const std::string traj = kOneSprig;
+  const std::vector<std::string> commands = {
+      "compare " + traj + " " + traj + " --manifest ''",
+      "compare " + traj + " " + traj + " --cache ''",
+      "compare owval owval --reference-dir ''",
+      "compare owval owval --sibernetic ''",
+      "backends show owval --backends ''",
+      "checklist . --scenario ''",
+      "checklist . --manifest '' --reference " + traj,
+      "checklist . --reference ''",
+      "ci validate . --reference ''",
+      "ci validate --stability 10s --scenario ''",
+      "fit one_sprig --param elasticity_coefficient=1.62e8:log --target period=7e-4 "
+      "--reference ''",
+      "bench backends owval --scenario ''",
+      "bench backends owval --scenario one_sprig --reference-dir ''"};
+  for (const std::string& c : commands) {
+    const Result r = OwvalIn(dir, c);
+    ExpectOneLineRefusal(r, "expected a path or name, found an empty one", c);
+    EXPECT_EQ(r.out, "") << c;
+    EXPECT_TRUE(Entries(dir).empty()) << c << " left " << Entries(dir).front();
+  }
+}
+
+// A benchmark of no steps or frames said something else ("duration 0 s ... gives 0 steps", "the
+// trajectory has no frame to render"): the line names the flag.
+TEST(HostileFlags, BenchCountsOfZeroNameTheFlag) {
+  const fs::path dir = FreshDirectory("bench_zero");
+  for (const std::string& c :
+       {std::string("bench engine one_sprig --steps 0"),
+        std::string("bench engine one_sprig --steps 00"), std::string("bench render --frames 0")}) {
+    const Result r = OwvalIn(dir, c);
+    ExpectOneLineRefusal(r, "expected a whole number >= 1, found '0", c);
+    EXPECT_TRUE(Entries(dir).empty()) << c;
+  }
+}
+
 TEST(HostileFlags, InspectWindowMessagesNameTheFlagsAndTheTimes) {
   struct Case {
     std::string flags, says;
