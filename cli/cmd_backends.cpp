@@ -22,7 +22,7 @@ void SetUp(CLI::App& app) {
   });
   CLI::App* show = cmd->add_subcommand("show", "One backend's full definition (JSON)");
   AddBackendFlags(show, selection.get(), false);
-  show->add_option("name", *name, "Backend name")->required();
+  show->add_option("name", *name, "Backend name")->check(GivenName())->required();
   show->callback(
       [selection, name] { std::cout << selection->Load().Find(*name).ToJson().dump(2) << "\n"; });
 }

@@ -43,7 +43,8 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd =
       bench.add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
   cmd->add_option("config", a->config,
-                  "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file");
+                  "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file")
+      ->check(GivenName());
   cmd->add_option("--steps", o.steps, "Steps to time")->check(PositiveCount());
   AddJsonOut(cmd, &a->json_out);
   cmd->add_option("--backend", o.backend, "Solver to time (pcisph, xpbd; default pcisph)");
@@ -93,7 +94,9 @@ void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
 void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand(
       "gradient", "XPBD reverse pass: backward cost per step over forward, tape memory (JSON)");
-  cmd->add_option("config", a->config, "Scenario name or Sibernetic configuration")->required();
+  cmd->add_option("config", a->config, "Scenario name or Sibernetic configuration")
+      ->check(GivenName())
+      ->required();
   cmd->add_option("--steps", a->gradient.steps, "Steps of the window")
       ->check(CLI::Range(1, 10000000));
   cmd->add_option("--checkpoint-every", a->gradient.checkpoint_every,

@@ -28,7 +28,9 @@ void SetUp(CLI::App& app) {
   r->reference_dir = SharedReference();
   CLI::App* cmd = Bench(app).add_subcommand(
       "backends", "The same scenario on each backend, timed as whole processes (wait4 rusage)");
-  cmd->add_option("backends", r->names, "Backend names; ratios are to the first")->required();
+  cmd->add_option("backends", r->names, "Backend names; ratios are to the first")
+      ->check(GivenName())
+      ->required();
   cmd->add_option("--scenario", r->scenario, "Scenario folder (configuration + meta.json)")
       ->required()
       ->check(GivenName());

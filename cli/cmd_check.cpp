@@ -36,7 +36,7 @@ void SetUp(CLI::App& app) {
   auto args = std::make_shared<CheckArgs>();
   CLI::App* stability =
       check->add_subcommand("stability", "NaN/Inf, box escapes, kinetic blow-up, density range");
-  stability->add_option("trajectory", args->path)->required();
+  stability->add_option("trajectory", args->path)->check(GivenName())->required();
   stability
       ->add_option("--box-tolerance", args->stability.box_tolerance_cu,
                    "cu outside the box allowed")
@@ -51,7 +51,7 @@ void SetUp(CLI::App& app) {
   stability->callback([args] { RunStability(*args); });
   CLI::App* incompressible =
       check->add_subcommand("incompressibility", "Mean and max |rho/rho0 - 1| of liquid");
-  incompressible->add_option("trajectory", args->path)->required();
+  incompressible->add_option("trajectory", args->path)->check(GivenName())->required();
   incompressible
       ->add_option("--rest-density", args->incompressibility.rest_density, "rho0 (kg/m^3)")
       ->check(Positive());

@@ -38,6 +38,7 @@ void SetUp(CLI::App& app) {
       "candidate. Gate thresholds come from --scenario or --manifest (else DD001's defaults), "
       "never from the directory itself.");
   cmd->add_option("directory", r.directory, "PR artifact directory (see docs/checklist.md)")
+      ->check(GivenName())
       ->required();
   auto* scenario = cmd->add_option("--scenario", r.scenario,
                                    "Built-in scenario whose track, gates and reference apply (the "

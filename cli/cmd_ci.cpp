@@ -41,11 +41,15 @@ void SetUp(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* quick =
       group->add_subcommand("quick-test", "Runs completed: trajectories exist, parse, no NaN");
-  quick->add_option("directory", *dir)->required()->check(CLI::ExistingDirectory);
+  quick->add_option("directory", *dir)
+      ->check(GivenName())
+      ->required()
+      ->check(CLI::ExistingDirectory);
   quick->callback([dir] { Report(ci::QuickTest(*dir)); });
   CLI::App* validate =
       group->add_subcommand("validate", "Stability, incompressibility and parity gates");
   validate->add_option("directory", *dir, "Artifact directory (reference.*, candidate.*)")
+      ->check(GivenName())
       ->check(CLI::ExistingDirectory);
   auto stability = std::make_shared<StabilityArgs>();
   validate->add_option(

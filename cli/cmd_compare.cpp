@@ -49,8 +49,10 @@ void SetUp(CLI::App& app) {
       "compare", "Phase 7: frame-by-frame parity of a candidate against a reference");
   cmd->footer(kGatesHelp);
   cmd->add_option("reference", r.reference, "Reference trajectory file or backend name")
+      ->check(GivenName())
       ->required();
   cmd->add_option("candidate", r.candidate, "Candidate trajectory file or backend name")
+      ->check(GivenName())
       ->required();
   AddBackendFlags(cmd, &r.backends, true);
   cmd->add_option("--scenarios", r.scenarios.names, "With backend names: these scenarios only")

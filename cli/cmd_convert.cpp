@@ -30,7 +30,7 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("convert",
                                      "Convert trajectories: opencl/native text <-> HDF5 (.h5); "
                                      "worm to WCON (.wcon) or OME-Zarr (.zarr)");
-  cmd->add_option("input", args->in, "Input trajectory")->required();
+  cmd->add_option("input", args->in, "Input trajectory")->check(GivenName())->required();
   cmd->add_option("output", args->out,
                   "Output by extension: .h5/.hdf5 (owval HDF5), .txt (Sibernetic text), .wcon "
                   "(WCON, worms), .zarr (OME-Zarr); other extensions are refused")

@@ -49,6 +49,7 @@ void SetUp(CLI::App& app) {
       "fit", "Phase 5: fit parameters with Ceres (or gradient descent), history saved");
   cmd->add_option("config", a->config,
                   "Scenario name or Sibernetic configuration (unused with --command)")
+      ->check(GivenName())
       ->required();
   cmd->add_option("--param", a->request.parameters,
                   "NAME=START[:log|:lin][:LOWER:UPPER], e.g. elasticity_coefficient=1.62e8:log")

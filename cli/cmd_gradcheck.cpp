@@ -22,7 +22,8 @@ void SetUp(CLI::App& app) {
       "bond_projection_jacobi, box, velocity, velocity_correction, step, reverse. Each runs at eps "
       "= 1e-3 and its own eps; a test "
       "passes at relative error <= --tolerance. Exit 1 when any test fails.");
-  cmd->add_option("kernels", r.options.kernels, "Kernels to check (default all)");
+  cmd->add_option("kernels", r.options.kernels, "Kernels to check (default all)")
+      ->check(GivenName());
   cmd->add_option("--directions", r.options.directions, "Random directions per kernel and eps")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--seed", r.options.seed, "Random seed");

@@ -27,6 +27,7 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
   cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
+      ->check(GivenName())
       ->required();
   AddTrackFlags(cmd, &args->track, "", "Measured");
   // NaN or a negative time was taken as "no bound": the whole window, silently.

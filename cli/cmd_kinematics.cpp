@@ -29,6 +29,7 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "kinematics", "Worm kinematics (Yemini et al. 2013): speed, bend frequency, wavelength");
   cmd->add_option("input", a->input, "Worm trajectory (any format) or WCON file (.wcon, .json)")
+      ->check(GivenName())
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_flag("--json", a->json, "Print JSON");

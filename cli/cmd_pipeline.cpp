@@ -25,7 +25,9 @@ void SetUp(CLI::App& app) {
   o->data_dir = DataDir();
   CLI::App* cmd = app.add_subcommand(
       "pipeline", "Phases 1-8 on one scenario: report directory, MP4, checklist");
-  cmd->add_option("scenario", o->scenario, "Built-in scenario (owval scenario list)")->required();
+  cmd->add_option("scenario", o->scenario, "Built-in scenario (owval scenario list)")
+      ->check(GivenName())
+      ->required();
   cmd->add_option("-o,--out", o->out_dir, "Report directory (default reports/SCENARIO)")
       ->check(OutputPath());
   cmd->add_option("--candidate", o->candidate,

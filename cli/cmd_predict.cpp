@@ -18,6 +18,7 @@ void SetUp(CLI::App& app) {
   CLI::App* predict =
       app.add_subcommand("predict", "Phase 1: analytic prediction from the configuration alone");
   predict->add_option("config", p.config, "Scenario name (owval scenario list) or configuration")
+      ->check(GivenName())
       ->required();
   predict->add_option("-o,--out", p.out, "Also write the prediction JSON here")
       ->check(OutputPath());
@@ -35,8 +36,11 @@ void SetUp(CLI::App& app) {
   CLI::App* reconcile =
       app.add_subcommand("reconcile", "Phase 3: predicted vs measured, with likely causes");
   reconcile->add_option("prediction", r.prediction, "prediction.json from owval predict")
+      ->check(GivenName())
       ->required();
-  reconcile->add_option("trajectory", r.trajectory, "Measured trajectory")->required();
+  reconcile->add_option("trajectory", r.trajectory, "Measured trajectory")
+      ->check(GivenName())
+      ->required();
   reconcile->add_option("--tolerance", r.tolerances,
                         "Gate tolerance for every gated quantity (VALUE) or one (QUANTITY=VALUE); "
                         "relative for periods and amplitudes, cu for positions");

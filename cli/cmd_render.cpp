@@ -64,12 +64,12 @@ void SetUp(CLI::App& app) {
   r.data_dir = DataDir();
   CLI::App* cmd = app.add_subcommand(
       "render", "Phase 6: render a trajectory to H.264 MP4 (OSMesa, no display)");
-  cmd->add_option("trajectory", r.trajectory, "Trajectory to render");
+  cmd->add_option("trajectory", r.trajectory, "Trajectory to render")->check(GivenName());
   AddCommon(cmd, a.get(), "Output MP4 file (not a directory)", true);
   CLI::App* sxs =
       cmd->add_subcommand("sxs", "Side by side: reference left, candidate right, one camera");
-  sxs->add_option("reference", r.reference)->required();
-  sxs->add_option("candidate", r.candidate)->required();
+  sxs->add_option("reference", r.reference)->check(GivenName())->required();
+  sxs->add_option("candidate", r.candidate)->check(GivenName())->required();
   AddCommon(sxs, a.get(), "Output MP4 file (not a directory)", true);
   sxs->callback([a] { Print(RenderSideBySideFiles(Request(*a)), a->request.out, a->json); });
   cmd->callback([a, cmd] {
@@ -80,8 +80,8 @@ void SetUp(CLI::App& app) {
   });
   CLI::App* frames =
       app.add_subcommand("frames", "Phase 7: labelled side-by-side PNG frames and frames.json");
-  frames->add_option("reference", r.reference)->required();
-  frames->add_option("candidate", r.candidate)->required();
+  frames->add_option("reference", r.reference)->check(GivenName())->required();
+  frames->add_option("candidate", r.candidate)->check(GivenName())->required();
   frames->add_option("--at", r.at, "Reference frame indices, e.g. 0,15,100,200");
   AddCommon(frames, a.get(), "Output directory (frame_N.png and frames.json)", false);
   frames

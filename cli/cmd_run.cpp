@@ -45,7 +45,8 @@ void SetUp(CLI::App& app) {
   pipeline::RunRequest& r = a->request;
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
   cmd->add_option("config", r.config,
-                  "Scenario name (owval scenario list) or Sibernetic configuration file");
+                  "Scenario name (owval scenario list) or Sibernetic configuration file")
+      ->check(GivenName());
   cmd->add_option("--time", r.time_s, "Simulated time in seconds (steps = (int)(time/dt))");
   cmd->add_option("--log-step", r.log_step, "Steps between frames")->check(Positive());
   cmd->add_option("-o,--out", r.out,

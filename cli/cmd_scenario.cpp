@@ -25,12 +25,12 @@ void SetUp(CLI::App& app) {
     }
   });
   CLI::App* show = cmd->add_subcommand("show", "Print a scenario's manifest");
-  show->add_option("name", a->name)->required();
+  show->add_option("name", a->name)->check(GivenName())->required();
   show->callback(
       [a] { std::cout << scenarios::LoadScenario(a->name, DataDir()).manifest.dump(2) << "\n"; });
   CLI::App* generate =
       cmd->add_subcommand("generate", "Write a scenario's configuration in Sibernetic's format");
-  generate->add_option("name", a->name)->required();
+  generate->add_option("name", a->name)->check(GivenName())->required();
   generate->add_option("-o,--out", a->out, "Configuration file to write")
       ->required()
       ->check(OutputPath());

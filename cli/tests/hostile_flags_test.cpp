@@ -103,19 +103,19 @@ TEST(HostileFlags, AnEmptyInputNameIsRefusedByEveryCommand) {
   const std::string traj = kOneSprig;
   const std::vector<std::string> commands = {
       "compare " + traj + " " + traj + " --manifest ''",
-      "compare " + traj + " " + traj + " --cache ''",
-      "compare owval owval --reference-dir ''",
-      "compare owval owval --sibernetic ''",
-      "backends show owval --backends ''",
-      "checklist . --scenario ''",
-      "checklist . --manifest '' --reference " + traj,
-      "checklist . --reference ''",
-      "ci validate . --reference ''",
+      "compare " + traj + " " + traj + " --cache ''", "compare owval owval --reference-dir ''",
+      "compare owval owval --sibernetic ''", "backends show owval --backends ''",
+      "checklist . --scenario ''", "checklist . --manifest '' --reference " + traj,
+      "checklist . --reference ''", "ci validate . --reference ''",
       "ci validate --stability 10s --scenario ''",
       "fit one_sprig --param elasticity_coefficient=1.62e8:log --target period=7e-4 "
       "--reference ''",
       "bench backends owval --scenario ''",
-      "bench backends owval --scenario one_sprig --reference-dir ''"};
+      "bench backends owval --scenario one_sprig --reference-dir ''",
+      // Positionals: each said something else ("no such scenario", "cannot open file").
+      "scenario show ''", "run '' --out x", "predict ''", "reconcile '' " + traj, "pipeline ''",
+      "inspect ''", "convert '' x.h5", "compare '' " + traj, "render '' -o x.mp4",
+      "bench engine ''"};
   for (const std::string& c : commands) {
     const Result r = OwvalIn(dir, c);
     ExpectOneLineRefusal(r, "expected a path or name, found an empty one", c);
