@@ -43,23 +43,20 @@ CLI::Validator NumberThat(bool (*holds)(double), const std::string& expected,
       },
       name);
 }
-// An output path (file or directory) given on the command line. Commands read an empty path as
-// "not given" (`predict -o ''` printed and wrote nothing, `pipeline -o ''` wrote reports/NAME):
-// an empty one is refused here, where "given" is still known.
-const CLI::Validator kOutputPath(
-    [](std::string& text) {
-      return text.empty() ? std::string("expected a path to write, found an empty one")
-                          : std::string();
-    },
-    "PATH");
-// The same for an option naming an input (--backends, --manifest, --reference, ...): commands
-// read an empty one as "not given" too (`compare --manifest ''` compared with the defaults).
-const CLI::Validator kGivenName(
-    [](std::string& text) {
-      return text.empty() ? std::string("expected a path or name, found an empty one")
-                          : std::string();
-    },
-    "NAME");
+// A path or name given on the command line, not empty (`expected` says what it names).
+// Commands read an empty one as "not given" (`predict -o ''` printed and wrote nothing,
+// `pipeline -o ''` wrote reports/NAME): it is refused here, where "given" is still known.
+CLI::Validator NotEmpty(const std::string& expected, const std::string& name) {
+  return CLI::Validator(
+      [expected](std::string& text) {
+        return text.empty() ? "expected " + expected + ", found an empty one" : std::string();
+      },
+      name);
+}
+const CLI::Validator kOutputPath = NotEmpty("a path to write", "PATH");
+// Inputs too (--backends, --manifest, --reference, ...): commands read an empty one as "not
+// given" (`compare --manifest ''` compared with the defaults).
+const CLI::Validator kGivenName = NotEmpty("a path or name", "NAME");
 const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
 const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
 const CLI::Validator kPositiveCount(
