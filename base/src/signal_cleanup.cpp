@@ -19,15 +19,15 @@ constexpr std::size_t kPathBytes = 4096;
 
 enum SlotState : int { kFree = 0, kFilling = 1, kLive = 2 };
 
+// `owner`: the process that remembered the path. A forked child (RunContained's, a test's) inherits
+// the table and the handler, and must never remove its parent's files (a test's scratch directory).
 struct Slot {
   std::atomic<int> state{kFree};
   bool folder_if_empty = false;
+  pid_t owner = 0;
   char path[kPathBytes];
 };
 Slot g_slots[kSlots];
-// The process whose temporaries the table holds: a forked child (RunContained's) inherits the
-// table and the handler, and must never remove its parent's files.
-std::atomic<pid_t> g_owner{0};
 
 // Only system calls from here on: the handler may have interrupted malloc or a lock holder.
 void RemoveTree(int parent, const char* name, int depth);
@@ -57,13 +57,14 @@ void RemoveTree(int parent, const char* name, int depth) {
 }
 
 extern "C" void RemoveTemporariesAndDie(int signal) {
-  const bool owner = ::getpid() == g_owner.load();
+  const pid_t self = ::getpid();
+  const auto mine = [self](const Slot& s) {
+    return s.state.load(std::memory_order_acquire) == kLive && s.owner == self;
+  };
   for (Slot& s : g_slots)
-    if (owner && s.state.load(std::memory_order_acquire) == kLive && !s.folder_if_empty)
-      RemoveTree(AT_FDCWD, s.path, 0);
+    if (mine(s) && !s.folder_if_empty) RemoveTree(AT_FDCWD, s.path, 0);
   for (Slot& s : g_slots)  // registered innermost first; rmdir fails on a folder not empty
-    if (owner && s.state.load(std::memory_order_acquire) == kLive && s.folder_if_empty)
-      ::rmdir(s.path);
+    if (mine(s) && s.folder_if_empty) ::rmdir(s.path);
   std::signal(signal, SIG_DFL);  // then die of it, as without the handler (exit 130/143)
   std::raise(signal);
 }
@@ -81,6 +82,7 @@ int Remember(const std::filesystem::path& path, bool folder_if_empty) {
     if (!g_slots[i].state.compare_exchange_strong(expected, kFilling)) continue;
     std::memcpy(g_slots[i].path, text.c_str(), text.size() + 1);
     g_slots[i].folder_if_empty = folder_if_empty;
+    g_slots[i].owner = ::getpid();
     g_slots[i].state.store(kLive, std::memory_order_release);
     return i;
   }
@@ -99,7 +101,6 @@ void ForgetTemporary(int* slot) {
 }  // namespace internal
 
 void RemoveTemporariesOnSignal() {
-  g_owner = ::getpid();
   for (int signal : {SIGINT, SIGTERM}) {
     // A signal the parent ignored (nohup, a background job) stays ignored.
     struct sigaction previous {};

@@ -23,9 +23,7 @@ namespace fs = std::filesystem;
 
 fs::path Fresh(const std::string& name) { return owval::testing::TestScratch(name); }
 
-std::size_t Entries(const fs::path& dir) {
-  return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
-}
+using testing::CountEntries;
 
 std::string Contents(const fs::path& p) {
   std::ifstream in(p);
@@ -38,7 +36,7 @@ TEST(AtomicDirectory, AnUncommittedDirectoryLeavesNothing) {
     AtomicDirectory report(parent / "report");
     std::ofstream(report.temporary_path() / "a.txt") << "new";
   }
-  EXPECT_EQ(Entries(parent), 0u);
+  EXPECT_EQ(CountEntries(parent), 0u);
 }
 
 TEST(AtomicDirectory, CommitReplacesAnOlderDirectoryWhole) {
@@ -54,7 +52,7 @@ TEST(AtomicDirectory, CommitReplacesAnOlderDirectoryWhole) {
   report.Commit();
   EXPECT_FALSE(fs::exists(parent / "report" / "old.txt"));
   EXPECT_TRUE(fs::exists(parent / "report" / "new.txt"));
-  EXPECT_EQ(Entries(parent), 1u);  // no temporary or old copy beside it
+  EXPECT_EQ(CountEntries(parent), 1u);  // no temporary or old copy beside it
 }
 
 TEST(AtomicDirectory, RefusesToReplaceADirectoryOwvalDidNotWrite) {
@@ -110,7 +108,7 @@ TEST(OutputGroup, CommitReplacesEveryMemberAndLeavesNoMarker) {
   group.Commit();
   EXPECT_EQ(Contents(dir / "a.txt"), "new a");
   EXPECT_EQ(Contents(dir / "b.txt"), "new b");
-  EXPECT_EQ(Entries(dir), 2u);  // no marker, no temporary
+  EXPECT_EQ(CountEntries(dir), 2u);  // no marker, no temporary
 }
 
 TEST(OutputGroup, AnUncommittedGroupRemovesItsTemporaries) {
@@ -122,7 +120,7 @@ TEST(OutputGroup, AnUncommittedGroupRemovesItsTemporaries) {
     group.Adopt(&a);
     std::ofstream(group.Stage(dir / "b.txt")) << "b";
   }
-  EXPECT_EQ(Entries(dir), 0u);
+  EXPECT_EQ(CountEntries(dir), 0u);
 }
 
 // A commit that stops between its renames (here: a member whose temporary is missing) leaves

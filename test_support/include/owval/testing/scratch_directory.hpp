@@ -1,12 +1,12 @@
 #pragma once
 // Where tests put their files: a directory of their own under temp_directory_path() (TMPDIR
-// honoured), removed with its contents when the test ends, whether it passed or failed. Earlier
+// honoured), removed with its contents when the test ends, whether it passed or failed, and when
+// SIGINT or SIGTERM ends a test program that called RemoveTemporariesOnSignal. Earlier
 // tests wrote to fixed names or per-process names they never removed: /tmp held 12,511 owval_*
 // entries (about 40 GB) after a few days of runs.
 //
 // OWVAL_KEEP_TEST_FILES=1 keeps every scratch directory and prints its path, for looking at a
 // failing test's files.
-#include <stdlib.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,10 +15,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 #include <string>
-#include <system_error>
 #include <utility>
+
+#include "owval/base/temporary_directory.hpp"
 
 namespace owval::testing {
 
@@ -27,43 +27,45 @@ inline bool KeepTestFiles() {
   return keep && std::string(keep) == "1";
 }
 
-// temp_directory_path()/owval_[LABEL_]PID_XXXXXX, made by mkdtemp: two tests, two build trees or
-// two runs of one test (ctest -j2, --repeat) never share one. Short on purpose: owval shortens a
-// path of more than 80 characters in its messages, and tests compare those messages.
+// A TemporaryDirectory named owval_[LABEL_]PID-XXXXXX (two tests, two build trees or two runs of
+// one test, ctest -j2 or --repeat, never share one), kept and named with OWVAL_KEEP_TEST_FILES=1.
+// Short on purpose: owval shortens a path of more than 80 characters in its messages, and tests
+// compare those messages.
 class ScratchDirectory {
  public:
   // OWNER (a test's name) is printed with the path when the directory is kept.
-  explicit ScratchDirectory(std::string label = "", std::string owner = "")
-      : owner_(std::move(owner)) {
-    std::replace_if(
-        label.begin(), label.end(), [](char c) { return !std::isalnum((unsigned char)c); }, '_');
-    std::string pattern =
-        (std::filesystem::temp_directory_path() /
-         ("owval_" + (label.empty() ? "" : label + "_") + std::to_string(::getpid()) + "_XXXXXX"))
-            .string();
-    if (!::mkdtemp(pattern.data()))
-      throw std::runtime_error("cannot create a scratch directory " + pattern);
-    path_ = pattern;
-  }
+  explicit ScratchDirectory(const std::string& label = "", std::string owner = "")
+      : directory_(Prefix(label), KeepTestFiles() ? TemporaryDirectory::OnExit::kKeep
+                                                  : TemporaryDirectory::OnExit::kRemove),
+        owner_(std::move(owner)) {}
   ~ScratchDirectory() {
-    if (KeepTestFiles()) {
-      std::fprintf(stderr, "OWVAL_KEEP_TEST_FILES=1: kept %s%s%s\n", path_.c_str(),
+    if (directory_.kept())
+      std::fprintf(stderr, "OWVAL_KEEP_TEST_FILES=1: kept %s%s%s\n", path().c_str(),
                    owner_.empty() ? "" : " for ", owner_.c_str());
-      return;
-    }
-    std::error_code ignored;  // a destructor must not throw; what is left shows in the count
-    std::filesystem::remove_all(path_, ignored);
   }
   ScratchDirectory(const ScratchDirectory&) = delete;
   ScratchDirectory& operator=(const ScratchDirectory&) = delete;
 
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::filesystem::path& name) const { return path_ / name; }
+  const std::filesystem::path& path() const { return directory_.path(); }
+  std::filesystem::path operator/(const std::filesystem::path& name) const { return path() / name; }
 
  private:
-  std::filesystem::path path_;
+  static std::string Prefix(std::string label) {
+    std::replace_if(
+        label.begin(), label.end(), [](char c) { return !std::isalnum((unsigned char)c); }, '_');
+    return "owval_" + (label.empty() ? "" : label + "_") + std::to_string(::getpid());
+  }
+
+  TemporaryDirectory directory_;
   std::string owner_;
 };
+
+// How many entries DIR holds (what a test left behind, what a run wrote).
+inline std::size_t CountEntries(const std::filesystem::path& dir) {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++n;
+  return n;
+}
 
 namespace detail {
 // The running test's directory (made on first use) and the test program's (for data a suite
