@@ -16,19 +16,16 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
+using testing::FileBytes;
 
 fs::path Fresh(const std::string& name) { return owval::testing::TestScratch(name); }
 
 using testing::CountEntries;
-
-std::string Contents(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 TEST(AtomicDirectory, AnUncommittedDirectoryLeavesNothing) {
   const fs::path parent = Fresh("uncommitted");
@@ -79,7 +76,7 @@ TEST(OutputGroup, ADirectoryInTheWayOfAFileIsRefusedAndKept) {
   WriteFileAtomically(group.Stage(parent / "a.txt"), "a");
   WriteFileAtomically(group.Stage(parent / "worm.wcon"), "{}");
   EXPECT_THROW(group.Commit(), InputError);
-  EXPECT_EQ(Contents(parent / "worm.wcon" / "notes.txt"), "precious");
+  EXPECT_EQ(FileBytes(parent / "worm.wcon" / "notes.txt"), "precious");
   EXPECT_FALSE(fs::exists(parent / "a.txt"));  // nothing moved: the set stays whole
 }
 
@@ -104,10 +101,10 @@ TEST(OutputGroup, CommitReplacesEveryMemberAndLeavesNoMarker) {
   a.stream() << "new a";
   group.Adopt(&a);
   std::ofstream(group.Stage(dir / "b.txt")) << "new b";
-  EXPECT_EQ(Contents(dir / "a.txt"), "old a");  // nothing visible before the commit
+  EXPECT_EQ(FileBytes(dir / "a.txt"), "old a");  // nothing visible before the commit
   group.Commit();
-  EXPECT_EQ(Contents(dir / "a.txt"), "new a");
-  EXPECT_EQ(Contents(dir / "b.txt"), "new b");
+  EXPECT_EQ(FileBytes(dir / "a.txt"), "new a");
+  EXPECT_EQ(FileBytes(dir / "b.txt"), "new b");
   EXPECT_EQ(CountEntries(dir), 2u);  // no marker, no temporary
 }
 
@@ -135,7 +132,7 @@ TEST(OutputGroup, AnInterruptedCommitMakesReadersRefuseItsFiles) {
   group.Adopt(&a);
   group.Stage(dir / "b.txt");  // never written
   EXPECT_THROW(group.Commit(), InputError);
-  EXPECT_EQ(Contents(dir / "a.txt"), "new a");
+  EXPECT_EQ(FileBytes(dir / "a.txt"), "new a");
   EXPECT_TRUE(fs::exists(CommitMarkerPath(dir)));
   try {
     ReadWholeFile(dir / "a.txt");
@@ -147,12 +144,7 @@ TEST(OutputGroup, AnInterruptedCommitMakesReadersRefuseItsFiles) {
 }
 
 std::string CheckError(const fs::path& destination) {
-  try {
-    CheckOutputPath(destination);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { CheckOutputPath(destination); });
 }
 
 // `owval pipeline free_fall` (default -o reports/free_fall) was refused in a directory without

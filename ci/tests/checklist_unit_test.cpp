@@ -8,14 +8,14 @@
 
 #include "owval/ci/checklist.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::ci {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path& kOneSprig = testing::kBundledOneSprig;
 
 fs::path Fresh(const std::string& name) { return owval::testing::TestScratch(name); }
 

@@ -13,6 +13,7 @@
 #include "owval/compare/parity.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -102,8 +103,7 @@ TEST(StreamedGates, QuickTestFailsACandidateWithANaNPosition) {
 // A failing candidate copied over the reference agrees with itself: validate passed it (exit 0)
 // until the directory's reference had to be the caller's.
 TEST(StreamedGates, ValidateHoldsTheDirectorysReferenceToTheCallers) {
-  const fs::path bundled =
-      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  const fs::path bundled = owval::testing::kBundledOneSprig;
   Trajectory faster = ReadTrajectory(bundled);  // a 5% stiffer spring: resampled at 1.05x
   const Trajectory reference = faster;
   for (std::size_t f = 0; f < faster.frame_count(); ++f)

@@ -7,13 +7,13 @@
 
 #include "owval/ci/checklist.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::ci {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path& kOneSprig = testing::kBundledOneSprig;
 
 // Item 4 of a directory with one_sprig as reference and candidate and an H.264 video of
 // `frames` black 320x160 frames made by ffmpeg's own encoder (not owval's).

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 namespace {
@@ -162,8 +163,7 @@ TEST(BackendsCli, AFileBesideAMissingFileOrADirectoryNamesTheOther) {
   const fs::path dir = Scratch() / "file_partner";
   fs::remove_all(dir);
   fs::create_directories(dir / "folder");
-  fs::copy_file(fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt",
-                dir / "ref.txt");
+  fs::copy_file(owval::testing::kBundledOneSprig, dir / "ref.txt");
   for (const auto& [args, named] :
        std::vector<std::pair<std::string, std::string>>{{"ref.txt nosuch.h5", "nosuch.h5"},
                                                         {"nosuch.h5 ref.txt", "nosuch.h5"},

@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace {
 namespace fs = std::filesystem;
+using owval::testing::FileBytes;
 
 struct Result {
   int exit_code = -1;
@@ -23,21 +25,15 @@ struct Result {
 
 fs::path Scratch() { return owval::testing::TestScratch(); }
 
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 Result Owval(const std::string& args) {
   const fs::path out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
   const std::string command =
       std::string(OWVAL_EXE) + " --quiet " + args + " > " + out.string() + " 2> " + err.string();
   const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(out), Slurp(err)};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, FileBytes(out), FileBytes(err)};
 }
 
-const std::string kOneSprig =
-    std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
+const std::string kOneSprig = owval::testing::kBundledOneSprig.string();
 
 TEST(Cli, InspectJsonReportsTheOneSprigPeriod) {
   const Result r = Owval("inspect " + kOneSprig + " --particle 0 --axis y --json");
@@ -68,7 +64,7 @@ TEST(Cli, MissingFileIsOneLineExitTwo) {
 
 TEST(Cli, TruncatedFileNamesFileAndLineAndLeavesNoOutput) {
   const fs::path bad = Scratch() / "truncated.txt";
-  const std::string text = Slurp(kOneSprig);
+  const std::string text = FileBytes(kOneSprig);
   std::ofstream(bad) << text.substr(0, text.size() / 2 - 7);  // cut mid-row
   const fs::path out = Scratch() / "converted.h5";
   fs::remove(out);
@@ -83,7 +79,7 @@ TEST(Cli, TruncatedFileNamesFileAndLineAndLeavesNoOutput) {
 
 TEST(Cli, NaNInTrajectoryIsRefused) {
   const fs::path bad = Scratch() / "nan.txt";
-  std::string text = Slurp(kOneSprig);
+  std::string text = FileBytes(kOneSprig);
   const auto row = text.find("17.535\t20.04");
   text.replace(row, 6, "nan");
   std::ofstream(bad) << text;
@@ -103,7 +99,7 @@ TEST(Cli, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
   ASSERT_EQ(Owval("convert " + kOneSprig + " " + a.string()).exit_code, 0);
   fs::copy_file(a, b);
   fs::create_symlink(b, dir / "link.h5");
-  const std::string original = Slurp(b);
+  const std::string original = FileBytes(b);
   for (const auto& [args, named] : std::vector<std::pair<std::string, fs::path>>{
            {"compare " + a.string() + " " + b.string() + " --markdown " + b.string(), b},
            {"compare " + a.string() + " " + b.string() + " --markdown " +
@@ -121,7 +117,7 @@ TEST(Cli, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
         0u)
         << args << ": " << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
-    EXPECT_EQ(Slurp(b), original) << args;
+    EXPECT_EQ(FileBytes(b), original) << args;
   }
 }
 
@@ -132,7 +128,7 @@ TEST(Cli, NaNInACandidateIsBadInputToAMeasurementAndAFailedGateToQuickTest) {
   const fs::path dir = Scratch() / "nan_candidate";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::string text = Slurp(kOneSprig);
+  std::string text = FileBytes(kOneSprig);
   std::ofstream(dir / "reference.txt") << text;
   const auto row = text.rfind("17.535\t");  // the elastic particle of the last frame
   text.replace(row, 6, "nan");
@@ -157,7 +153,7 @@ TEST(Cli, ConvertRoundTripThroughHdf5) {
   const fs::path h5 = Scratch() / "one_sprig.h5", back = Scratch() / "back.txt";
   ASSERT_EQ(Owval("convert " + kOneSprig + " " + h5.string()).exit_code, 0);
   ASSERT_EQ(Owval("convert " + h5.string() + " " + back.string()).exit_code, 0);
-  EXPECT_EQ(Slurp(back), Slurp(kOneSprig));  // byte-identical at Sibernetic's 6 digits
+  EXPECT_EQ(FileBytes(back), FileBytes(kOneSprig));  // byte-identical at Sibernetic's 6 digits
 }
 
 TEST(Cli, CompareExitCodes) {
@@ -165,7 +161,7 @@ TEST(Cli, CompareExitCodes) {
   // A copy whose elastic particle's y is 6% higher fails the frame gate.
   const fs::path h5 = Scratch() / "ref.h5";
   ASSERT_EQ(Owval("convert " + kOneSprig + " " + h5.string()).exit_code, 0);
-  std::string text = Slurp(kOneSprig);
+  std::string text = FileBytes(kOneSprig);
   std::string scaled;
   std::istringstream in(text);
   int line = 0;
@@ -346,7 +342,7 @@ TEST(CliRun, WcsphStepLogHasOneEntryPerFrame) {
       out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto summary = nlohmann::json::parse(r.out);
-  const auto log = nlohmann::json::parse(Slurp(out / "step_log.json"));
+  const auto log = nlohmann::json::parse(FileBytes(out / "step_log.json"));
   EXPECT_EQ(log["backend"], "wcsph");
   ASSERT_EQ(log["frames"].size(), summary["frames"].get<std::size_t>());
   EXPECT_TRUE(log["frames"].back().contains("max_density_variation"));
@@ -356,9 +352,7 @@ TEST(CliRun, WcsphStepLogHasOneEntryPerFrame) {
 // Issue 18 items 12 and 14: usage errors are one short line; particle indices are not wrapped;
 // --max-memory bounds what an input may allocate.
 TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   for (const std::string& particle : {std::string("-1"), std::string(309, '9')}) {
     const Result r = Owval("inspect --particle " + particle + " " + traj);
     EXPECT_EQ(r.exit_code, 2);
@@ -424,9 +418,7 @@ TEST(CliBench, IoRemovesItsFilesAndTheDirectoriesItMade) {
 // killed), a stability gate's tolerance of NaN (which passed every frame). Each is now one line,
 // exit 2, and nothing written.
 TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   const fs::path out = Scratch() / "hostile";
   fs::remove_all(out);
   fs::create_directories(out);
@@ -459,9 +451,7 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
 // wrote one PNG but three entries: an empty, repeated or out-of-range list is one line, exit 2,
 // and nothing written.
 TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   const fs::path out = Scratch() / "frames_at";
   fs::remove_all(out);
   for (const std::string at : {"''", "0,0,0", "0,", "0,15,9999"}) {
@@ -476,9 +466,7 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
 // render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
 // place: Is a directory". -o is the MP4 file: a directory is refused before any work, by name.
 TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   const fs::path dir = Scratch() / "render_dir";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -553,9 +541,7 @@ TEST(Cli, FailedFitLeavesNoFolderBehind) {
 // and --size 101x101 failed after the trajectory was read, naming the temporary, leaving the
 // folder it had made. Each is one line naming what the user typed, before any work.
 TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   const fs::path out = Scratch() / "odd_size";
   fs::remove_all(out);
   for (const std::string& args :
@@ -585,9 +571,7 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
 // what stops it (/proc takes no new entries), exit 2.
 TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
-  const std::string traj =
-      (fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt")
-          .string();
+  const std::string traj = (owval::testing::kBundledOneSprig).string();
   for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
            {"run one_sprig --time 0.0001 -o /proc/owval_x", "/proc/owval_x"},
            {"run one_sprig --time 0.0001 -o /proc/owval_x/y", "/proc/owval_x"},

@@ -7,13 +7,13 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path& kOneSprig = testing::kBundledOneSprig;
 
 // `owval --quiet ARGS` with files limited to `kib` KiB.
 Result OwvalOnAFullDisk(const std::string& args, int kib) {

@@ -6,13 +6,13 @@
 #include <sstream>
 
 #include "cli_support.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kOneSprig =
-    std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
+const std::string kOneSprig = testing::kBundledOneSprig.string();
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1";
 
 bool Mentions(const nlohmann::json& blocking, const std::string& what) {

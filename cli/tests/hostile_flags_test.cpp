@@ -17,13 +17,13 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kOneSprig =
-    std::string(OWVAL_SOURCE_DIR) + "/reference_trajectories/one_sprig/position_buffer.txt";
+const std::string kOneSprig = testing::kBundledOneSprig.string();
 
 // An empty directory of its own, for commands run inside it (cd DIR && owval ...).
 fs::path FreshDirectory(const std::string& name) { return TestScratch(name); }

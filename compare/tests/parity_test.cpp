@@ -11,18 +11,14 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
+#include "owval/testing/one_sprig_run.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() {
-  static const Trajectory t =
-      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
-                     "reference_trajectories/one_sprig/position_buffer.txt");
-  return t;
-}
+const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
 
 TEST(Parity, ReferenceAgainstItselfPassesWithZeroError) {
   const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});

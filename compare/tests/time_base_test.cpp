@@ -9,17 +9,13 @@
 #include <numbers>
 
 #include "owval/compare/parity.hpp"
+#include "owval/testing/one_sprig_run.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() {
-  static const Trajectory t =
-      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
-                     "reference_trajectories/one_sprig/position_buffer.txt");
-  return t;
-}
+const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
 
 // one_sprig's spring as a stiffer one would move it: the reference's sine (equilibrium 18.3523,
 // half-amplitude 1.694, from its maximum) with the period of k = 3.3e8 (0.6908 ms, 4.7% short),

@@ -9,17 +9,13 @@
 #include <limits>
 
 #include "owval/compare/parity.hpp"
+#include "owval/testing/one_sprig_run.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() {
-  static const Trajectory t =
-      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
-                     "reference_trajectories/one_sprig/position_buffer.txt");
-  return t;
-}
+const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
 
 // Sibernetic's demo1 run, or a skip (a failure with OWVAL_REQUIRE_REFERENCE=1).
 const Trajectory* Demo1() {

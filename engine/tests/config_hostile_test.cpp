@@ -10,6 +10,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/engine/config.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::engine {
 namespace {
@@ -25,12 +26,7 @@ std::string Config(const std::string& box, const std::string& tail) {
 const std::string kBox = "0\n10\n0\n10\n0\n10\n";
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseSiberneticConfig(text, "cfg");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { ParseSiberneticConfig(text, "cfg"); });
 }
 
 std::string MemIndex(const std::string& first) {

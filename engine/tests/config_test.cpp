@@ -6,6 +6,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::engine {
 namespace {
@@ -29,12 +30,7 @@ std::string Connections(const std::string& first) {
 }
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseSiberneticConfig(text, "cfg");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { ParseSiberneticConfig(text, "cfg"); });
 }
 
 TEST(Config, ReadsSiberneticsOwnOneSprigAndDemo1) {

@@ -12,6 +12,7 @@
 #include "owval/kinematics/skeleton.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -164,8 +165,7 @@ TEST(Wcon, ReaderRefusesBrokenFilesNamingTheField) {
 }
 
 TEST(Wcon, ATrajectoryWithoutAWormIsRefusedNamingTheFile) {
-  const fs::path sprig =
-      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  const fs::path sprig = owval::testing::kBundledOneSprig;
   try {
     LoadSkeletons(sprig);
     FAIL() << "accepted";

@@ -15,6 +15,7 @@
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/pipeline/run_directory.hpp"
+#include "owval/testing/hdf5_damage.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
@@ -145,23 +146,7 @@ TEST(StreamedOutputs, ConvertInEveryDirectionEqualsTheWholeTrajectoryWriters) {
   EXPECT_EQ(files, 2u + 2 + 5 + 3 + 3);
 }
 
-// Overwrites 16 bytes in the middle of the positions chunk that holds `frame`.
-void CorruptPositionsChunk(const fs::path& path, hsize_t frame) {
-  haddr_t address = 0;
-  hsize_t stored = 0;
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
-  const hsize_t origin[3] = {frame, 0, 0};
-  unsigned mask = 0;
-  H5Dget_chunk_info_by_coord(set, origin, &mask, &address, &stored);
-  H5Dclose(set);
-  H5Fclose(file);
-  ASSERT_GT(stored, 64u);
-  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-  f.seekp(std::streamoff(address + stored / 2));
-  const char garbage[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
-  f.write(garbage, sizeof garbage);
-}
+using testing::CorruptPositionsChunk;
 
 TEST(StreamedOutputs, ACorruptFrameMidwayThroughAConvertLeavesNoOutput) {
   if (!fs::exists(kWorm)) GTEST_SKIP() << "needs " << kWorm;

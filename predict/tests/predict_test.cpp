@@ -9,6 +9,7 @@
 #include "owval/predict/predict.hpp"
 #include "owval/scenarios/generators.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "prediction_parts.hpp"
 
@@ -16,8 +17,7 @@ namespace owval::predict {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kBundledOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path kBundledOneSprig = owval::testing::kBundledOneSprig;
 
 const nlohmann::json& Q(const nlohmann::json& prediction, const std::string& name) {
   for (const auto& q : prediction["predictions"])

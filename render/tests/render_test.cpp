@@ -9,6 +9,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/ci/checklist.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::render {
@@ -104,8 +105,7 @@ TEST(Render, PanelsArePairedByTimeNotIndex) {
 }
 
 TEST(Render, FramesPrintTheTrajectoryValues) {
-  const fs::path one_sprig =
-      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  const fs::path one_sprig = owval::testing::kBundledOneSprig;
   const Trajectory t = ReadTrajectory(one_sprig);
   RenderOptions o;
   o.width = 640;

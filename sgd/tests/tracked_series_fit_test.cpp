@@ -15,6 +15,7 @@
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::sgd {
@@ -22,8 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kReference = fs::path(OWVAL_SHARED_DIR) / "reference";
-const fs::path kOneSprigRun =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path kOneSprigRun = owval::testing::kBundledOneSprig;
 
 // 0.01 s of one_sprig (500 steps, a frame every 2: the particle crosses its equilibrium 27
 // times), one thread, positions only: what EngineSimulator runs.

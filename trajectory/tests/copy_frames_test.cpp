@@ -11,19 +11,15 @@
 #include <vector>
 
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
-
-std::string Bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::FileBytes;
+using testing::ScratchFile;
 
 // 41 frames of 5 particles, every value distinct; density holds a NaN (a diverged run's may).
 Trajectory WithFields() {
@@ -61,7 +57,7 @@ TEST(CopyFrames, EveryArrayOfAnHdf5FileEqualsTheWholeReadAcrossChunks) {
   const Trajectory t = WithFields();
   const std::size_t n = t.particle_count();
   for (std::size_t chunk : {std::size_t{1}, std::size_t{16}}) {
-    const fs::path h5 = TempPath("chunk" + std::to_string(chunk) + ".h5");
+    const fs::path h5 = ScratchFile("chunk" + std::to_string(chunk) + ".h5");
     Hdf5WriteOptions options;
     options.frames_per_chunk = chunk;
     WriteHdf5(t, h5, options);
@@ -101,11 +97,11 @@ TEST(CopyFrames, TheDefaultGoesThroughFramesAndRefusesAnArrayTheFramesLack) {
 // `owval convert a.h5 b.h5` is WriteHdf5 of a.h5's frame source: the bytes WriteHdf5 writes.
 TEST(CopyFrames, WriteHdf5OfAnHdf5SourceWithFieldsIsByteIdenticalToTheWholeWrite) {
   const Trajectory t = WithFields();
-  const fs::path whole = TempPath("whole.h5"), streamed = TempPath("streamed.h5");
+  const fs::path whole = ScratchFile("whole.h5"), streamed = ScratchFile("streamed.h5");
   WriteHdf5(t, whole);
   const auto source = OpenFrameSource(whole);
   WriteHdf5(*source, streamed);
-  EXPECT_EQ(Bytes(streamed), Bytes(whole));
+  EXPECT_EQ(FileBytes(streamed), FileBytes(whole));
   const Trajectory back = ReadHdf5(streamed);
   EXPECT_EQ(std::memcmp(back.pressure.data(), t.pressure.data(), t.pressure.size() * 4), 0);
 }

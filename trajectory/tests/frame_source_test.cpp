@@ -15,22 +15,17 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
+using testing::FileBytes;
+using testing::ScratchFile;
 
-const fs::path kOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path& kOneSprig = testing::kBundledOneSprig;
 const fs::path kReference = fs::path(OWVAL_SHARED_DIR) / "reference";
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
-
-std::string Slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 void WriteGzip(const fs::path& path, const std::string& text) {
   gzFile out = gzopen(path.c_str(), "wb");
@@ -104,7 +99,7 @@ TEST(FrameSource, NativeLayoutAndHdf5StreamTheWholeReadersFrames) {
   Trajectory demo1 = ReadTrajectory(kReference / "demo1/position_buffer.txt");
   demo1.time_s.resize(60);
   demo1.positions.resize(60 * demo1.particle_count() * 3);
-  const fs::path native = TempPath("demo1_native.txt"), h5 = TempPath("demo1.h5");
+  const fs::path native = ScratchFile("demo1_native.txt"), h5 = ScratchFile("demo1.h5");
   WriteSiberneticText(demo1, native, TextLayout::kNative);
   WriteHdf5(demo1, h5);
   ExpectStreamEqualsWhole(native);
@@ -132,7 +127,7 @@ TEST(FrameSource, Hdf5FieldsStreamOnRequestEqualToTheWholeRead) {
   const Trajectory t = WithFields(37);
   const std::size_t n = t.particle_count();
   for (std::size_t chunk : {std::size_t{1}, std::size_t{16}}) {
-    const fs::path h5 = TempPath("fields_" + std::to_string(chunk) + ".h5");
+    const fs::path h5 = ScratchFile("fields_" + std::to_string(chunk) + ".h5");
     Hdf5WriteOptions options;
     options.frames_per_chunk = chunk;
     WriteHdf5(t, h5, options);
@@ -160,7 +155,7 @@ TEST(FrameSource, Hdf5FieldsStreamOnRequestEqualToTheWholeRead) {
 TEST(FrameSource, FilesWithoutFieldsGiveNoneWhenAsked) {
   Trajectory t = WithFields(5);
   t.velocities.clear(), t.pressure.clear();
-  const fs::path h5 = TempPath("density_only.h5");
+  const fs::path h5 = ScratchFile("density_only.h5");
   WriteHdf5(t, h5);
   for (const fs::path& path : {h5, kOneSprig}) {
     const auto source = OpenFrameSource(path);
@@ -182,7 +177,7 @@ TEST(FrameSource, MemorySourceHandsOutTheTrajectoryItself) {
 }
 
 TEST(FrameSource, ForcedLayoutAndPartialNameAreHonoured) {
-  const fs::path partial = TempPath("position_buffer.partial.txt");
+  const fs::path partial = ScratchFile("position_buffer.partial.txt");
   fs::copy_file(kOneSprig, partial, fs::copy_options::overwrite_existing);
   TextReadOptions opencl;
   opencl.layout = TextLayout::kOpenCL;
@@ -212,7 +207,7 @@ std::string StreamError(const fs::path& path) {
 }
 
 TEST(FrameSource, RefusesWhatTheWholeReaderRefusesWithTheSameMessage) {
-  const std::string text = Slurp(kOneSprig);
+  const std::string text = FileBytes(kOneSprig);
   std::string nan = text;
   nan.replace(nan.find("17.535\t20.04"), 6, "nan");
   std::string counts = text;
@@ -226,7 +221,7 @@ TEST(FrameSource, RefusesWhatTheWholeReaderRefusesWithTheSameMessage) {
       {"empty.txt", ""},
       {"fields.txt", "0\n1\n0\n1\n0\n1\n1\n0\n0\n2e-5\n1\n1 2 3 2.1 9\n"}};  // extra field
   for (const auto& [name, content] : cases) {
-    const fs::path path = TempPath(name);
+    const fs::path path = ScratchFile(name);
     std::ofstream(path, std::ios::binary) << content;
     const std::string expected = WholeError(path);
     ASSERT_FALSE(expected.empty()) << name;
@@ -235,11 +230,11 @@ TEST(FrameSource, RefusesWhatTheWholeReaderRefusesWithTheSameMessage) {
 }
 
 TEST(FrameSource, RefusesATruncatedOrCorruptGzipFile) {
-  const std::string text = Slurp(kOneSprig);
-  const fs::path gz = TempPath("one_sprig.txt.gz");
+  const std::string text = FileBytes(kOneSprig);
+  const fs::path gz = ScratchFile("one_sprig.txt.gz");
   WriteGzip(gz, text);
-  const std::string packed = Slurp(gz);
-  const fs::path cut = TempPath("cut.txt.gz"), corrupt = TempPath("corrupt.txt.gz");
+  const std::string packed = FileBytes(gz);
+  const fs::path cut = ScratchFile("cut.txt.gz"), corrupt = ScratchFile("corrupt.txt.gz");
   std::ofstream(cut, std::ios::binary) << packed.substr(0, packed.size() / 2);
   std::string flipped = packed;
   for (std::size_t i = 100; i < 140; ++i) flipped[i] = char(flipped[i] ^ 0x5a);

@@ -12,6 +12,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -20,8 +21,7 @@
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
+using testing::ScratchFile;
 
 // Three particles, one frame per time in `time_s`, written by owval's own HDF5 writer.
 fs::path Hdf5WithTimes(const std::string& name, const std::vector<double>& time_s) {
@@ -35,39 +35,26 @@ fs::path Hdf5WithTimes(const std::string& name, const std::vector<double>& time_
     x[0] += 0.5f;
     t.AppendFrame(time, x.data());
   }
-  const fs::path path = TempPath(name);
+  const fs::path path = ScratchFile(name);
   WriteHdf5(t, path);
   return path;
 }
 
 std::string ReadError(const fs::path& path) {
-  try {
-    ReadTrajectory(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { ReadTrajectory(path); });
 }
 
 std::string OpenError(const fs::path& path) {
-  try {
+  return testing::InputErrorOf([&] {
     TextReadOptions quiet;
     quiet.quiet = true;
     const auto source = OpenFrameSource(path, quiet);
     for (std::size_t f = 0; f < source->frame_count(); ++f) source->Frame(f);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  });
 }
 
 std::string Hdf5FrameReaderError(const fs::path& path) {
-  try {
-    Hdf5FrameReader reader(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { Hdf5FrameReader reader(path); });
 }
 
 TEST(FrameTimes, Hdf5WithADuplicatedTimeIsRefusedByEveryReader) {
@@ -111,14 +98,14 @@ std::string OverflowingText() {
 }
 
 TEST(FrameTimes, TextWhoseTimesOverflowIsRefusedPlainAndGzipped) {
-  const fs::path plain = TempPath("overflow.txt");
+  const fs::path plain = ScratchFile("overflow.txt");
   std::ofstream(plain) << OverflowingText();
   const std::string what =
       ": frame time = frame x log step x time step (header): frame 1's time inf s is not finite: "
       "frame times must be finite";
   EXPECT_EQ(ReadError(plain), plain.string() + what);
   EXPECT_EQ(OpenError(plain), plain.string() + what);
-  const fs::path gz = TempPath("overflow.txt.gz");
+  const fs::path gz = ScratchFile("overflow.txt.gz");
   gzFile out = gzopen(gz.c_str(), "wb");
   const std::string text = OverflowingText();
   gzwrite(out, text.data(), unsigned(text.size()));
@@ -129,7 +116,7 @@ TEST(FrameTimes, TextWhoseTimesOverflowIsRefusedPlainAndGzipped) {
 
 // A valid run reads as before: frame f at exactly f x log step x time step.
 TEST(FrameTimes, TextTimesAreStillFrameTimesLogStepTimesTimeStep) {
-  const fs::path path = TempPath("valid.txt");
+  const fs::path path = ScratchFile("valid.txt");
   std::ofstream(path) << "0\n10\n0\n10\n0\n10\n0\n1\n0\n2e-05\n20\n"
                          "1\t2\t3\t1.1\n1\t2\t4\t1.1\n1\t2\t5\t1.1\n";
   const Trajectory t = ReadTrajectory(path);
@@ -142,7 +129,7 @@ TEST(FrameTimes, TextTimesAreStillFrameTimesLogStepTimesTimeStep) {
 
 fs::path WconWithTimes(const std::string& name, const std::string& t_unit,
                        const std::string& times) {
-  const fs::path path = TempPath(name);
+  const fs::path path = ScratchFile(name);
   std::ofstream(path) << R"({"units": {"t": ")" << t_unit
                       << R"(", "x": "mm", "y": "mm"}, "data": [{"id": "w", "t": [)" << times
                       << R"(], "x": [[0, 1], [0, 1], [0, 1]], "y": [[0, 0], [0, 0], [0, 0]]}]})";
@@ -150,12 +137,7 @@ fs::path WconWithTimes(const std::string& name, const std::string& t_unit,
 }
 
 std::string WconError(const fs::path& path) {
-  try {
-    ReadWcon(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { ReadWcon(path); });
 }
 
 TEST(FrameTimes, WconTimesThatGoBackOrOverflowAreRefused) {

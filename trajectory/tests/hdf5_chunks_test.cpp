@@ -11,14 +11,15 @@
 
 #include "hdf5_chunks.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/testing/hdf5_damage.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
+using testing::ScratchFile;
 
 // 37 frames x 2500 particles: three chunks along each axis, the last ones partial.
 Trajectory Wandering(std::size_t frames = 37, std::size_t particles = 2500) {
@@ -52,7 +53,7 @@ std::vector<float> ReadWithHdf5Pipeline(const fs::path& path, std::size_t values
 TEST(Hdf5Chunks, ParallelReadEqualsHdf5sPipeline) {
   for (int level : {0, 4, 9}) {  // 0: stored deflate blocks
     const Trajectory t = Wandering();
-    const fs::path path = TempPath("wander" + std::to_string(level) + ".h5");
+    const fs::path path = ScratchFile("wander" + std::to_string(level) + ".h5");
     Hdf5WriteOptions options;
     options.compression_level = level;
     WriteHdf5(t, path, options);
@@ -64,7 +65,7 @@ TEST(Hdf5Chunks, ParallelReadEqualsHdf5sPipeline) {
 
 TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   const Trajectory t = Wandering(5, 100);
-  const fs::path path = TempPath("layout.h5");
+  const fs::path path = ScratchFile("layout.h5");
   WriteHdf5(t, path);
   std::vector<float> out(t.positions.size());
   internal::FileBytes bytes(path.string());
@@ -98,27 +99,9 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
 }
 
 TEST(Hdf5Chunks, CorruptChunkIsRefusedWithTheFileName) {
-  const fs::path path = TempPath("corrupt.h5");
+  const fs::path path = ScratchFile("corrupt.h5");
   WriteHdf5(Wandering(), path);
-  // Locate the first positions chunk and overwrite 16 bytes in its middle.
-  haddr_t address = 0;
-  hsize_t stored = 0;
-  {
-    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
-    const hsize_t origin[3] = {0, 0, 0};
-    unsigned mask = 0;
-    ASSERT_GE(H5Dget_chunk_info_by_coord(set, origin, &mask, &address, &stored), 0);
-    H5Dclose(set);
-    H5Fclose(file);
-  }
-  ASSERT_GT(stored, 64u);
-  {
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(std::streamoff(address + stored / 2));
-    const char garbage[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
-    f.write(garbage, sizeof garbage);
-  }
+  ASSERT_NO_FATAL_FAILURE(testing::CorruptPositionsChunk(path, 0));
   try {
     ReadHdf5(path);
     FAIL() << "a corrupt chunk was accepted";
@@ -129,7 +112,7 @@ TEST(Hdf5Chunks, CorruptChunkIsRefusedWithTheFileName) {
 }
 
 TEST(Hdf5Chunks, TruncatedChunkIsRefusedWithTheFileName) {
-  const fs::path path = TempPath("truncated_chunk.h5");
+  const fs::path path = ScratchFile("truncated_chunk.h5");
   WriteHdf5(Wandering(), path);
   {  // Store the first positions chunk again with only the first half of its bytes.
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);

@@ -5,13 +5,13 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
+using testing::ScratchFile;
 
 Trajectory WithFields() {
   Trajectory t;
@@ -36,7 +36,7 @@ Trajectory WithFields() {
 
 TEST(Hdf5Format, RoundTripIsExact) {
   const Trajectory t = WithFields();
-  const fs::path path = TempPath("rt.h5");
+  const fs::path path = ScratchFile("rt.h5");
   WriteHdf5(t, path);
   EXPECT_EQ(DetectFormat(path), FileFormat::kHdf5);
   const Trajectory back = ReadTrajectory(path);
@@ -58,7 +58,7 @@ TEST(Hdf5Format, OptionalFieldsStayAbsent) {
   t.velocities.clear();
   t.density.clear();
   t.pressure.clear();
-  const fs::path path = TempPath("bare.h5");
+  const fs::path path = ScratchFile("bare.h5");
   WriteHdf5(t, path);
   const Trajectory back = ReadHdf5(path);
   EXPECT_FALSE(back.has_velocities());
@@ -67,9 +67,9 @@ TEST(Hdf5Format, OptionalFieldsStayAbsent) {
 }
 
 TEST(Hdf5Format, TruncatedFileIsRefusedWithItsName) {
-  const fs::path path = TempPath("full.h5");
+  const fs::path path = ScratchFile("full.h5");
   WriteHdf5(WithFields(), path);
-  const fs::path cut = TempPath("cut.h5");
+  const fs::path cut = ScratchFile("cut.h5");
   fs::copy_file(path, cut, fs::copy_options::overwrite_existing);
   fs::resize_file(cut, fs::file_size(path) / 2);
   try {
@@ -80,18 +80,20 @@ TEST(Hdf5Format, TruncatedFileIsRefusedWithItsName) {
   }
 }
 
-TEST(Hdf5Format, MissingFileIsRefused) { EXPECT_THROW(ReadHdf5(TempPath("none.h5")), InputError); }
+TEST(Hdf5Format, MissingFileIsRefused) {
+  EXPECT_THROW(ReadHdf5(ScratchFile("none.h5")), InputError);
+}
 
 TEST(Hdf5Format, ConvertsOpenCLTextToHdf5AndBack) {
-  const fs::path text = TempPath("in.txt");
+  const fs::path text = ScratchFile("in.txt");
   WriteSiberneticText(WithFields(), text, TextLayout::kOpenCL);
   // Boundary particles do not move in the OpenCL layout, so compare against the re-read text.
   const Trajectory from_text = ReadTrajectory(text);
-  const fs::path h5 = TempPath("conv.h5");
+  const fs::path h5 = ScratchFile("conv.h5");
   WriteTrajectory(from_text, h5);
   const Trajectory from_h5 = ReadTrajectory(h5);
   EXPECT_EQ(from_h5.positions, from_text.positions);
-  const fs::path text2 = TempPath("out.txt");
+  const fs::path text2 = ScratchFile("out.txt");
   WriteTrajectory(from_h5, text2);
   EXPECT_EQ(ReadTrajectory(text2).positions, from_text.positions);
 }

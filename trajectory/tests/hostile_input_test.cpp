@@ -21,6 +21,7 @@
 #include "owval/base/format.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -28,27 +29,18 @@
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
+using testing::ScratchFile;
 
 std::string ReadError(const fs::path& path) {
-  try {
-    ReadTrajectory(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { ReadTrajectory(path); });
 }
 
 std::string ParseError(const std::string& text) {
-  try {
+  return testing::InputErrorOf([&] {
     TextReadOptions quiet;
     quiet.quiet = true;
     ParseSiberneticText(text, "pb.txt", quiet);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  });
 }
 
 Trajectory Small(std::size_t frames = 5) {
@@ -125,7 +117,7 @@ TEST(HostileText, RefusesATypeCodeSiberneticDoesNotKnow) {
   EXPECT_EQ(ParseError(later),
             "pb.txt:14: particle type 0: expected a type 1.x (liquid), 2.x (elastic) or 3.x "
             "(boundary)");
-  const fs::path path = TempPath("badtype.txt");
+  const fs::path path = ScratchFile("badtype.txt");
   std::ofstream(path) << first + "1\t1\t1\t2.1\n";
   TextReadOptions quiet;
   quiet.quiet = true;
@@ -144,7 +136,7 @@ TEST(HostileText, RefusesAnInvertedBox) {
             "pb.txt:2: box xmax 33.4 is below box xmin 50");
   Trajectory t = Small();
   t.box.zmax = -1;
-  const fs::path path = TempPath("inverted_box.h5");
+  const fs::path path = ScratchFile("inverted_box.h5");
   WriteHdf5(t, path);
   EXPECT_EQ(ReadError(path), path.string() +
                                  ": HDF5: attribute box: the z maximum is below its minimum "
@@ -154,7 +146,7 @@ TEST(HostileText, RefusesAnInvertedBox) {
 // A WCON (or any JSON input) holding 1e400 said "[json.exception.out_of_range.406] number
 // overflow parsing '1e400'" without naming the file.
 TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
-  const fs::path path = TempPath("overflow.wcon");
+  const fs::path path = ScratchFile("overflow.wcon");
   std::ofstream(path) << R"({"units":{"t":"s","x":"mm","y":"mm"},)"
                       << R"("data":[{"id":"1","t":[0],"x":[[1e400]],"y":[[0]]}]})";
   try {
@@ -171,7 +163,7 @@ TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
 // centroid of 1e308 cm (infinite in mm as a double).
 TEST(HostileWcon, ACoordinateBeyondWhatTheTrackStoresIsRefused) {
   auto error = [](const std::string& units, const std::string& record) -> std::string {
-    const fs::path path = TempPath("huge_coordinate.wcon");
+    const fs::path path = ScratchFile("huge_coordinate.wcon");
     std::ofstream(path) << R"({"units":{"t":"s",)" << units << R"(},"data":[{"id":"1","t":[0,1],)"
                         << record << "}]}";
     try {
@@ -222,7 +214,7 @@ TEST(HostileText, RefusesAGzipBombOverTheMemoryBudget) {
   ASSERT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
   packed.resize(z.total_out);
   deflateEnd(&z);
-  const fs::path path = TempPath("bomb.txt.gz");
+  const fs::path path = ScratchFile("bomb.txt.gz");
   std::ofstream(path, std::ios::binary) << packed;
   SetMemoryBudgetBytes(16 << 20);
   const std::string error = ReadError(path);
@@ -231,11 +223,11 @@ TEST(HostileText, RefusesAGzipBombOverTheMemoryBudget) {
 }
 
 TEST(HostileText, RefusesAFifoAndADirectoryWithoutHanging) {
-  const fs::path fifo = TempPath("fifo.txt");
+  const fs::path fifo = ScratchFile("fifo.txt");
   fs::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_EQ(ReadError(fifo), fifo.string() + ": is a FIFO (named pipe), expected a regular file");
-  const fs::path dir = TempPath("dir.h5");
+  const fs::path dir = ScratchFile("dir.h5");
   fs::create_directories(dir);
   EXPECT_EQ(ReadError(dir), dir.string() + ": is a directory, expected a regular file");
   fs::remove(fifo);
@@ -246,7 +238,7 @@ TEST(HostileText, RefusesAFifoAndADirectoryWithoutHanging) {
 // Runs `edit` on the root group of a freshly written small trajectory file.
 template <typename Edit>
 fs::path EditedHdf5(const std::string& name, Edit edit, const Trajectory& t = Small()) {
-  const fs::path path = TempPath(name);
+  const fs::path path = ScratchFile(name);
   WriteHdf5(t, path);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   edit(file);
@@ -305,7 +297,7 @@ TEST(HostileHdf5, RefusesNanTimeStepAndNonPositiveLogStep) {
 TEST(HostileHdf5, RefusesNanPositionsAndTypes) {
   Trajectory t = Small();
   t.positions[7] = std::numeric_limits<float>::quiet_NaN();
-  const fs::path positions = TempPath("nanpos.h5");
+  const fs::path positions = ScratchFile("nanpos.h5");
   WriteHdf5(t, positions);
   EXPECT_EQ(ReadError(positions),
             positions.string() +
@@ -320,7 +312,7 @@ TEST(HostileHdf5, RefusesNanPositionsAndTypes) {
   }
   t = Small();
   t.type[1] = std::numeric_limits<float>::quiet_NaN();
-  const fs::path types = TempPath("nantype.h5");
+  const fs::path types = ScratchFile("nantype.h5");
   WriteHdf5(t, types);
   EXPECT_EQ(ReadError(types), types.string() + ": HDF5: /type value 1 is not finite (NaN or Inf)");
 }
@@ -331,7 +323,7 @@ TEST(HostileHdf5, RefusesATypeCodeSiberneticDoesNotKnow) {
   for (float code : {1.4e6f, 0.0f, 4.0f, -3.0f}) {
     Trajectory t = Small();
     t.type[2] = code;
-    const fs::path path = TempPath("badtype.h5");
+    const fs::path path = ScratchFile("badtype.h5");
     WriteHdf5(t, path);
     const std::string expected = path.string() + ": HDF5: /type row 2 is " + FormatNumber(code) +
                                  ": expected a type 1.x (liquid), 2.x (elastic) or 3.x (boundary)";
@@ -389,7 +381,7 @@ TEST(HostileHdf5, RefusesAGroupWhereADatasetBelongsAndAnIntegerDataset) {
 }
 
 TEST(HostileHdf5, RefusesADatasetOverTheMemoryBudget) {
-  const fs::path path = TempPath("budget.h5");
+  const fs::path path = ScratchFile("budget.h5");
   WriteHdf5(Small(400), path);
   SetMemoryBudgetBytes(4096);
   const std::string error = ReadError(path);
@@ -413,7 +405,7 @@ TEST(HostileHdf5, IgnoresAProvenanceStringArray) {
 
 // Was 6 bytes apart between identical runs (HDF5 object timestamps).
 TEST(HostileHdf5, IdenticalTrajectoriesGiveIdenticalBytes) {
-  const fs::path a = TempPath("same_a.h5"), b = TempPath("same_b.h5");
+  const fs::path a = ScratchFile("same_a.h5"), b = ScratchFile("same_b.h5");
   WriteHdf5(Small(), a);
   ::sleep(1);  // timestamps have one-second resolution
   WriteHdf5(Small(), b);
@@ -464,7 +456,7 @@ int WriteIntoAFullDisk(const fs::path& path, bool hdf5) {
 }
 
 TEST(HostileOutput, AFullDiskRefusesTheWriteAndLeavesNoFile) {
-  const fs::path dir = TempPath("full");
+  const fs::path dir = ScratchFile("full");
   fs::create_directories(dir);
   EXPECT_EQ(WriteIntoAFullDisk(dir / "t.h5", true), 0) << "10: no error, 11: file left, "
                                                           "12: temporary left, 100+: signal";

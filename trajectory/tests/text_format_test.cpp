@@ -7,11 +7,13 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
+using testing::ScratchFile;
 
 // Two elastic/liquid particles and two boundary particles, three frames.
 Trajectory SmallTrajectory() {
@@ -39,15 +41,8 @@ Trajectory Parse(const std::string& text, TextLayout layout = TextLayout::kAuto,
 }
 
 std::string ErrorOf(const std::string& text, TextLayout layout = TextLayout::kAuto) {
-  try {
-    Parse(text, layout);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::InputErrorOf([&] { Parse(text, layout); });
 }
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
 
 TEST(TextFormat, ReadsOpenCLLayoutAndFillsBoundaryFromFrameZero) {
   const std::string text = std::string(kHeader) + kFrame0 + "2.5\t2.25\t3\t2.1\n4\t4.5\t6\t1.1\n";
@@ -66,7 +61,7 @@ TEST(TextFormat, ReadsOpenCLLayoutAndFillsBoundaryFromFrameZero) {
 
 // Writes `text` gzip-compressed, cut to `keep` of its compressed bytes (1 = whole).
 fs::path WriteGzip(const std::string& name, const std::string& text, double keep = 1) {
-  const fs::path path = TempPath(name);
+  const fs::path path = ScratchFile(name);
   gzFile out = gzopen(path.c_str(), "wb");
   gzwrite(out, text.data(), unsigned(text.size()));
   gzclose(out);
@@ -200,7 +195,7 @@ TEST(TextFormat, MissingFileIsAnInputErrorNamingTheFile) {
 TEST(TextFormat, WriteThenReadRoundTripsBothLayouts) {
   const Trajectory t = SmallTrajectory();
   for (TextLayout layout : {TextLayout::kOpenCL, TextLayout::kNative}) {
-    const fs::path path = TempPath(std::string("rt_") + LayoutName(layout) + ".txt");
+    const fs::path path = ScratchFile(std::string("rt_") + LayoutName(layout) + ".txt");
     WriteSiberneticText(t, path, layout);
     TextReadReport report;
     const Trajectory back = ReadSiberneticText(path, {}, &report);
@@ -215,7 +210,7 @@ TEST(TextFormat, WriteThenReadRoundTripsBothLayouts) {
 TEST(TextFormat, WritesSixSignificantDigitsLikeSibernetic) {
   Trajectory t = SmallTrajectory();
   t.positions[0] = 17.5351234f;
-  const fs::path path = TempPath("digits.txt");
+  const fs::path path = ScratchFile("digits.txt");
   WriteSiberneticText(t, path, TextLayout::kOpenCL);
   std::ifstream in(path);
   std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -226,7 +221,7 @@ TEST(TextFormat, WritesSixSignificantDigitsLikeSibernetic) {
 TEST(TextFormat, FailedWriteLeavesNoPartialFile) {
   Trajectory t = SmallTrajectory();
   t.type = {3.0f, 2.1f, 1.1f, 3.0f};  // boundary first: opencl layout impossible
-  const fs::path path = TempPath("refused.txt");
+  const fs::path path = ScratchFile("refused.txt");
   EXPECT_THROW(WriteSiberneticText(t, path, TextLayout::kOpenCL), InputError);
   EXPECT_FALSE(fs::exists(path));
   for (const auto& entry : fs::directory_iterator(path.parent_path()))

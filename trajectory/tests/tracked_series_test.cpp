@@ -8,14 +8,14 @@
 #include <filesystem>
 
 #include "owval/base/errors.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kOneSprig =
-    fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+const fs::path& kOneSprig = testing::kBundledOneSprig;
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
 
 // A particle and two group centroids (218 elastic, 125 liquid particles in demo1).

@@ -11,19 +11,13 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempPath(const std::string& name) { return owval::testing::TestScratch() / name; }
-
-std::string Bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::FileBytes;
+using testing::ScratchFile;
 
 // 37 frames (not a multiple of the 16-frame chunk) of 5 particles, boundary last.
 Trajectory Moving() {
@@ -54,7 +48,7 @@ void Stream(const Trajectory& t, TrajectoryWriter& w, std::size_t frames) {
 TEST(TrajectoryWriter, StreamedTextEqualsWriteSiberneticTextByteForByte) {
   const Trajectory t = Moving();
   for (TextLayout layout : {TextLayout::kOpenCL, TextLayout::kNative}) {
-    const fs::path whole = TempPath("whole.txt"), streamed = TempPath("streamed.txt");
+    const fs::path whole = ScratchFile("whole.txt"), streamed = ScratchFile("streamed.txt");
     fs::remove(streamed);
     WriteSiberneticText(t, whole, layout);
     TrajectoryWriterOptions options;
@@ -63,13 +57,13 @@ TEST(TrajectoryWriter, StreamedTextEqualsWriteSiberneticTextByteForByte) {
     EXPECT_FALSE(fs::exists(streamed));  // nothing under the final name before Close
     Stream(t, *w, t.frame_count());
     w->Close();
-    EXPECT_EQ(Bytes(streamed), Bytes(whole)) << LayoutName(layout);
+    EXPECT_EQ(FileBytes(streamed), FileBytes(whole)) << LayoutName(layout);
   }
 }
 
 TEST(TrajectoryWriter, StreamedHdf5ReadsBackEqualAndIdenticalRunsGiveIdenticalBytes) {
   const Trajectory t = Moving();
-  const fs::path a = TempPath("a.h5"), b = TempPath("b.h5");
+  const fs::path a = ScratchFile("a.h5"), b = ScratchFile("b.h5");
   for (const fs::path& p : {a, b}) {
     auto w = OpenTrajectoryWriter(p, HeaderOf(t));
     Stream(t, *w, t.frame_count());
@@ -82,12 +76,12 @@ TEST(TrajectoryWriter, StreamedHdf5ReadsBackEqualAndIdenticalRunsGiveIdenticalBy
   EXPECT_EQ(back.type, t.type);
   EXPECT_EQ(back.log_step, 20);
   EXPECT_EQ(back.provenance.count("partial"), 0u);
-  EXPECT_EQ(Bytes(a), Bytes(b));
+  EXPECT_EQ(FileBytes(a), FileBytes(b));
 }
 
 TEST(TrajectoryWriter, AbortLeavesAReadablePartialFileMarkedPartial) {
   const Trajectory t = Moving();
-  const fs::path h5 = TempPath("run.h5"), txt = TempPath("run.txt");
+  const fs::path h5 = ScratchFile("run.h5"), txt = ScratchFile("run.txt");
   for (const fs::path& p : {h5, txt}) {
     auto w = OpenTrajectoryWriter(p, HeaderOf(t));
     Stream(t, *w, 21);  // one whole chunk and 5 buffered frames
@@ -108,7 +102,7 @@ TEST(TrajectoryWriter, AbortLeavesAReadablePartialFileMarkedPartial) {
 
 TEST(TrajectoryWriter, AWriterDestroyedWithoutCloseLeavesNothing) {
   const Trajectory t = Moving();
-  const fs::path dir = TempPath("drop");
+  const fs::path dir = ScratchFile("drop");
   fs::create_directories(dir);
   for (const char* name : {"t.h5", "t.txt"}) {
     auto w = OpenTrajectoryWriter(dir / name, HeaderOf(t));
@@ -133,13 +127,13 @@ TEST(TrajectoryWriter, ResumedFromACheckpointEqualsAnUninterruptedWriter) {
                     &t.pressure[f * n]);
   };
   for (const char* name : {"whole.h5", "whole.txt"}) {
-    auto w = OpenTrajectoryWriter(TempPath(name), h);
+    auto w = OpenTrajectoryWriter(ScratchFile(name), h);
     append(*w, 0, 37);
     w->Close();
   }
   for (bool abort : {false, true}) {
     for (const char* name : {"cut.h5", "cut.txt"}) {
-      const fs::path path = TempPath(name);
+      const fs::path path = ScratchFile(name);
       fs::remove(path), fs::remove(PartialPath(path));
       WriterCheckpoint checkpoint;
       {
@@ -156,8 +150,9 @@ TEST(TrajectoryWriter, ResumedFromACheckpointEqualsAnUninterruptedWriter) {
       w->Close();
       EXPECT_FALSE(fs::exists(PartialPath(path)));
     }
-    EXPECT_EQ(Bytes(TempPath("cut.txt")), Bytes(TempPath("whole.txt"))) << abort;
-    const Trajectory whole = ReadHdf5(TempPath("whole.h5")), cut = ReadHdf5(TempPath("cut.h5"));
+    EXPECT_EQ(FileBytes(ScratchFile("cut.txt")), FileBytes(ScratchFile("whole.txt"))) << abort;
+    const Trajectory whole = ReadHdf5(ScratchFile("whole.h5")),
+                     cut = ReadHdf5(ScratchFile("cut.h5"));
     EXPECT_EQ(cut.positions, whole.positions);
     EXPECT_EQ(cut.velocities, whole.velocities);
     EXPECT_EQ(cut.pressure, whole.pressure);
@@ -170,13 +165,13 @@ TEST(TrajectoryWriter, ResumeWithoutTheCheckpointedFileSaysWhatIsMissing) {
   WriterCheckpoint checkpoint;
   checkpoint.file = ".gone.h5.tmp.1.0";
   TrajectoryHeader h = HeaderOf(Moving());
-  EXPECT_THROW(ResumeTrajectoryWriter(TempPath("gone.h5"), h, checkpoint), InputError);
-  EXPECT_THROW(ResumeTrajectoryWriter(TempPath("gone.txt"), h, checkpoint), InputError);
+  EXPECT_THROW(ResumeTrajectoryWriter(ScratchFile("gone.h5"), h, checkpoint), InputError);
+  EXPECT_THROW(ResumeTrajectoryWriter(ScratchFile("gone.txt"), h, checkpoint), InputError);
 }
 
 TEST(Hdf5FrameReader, ReadsFrameByFrameEqualToTheWholeRead) {
   const Trajectory t = Moving();
-  const fs::path path = TempPath("frames.h5");
+  const fs::path path = ScratchFile("frames.h5");
   auto w = OpenTrajectoryWriter(path, HeaderOf(t));
   Stream(t, *w, t.frame_count());
   w->Abort();
