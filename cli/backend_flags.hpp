@@ -1,5 +1,6 @@
 #pragma once
-// The flags of every command that names backends: --backends FILE, --cache DIR, --no-cache.
+// The flags of every command that names backends: --backends FILE, --cache DIR, --no-cache,
+// --set NAME=VALUE (a backend's {set:NAME}), --reference-dir DIR (the scenario folders).
 #include <CLI/CLI.hpp>
 
 #include "command.hpp"
@@ -19,6 +20,19 @@ inline void AddBackendFlags(CLI::App* cmd, backends::BackendSelection* selection
   cmd->add_flag_callback(
       "--no-cache", [selection] { selection->cache.enabled = false; },
       "Neither read nor write the run cache");
+}
+
+// `scope` says when the command uses them ("With backend names: ").
+inline void AddBackendSets(CLI::App* cmd, std::vector<std::string>* sets,
+                           const std::string& scope = "") {
+  cmd->add_option("--set", *sets, scope + "NAME=VALUE for {set:NAME}");
+}
+template <class T>
+void AddReferenceDir(CLI::App* cmd, T* dir, const std::string& scope, const std::string& fallback) {
+  const std::string folders =
+      scope.empty() ? "The scenario folders" : scope + "the scenario folders";
+  cmd->add_option("--reference-dir", *dir, folders + " (default: " + fallback + ")")
+      ->check(GivenName());
 }
 
 }  // namespace owval::cli

@@ -15,14 +15,14 @@ void SetUp(CLI::App& app) {
   cmd->require_subcommand(1);
   CLI::App* list = cmd->add_subcommand("list", "Every backend name and what it resolves to");
   AddBackendFlags(list, selection.get(), false);
-  list->add_flag("--json", *json, "Machine-readable output");
+  AddJsonFlag(list, json.get(), "the list");
   list->callback([selection, json] {
     const backends::Registry registry = selection->Load();
     std::cout << (*json ? registry.ToJson().dump(2) + "\n" : registry.ToText());
   });
   CLI::App* show = cmd->add_subcommand("show", "One backend's full definition (JSON)");
   AddBackendFlags(show, selection.get(), false);
-  show->add_option("name", *name, "Backend name")->check(GivenName())->required();
+  AddInput(show, "name", name.get(), "Backend name");
   show->callback(
       [selection, name] { std::cout << selection->Load().Find(*name).ToJson().dump(2) << "\n"; });
 }

@@ -10,6 +10,7 @@
 #include "owval/render/render_benchmark.hpp"
 #include "owval/trajectory/io_benchmark.hpp"
 #include "resolve.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -47,16 +48,14 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
       ->check(GivenName());
   cmd->add_option("--steps", o.steps, "Steps to time")->check(PositiveCount());
   AddJsonOut(cmd, &a->json_out);
-  cmd->add_option("--backend", o.backend, "Solver to time (pcisph, xpbd; default pcisph)");
+  AddBackendFlag(cmd, &o.backend, " to time: pcisph or xpbd (default pcisph)");
   cmd->add_flag("--phases", o.phases,
                 "Time each phase of the step and the frames' fields (one run, --threads)");
   cmd->add_flag("--whole-run", a->whole_run,
                 "With a reference folder: profile its whole run (meta.json's time and log step)");
-  cmd->add_option("--threads", o.threads, "Threads for --phases (default: the engine's rule)")
-      ->check(CLI::Range(0, engine::kMaxThreads));
-  cmd->add_option("--time", o.time_s, "Simulated seconds for --phases instead of --steps")
-      ->check(Positive());
-  cmd->add_option("--log-step", o.log_step, "Steps between frames for --phases")->check(Positive());
+  AddThreadsFlag(cmd, &o.threads, " for --phases (default: the engine's rule)");
+  AddTimeFlag(cmd, &o.time_s, " for --phases instead of --steps")->check(Positive());
+  AddLogStepFlag(cmd, &o.log_step, " for --phases");
   cmd->callback([a] {
     Emit(backends::BenchEngineNamed(a->config, SharedReference(), DataDir(), a->whole_run,
                                     a->engine),
@@ -94,13 +93,10 @@ void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
 void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand(
       "gradient", "XPBD reverse pass: backward cost per step over forward, tape memory (JSON)");
-  cmd->add_option("config", a->config, "Scenario name or Sibernetic configuration")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "config", &a->config, "Scenario name or Sibernetic configuration");
   cmd->add_option("--steps", a->gradient.steps, "Steps of the window")
       ->check(CLI::Range(1, 10000000));
-  cmd->add_option("--checkpoint-every", a->gradient.checkpoint_every,
-                  "States kept every k steps (0: full tape)");
+  AddTapeCheckpointFlag(cmd, &a->gradient.checkpoint_every);
   cmd->add_option("--alpha-density", a->alpha_density,
                   "Density compliance (s^2/cu^2, >= 0; 0 is a value, a rigid constraint, as in "
                   "gradcheck); default the model's")

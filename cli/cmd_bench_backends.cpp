@@ -6,7 +6,7 @@
 
 #include "backend_flags.hpp"
 #include "command.hpp"
-#include "owval/engine/run.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -28,25 +28,19 @@ void SetUp(CLI::App& app) {
   r->reference_dir = SharedReference();
   CLI::App* cmd = Bench(app).add_subcommand(
       "backends", "The same scenario on each backend, timed as whole processes (wait4 rusage)");
-  cmd->add_option("backends", r->names, "Backend names; ratios are to the first")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "backends", &r->names, "Backend names; ratios are to the first");
   cmd->add_option("--scenario", r->scenario, "Scenario folder (configuration + meta.json)")
       ->required()
       ->check(GivenName());
-  cmd->add_option("--reference-dir", r->reference_dir,
-                  "Where the scenario folders are (default ../shared/reference)")
-      ->check(GivenName());
-  cmd->add_option("--time", r->time_s, "Simulated seconds instead of the scenario's")
-      ->check(Positive());
+  AddReferenceDir(cmd, &r->reference_dir, "", "../shared/reference");
+  AddTimeFlag(cmd, &r->time_s, " instead of the scenario's")->check(Positive());
   cmd->add_option("--repeat", r->options.repeat, "Runs per backend (median and spread)")
       ->check(Positive());
-  cmd->add_option("--threads", r->options.threads,
-                  "Built-in backends' threads, every run (default: all cores)")
-      ->check(CLI::Range(1, engine::kMaxThreads));
-  cmd->add_option("--set", r->sets, "NAME=VALUE for {set:NAME}");
+  AddThreadsFlag(cmd, &r->options.threads, " of built-in backends, every run (default: all cores)",
+                 1);
+  AddBackendSets(cmd, &r->sets);
   cmd->add_option("--json", r->json, "Also write the JSON here")->check(OutputPath());
-  cmd->add_option("--markdown", r->markdown, "Write the Markdown table here")->check(OutputPath());
+  AddMarkdownOut(cmd, &r->markdown, "the table");
   AddBackendFlags(cmd, &r->backends, false);
   cmd->callback([r] { RunBench(*r); });
 }

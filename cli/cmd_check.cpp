@@ -36,7 +36,7 @@ void SetUp(CLI::App& app) {
   auto args = std::make_shared<CheckArgs>();
   CLI::App* stability =
       check->add_subcommand("stability", "NaN/Inf, box escapes, kinetic blow-up, density range");
-  stability->add_option("trajectory", args->path)->check(GivenName())->required();
+  AddInput(stability, "trajectory", &args->path);
   stability
       ->add_option("--box-tolerance", args->stability.box_tolerance_cu,
                    "cu outside the box allowed")
@@ -47,18 +47,18 @@ void SetUp(CLI::App& app) {
       ->check(Positive());
   stability->add_option("--density-range", args->stability.density_max, "Maximum density (kg/m^3)")
       ->check(Positive());
-  stability->add_flag("--json", args->json);
+  AddJsonFlag(stability, &args->json);
   stability->callback([args] { RunStability(*args); });
   CLI::App* incompressible =
       check->add_subcommand("incompressibility", "Mean and max |rho/rho0 - 1| of liquid");
-  incompressible->add_option("trajectory", args->path)->check(GivenName())->required();
+  AddInput(incompressible, "trajectory", &args->path);
   incompressible
       ->add_option("--rest-density", args->incompressibility.rest_density, "rho0 (kg/m^3)")
       ->check(Positive());
   incompressible
       ->add_option("--limit", args->incompressibility.limit, "Allowed deviation (default 0.01)")
       ->check(Positive());
-  incompressible->add_flag("--json", args->json);
+  AddJsonFlag(incompressible, &args->json);
   incompressible->callback([args] { RunIncompressibility(*args); });
 }
 

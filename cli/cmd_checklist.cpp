@@ -37,9 +37,7 @@ void SetUp(CLI::App& app) {
       "caller's reference (--scenario or --reference): the directory's own could be its "
       "candidate. Gate thresholds come from --scenario or --manifest (else DD001's defaults), "
       "never from the directory itself.");
-  cmd->add_option("directory", r.directory, "PR artifact directory (see docs/checklist.md)")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "directory", &r.directory, "PR artifact directory (see docs/checklist.md)");
   auto* scenario = cmd->add_option("--scenario", r.scenario,
                                    "Built-in scenario whose track, gates and reference apply (the "
                                    "directory's reference must be the scenario's)")
@@ -54,9 +52,8 @@ void SetUp(CLI::App& app) {
       ->check(GivenName());
   cmd->add_option("--git-range", r.git_range,
                   "BASE..HEAD: check that prediction.json was committed before the trajectories");
-  cmd->add_option("--markdown", r.markdown, "Also write the Markdown comment to this file")
-      ->check(OutputPath());
-  cmd->add_flag("--json", args->json, "Machine-readable output");
+  AddMarkdownOut(cmd, &r.markdown, "the comment");
+  AddJsonFlag(cmd, &args->json, "the checklist");
   cmd->callback([args] { RunChecklistCommand(*args); });
 }
 

@@ -5,6 +5,7 @@
 #include "owval/ci/gates.hpp"
 #include "owval/ci/stability_run.hpp"
 #include "resolve.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -41,10 +42,7 @@ void SetUp(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* quick =
       group->add_subcommand("quick-test", "Runs completed: trajectories exist, parse, no NaN");
-  quick->add_option("directory", *dir)
-      ->check(GivenName())
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddInput(quick, "directory", dir.get())->check(CLI::ExistingDirectory);
   quick->callback([dir] { Report(ci::QuickTest(*dir)); });
   CLI::App* validate =
       group->add_subcommand("validate", "Stability, incompressibility and parity gates");
@@ -63,14 +61,8 @@ void SetUp(CLI::App& app) {
           "--scenario", stability->scenario,
           "With --stability: scenario name or configuration (default: the reference demo1)")
       ->check(GivenName());
-  validate
-      ->add_option("--log-step", stability->options.log_step,
-                   "With --stability: steps between frames")
-      ->check(Positive());
-  validate
-      ->add_option("-o,--out", stability->options.out,
-                   "With --stability: where the run's trajectory goes")
-      ->check(OutputPath());
+  AddLogStepFlag(validate, &stability->options.log_step, " (with --stability)");
+  AddOut(validate, &stability->options.out, "With --stability: where the run's trajectory goes");
   auto reference = std::make_shared<std::string>();
   validate->add_option("--reference", *reference, "Trajectory the directory's reference must be")
       ->check(GivenName());

@@ -48,27 +48,21 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "Phase 7: frame-by-frame parity of a candidate against a reference");
   cmd->footer(kGatesHelp);
-  cmd->add_option("reference", r.reference, "Reference trajectory file or backend name")
-      ->check(GivenName())
-      ->required();
-  cmd->add_option("candidate", r.candidate, "Candidate trajectory file or backend name")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "reference", &r.reference, "Reference trajectory file or backend name");
+  AddInput(cmd, "candidate", &r.candidate, "Candidate trajectory file or backend name");
   AddBackendFlags(cmd, &r.backends, true);
   cmd->add_option("--scenarios", r.scenarios.names, "With backend names: these scenarios only")
       ->delimiter(',');
   cmd->add_option("--suite", args->suite,
                   "With backend names: parity = every scenario with a configuration (default)")
       ->check(CLI::IsMember({"parity"}));
-  cmd->add_option("--reference-dir", r.scenarios.reference_dir,
-                  "With backend names: the scenario folders (default: the store of either "
-                  "backend, else ../shared/reference)")
-      ->check(GivenName());
+  AddReferenceDir(cmd, &r.scenarios.reference_dir,
+                  "With backend names: ", "the store of either backend, else ../shared/reference");
   cmd->add_option("--sibernetic", r.scenarios.sibernetic,
                   "With backend names: Sibernetic's demos from this checkout of "
                   "openworm/sibernetic (default: $SIBERNETIC_HOME), by scenarios/sibernetic/")
       ->check(GivenName());
-  cmd->add_option("--set", r.sets, "With backend names: NAME=VALUE for {set:NAME}");
+  AddBackendSets(cmd, &r.sets, "With backend names: ");
   AddTrackFlags(cmd, &r.track, "", "Tracked");
   cmd->add_option("--frames", r.frames,
                   "Reference frames to gate, e.g. 0,15,100,200 (default: all paired)");
@@ -80,9 +74,8 @@ void SetUp(CLI::App& app) {
         ->check(Positive());
   cmd->add_option("--manifest", r.manifest, "Scenario manifest JSON (its track and gates)")
       ->check(GivenName());
-  cmd->add_option("--markdown", r.markdown, "Also write the report as Markdown (for a PR)")
-      ->check(OutputPath());
-  cmd->add_flag("--json", args->json, "Machine-readable output");
+  AddMarkdownOut(cmd, &r.markdown, "the report");
+  AddJsonFlag(cmd, &args->json);
   cmd->callback([args] { RunCompare(*args); });
 }
 

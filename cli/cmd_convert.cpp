@@ -30,14 +30,13 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("convert",
                                      "Convert trajectories: opencl/native text <-> HDF5 (.h5); "
                                      "worm to WCON (.wcon) or OME-Zarr (.zarr)");
-  cmd->add_option("input", args->in, "Input trajectory")->check(GivenName())->required();
+  AddInput(cmd, "input", &args->in, "Input trajectory");
   cmd->add_option("output", args->out,
                   "Output by extension: .h5/.hdf5 (owval HDF5), .txt (Sibernetic text), .wcon "
                   "(WCON, worms), .zarr (OME-Zarr); other extensions are refused")
       ->required()
       ->check(OutputPath());
-  cmd->add_option("--layout", args->layout, "Input text layout: auto, opencl, native")
-      ->check(CLI::IsMember({"auto", "opencl", "native"}));
+  AddLayoutFlag(cmd, &args->layout);
   cmd->add_option("--out-layout", args->out_layout, "Output text layout: opencl or native")
       ->check(CLI::IsMember({"opencl", "native"}));
   cmd->callback([args] { RunConvert(*args); });

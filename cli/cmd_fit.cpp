@@ -7,6 +7,7 @@
 #include "owval/base/stop_signals.hpp"
 #include "owval/pipeline/fit_directory.hpp"
 #include "resolve.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -47,10 +48,8 @@ void SetUp(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand(
       "fit", "Phase 5: fit parameters with Ceres (or gradient descent), history saved");
-  cmd->add_option("config", a->config,
-                  "Scenario name or Sibernetic configuration (unused with --command)")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "config", &a->config,
+           "Scenario name or Sibernetic configuration (unused with --command)");
   cmd->add_option("--param", a->request.parameters,
                   "NAME=START[:log|:lin][:LOWER:UPPER], e.g. elasticity_coefficient=1.62e8:log")
       ->required();
@@ -58,9 +57,8 @@ void SetUp(CLI::App& app) {
                   "METRIC=VALUE[:scale=S][:weight=W][:ref=FILE]; METRIC: period, "
                   "half_amplitude, equilibrium, rms (finite-difference fits)");
   AddTrackFlags(cmd, &a->track, "track-", "Tracked");
-  cmd->add_option("--time", a->request.time_s, "Simulated time per evaluation (s)")
-      ->check(Positive());
-  cmd->add_option("--log-step", a->request.log_step, "Steps between frames")->check(Positive());
+  AddTimeFlag(cmd, &a->request.time_s, " per evaluation")->check(Positive());
+  AddLogStepFlag(cmd, &a->request.log_step);
   cmd->add_option("--solver", a->request.solver,
                   "lm, dogleg or gd; with --gradient analytic|model-fd: lbfgs (default) or adam")
       ->check(CLI::IsMember({"lm", "dogleg", "gd", "lbfgs", "adam"}));
@@ -76,13 +74,11 @@ void SetUp(CLI::App& app) {
                   "--solver adam: stop after this many iterations without a 0.1% lower best loss "
                   "(0: never); the result is the best iterate")
       ->check(NonNegative());
-  cmd->add_option("-o,--out", a->request.out,
-                  "Output directory (history.json, parameters.json, convergence.svg)")
-      ->required()
-      ->check(OutputPath());
-  cmd->add_flag("--json", a->json, "Print the history as JSON");
-  cmd->add_option("--backend", a->request.backend,
-                  "Engine scheme of the finite-difference fit's simulations (pcisph, xpbd)");
+  AddOut(cmd, &a->request.out, "Output directory (history.json, parameters.json, convergence.svg)")
+      ->required();
+  AddJsonFlag(cmd, &a->json, "the history");
+  AddBackendFlag(cmd, &a->request.backend,
+                 " of the finite-difference fit's simulations (pcisph, xpbd)");
   cmd->add_option("--gradient", a->request.gradient,
                   "fd (finite differences of runs, any backend), analytic (XPBD's reverse "
                   "pass, Ceres L-BFGS) or model-fd (the same L-BFGS and model, central "
@@ -96,8 +92,7 @@ void SetUp(CLI::App& app) {
                   "coordinate; repeatable");
   cmd->add_option("--loss-scale", a->request.loss_scale, "analytic: length scale of the loss (cu)")
       ->check(Positive());
-  cmd->add_option("--checkpoint-every", a->request.checkpoint_every,
-                  "analytic: states kept every k steps (0: full tape)");
+  AddTapeCheckpointFlag(cmd, &a->request.checkpoint_every, " (--gradient analytic)");
   cmd->add_option("--window", a->request.window,
                   "analytic: truncated backpropagation window (steps)");
   cmd->add_option("--clip-norm", a->request.clip_norm,

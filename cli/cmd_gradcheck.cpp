@@ -49,7 +49,7 @@ void SetUp(CLI::App& app) {
                   "value demo1's 100-step loss is chaotic, docs/xpbd.md)")
       ->check(NonNegative());
   cmd->add_option("-o,--out,--output", r.output, "Write fd_tests.json here")->check(OutputPath());
-  cmd->add_flag("--json", a->json, "Machine-readable output on stdout");
+  AddJsonFlag(cmd, &a->json);
   cmd->callback([a] {
     PrintReport(RunGradCheckRequest(a->request), a->json, &pipeline::GradCheckResult::ToText);
   });

@@ -26,16 +26,13 @@ void SetUp(CLI::App& app) {
   auto args = std::make_shared<InspectArgs>();
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
-  cmd->add_option("trajectory", args->path, "Trajectory file (position_buffer.txt or .h5)")
-      ->check(GivenName())
-      ->required();
+  AddInput(cmd, "trajectory", &args->path, "Trajectory file (position_buffer.txt or .h5)");
   AddTrackFlags(cmd, &args->track, "", "Measured");
   // NaN or a negative time was taken as "no bound": the whole window, silently.
   cmd->add_option("--from", args->start_s, "Window start (s)")->check(NonNegative());
   cmd->add_option("--to", args->end_s, "Window end (s)")->check(NonNegative());
-  cmd->add_option("--layout", args->layout, "Text layout: auto, opencl or native")
-      ->check(CLI::IsMember({"auto", "opencl", "native"}));
-  cmd->add_flag("--json", args->json, "Machine-readable output");
+  AddLayoutFlag(cmd, &args->layout);
+  AddJsonFlag(cmd, &args->json, "the measurements");
   cmd->callback([args] { RunInspect(*args); });
 }
 

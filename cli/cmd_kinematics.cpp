@@ -28,11 +28,9 @@ void SetUp(CLI::App& app) {
   auto a = std::make_shared<KinematicsArgs>();
   CLI::App* cmd = app.add_subcommand(
       "kinematics", "Worm kinematics (Yemini et al. 2013): speed, bend frequency, wavelength");
-  cmd->add_option("input", a->input, "Worm trajectory (any format) or WCON file (.wcon, .json)")
-      ->check(GivenName())
-      ->required()
+  AddInput(cmd, "input", &a->input, "Worm trajectory (any format) or WCON file (.wcon, .json)")
       ->check(CLI::ExistingFile);
-  cmd->add_flag("--json", a->json, "Print JSON");
+  AddJsonFlag(cmd, &a->json, "the kinematics");
   cmd->callback([a] { RunKinematics(*a); });
 }
 

@@ -4,6 +4,7 @@
 
 #include "command.hpp"
 #include "owval/pipeline/pipeline.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -25,18 +26,14 @@ void SetUp(CLI::App& app) {
   o->data_dir = DataDir();
   CLI::App* cmd = app.add_subcommand(
       "pipeline", "Phases 1-8 on one scenario: report directory, MP4, checklist");
-  cmd->add_option("scenario", o->scenario, "Built-in scenario (owval scenario list)")
-      ->check(GivenName())
-      ->required();
-  cmd->add_option("-o,--out", o->out_dir, "Report directory (default reports/SCENARIO)")
-      ->check(OutputPath());
+  AddInput(cmd, "scenario", &o->scenario, "Built-in scenario (owval scenario list)");
+  AddOut(cmd, &o->out_dir, "Report directory (default reports/SCENARIO)");
   cmd->add_option("--candidate", o->candidate,
                   "Candidate trajectory file instead of an owval engine run");
   auto integrator = std::make_shared<std::string>("euler");
-  cmd->add_option("--integrator", *integrator, "Candidate engine integrator: euler or leapfrog")
-      ->check(CLI::IsMember({"euler", "leapfrog"}));
-  cmd->add_option("--backend", o->backend,
-                  "Candidate scheme (pcisph, xpbd, wcsph); xpbd: phase 5 runs owval gradcheck");
+  AddIntegratorFlag(cmd, integrator.get(), " of the candidate engine");
+  AddBackendFlag(cmd, &o->backend,
+                 " of the candidate: pcisph, xpbd or wcsph; xpbd: phase 5 runs owval gradcheck");
   cmd->add_option("--max-video-frames", o->max_video_frames,
                   "Frames in sxs.mp4, evenly spaced (0: every frame)");
   cmd->callback([o, integrator] {

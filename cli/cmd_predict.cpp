@@ -1,6 +1,7 @@
 // owval predict / owval reconcile: phase 1 and phase 3 (predict/predict_files.hpp).
 #include "command.hpp"
 #include "owval/predict/predict_files.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -17,15 +18,11 @@ void SetUp(CLI::App& app) {
   p.data_dir = DataDir();
   CLI::App* predict =
       app.add_subcommand("predict", "Phase 1: analytic prediction from the configuration alone");
-  predict->add_option("config", p.config, "Scenario name (owval scenario list) or configuration")
-      ->check(GivenName())
-      ->required();
-  predict->add_option("-o,--out", p.out, "Also write the prediction JSON here")
-      ->check(OutputPath());
-  predict->add_flag("--json", a->json, "Print JSON instead of Markdown");
-  predict->add_option("--param", p.params, "Override a scenario generator parameter, NAME=NUMBER");
-  predict->add_option("--set", p.constants,
-                      "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=5.55e8)");
+  AddInput(predict, "config", &p.config, "Scenario name (owval scenario list) or configuration");
+  AddOut(predict, &p.out, "Also write the prediction JSON here");
+  AddJsonFlag(predict, &a->json, "the prediction");
+  AddGeneratorParams(predict, &p.params);
+  AddConstantOverrides(predict, &p.constants);
   predict->add_flag("--no-quarter-factor", p.omit_quarter_factor,
                     "Omit Sibernetic's 0.25 spring factor (teaching, tests)");
   predict->callback([a] {
@@ -35,18 +32,13 @@ void SetUp(CLI::App& app) {
   predict::ReconcileRequest& r = a->reconcile;
   CLI::App* reconcile =
       app.add_subcommand("reconcile", "Phase 3: predicted vs measured, with likely causes");
-  reconcile->add_option("prediction", r.prediction, "prediction.json from owval predict")
-      ->check(GivenName())
-      ->required();
-  reconcile->add_option("trajectory", r.trajectory, "Measured trajectory")
-      ->check(GivenName())
-      ->required();
+  AddInput(reconcile, "prediction", &r.prediction, "prediction.json from owval predict");
+  AddInput(reconcile, "trajectory", &r.trajectory, "Measured trajectory");
   reconcile->add_option("--tolerance", r.tolerances,
                         "Gate tolerance for every gated quantity (VALUE) or one (QUANTITY=VALUE); "
                         "relative for periods and amplitudes, cu for positions");
-  reconcile->add_option("-o,--out", r.out, "Also write the reconciliation JSON here")
-      ->check(OutputPath());
-  reconcile->add_flag("--json", a->json, "Print JSON instead of Markdown");
+  AddOut(reconcile, &r.out, "Also write the reconciliation JSON here");
+  AddJsonFlag(reconcile, &a->json, "the reconciliation");
   reconcile->callback([a] {
     a->reconcile.reading.quiet = QuietMode();
     const predict::Reconciliation r = predict::ReconcileFiles(a->reconcile);

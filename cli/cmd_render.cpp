@@ -32,7 +32,7 @@ void Print(const render::VideoSummary& s, const std::string& out, bool json) {
 
 void AddCommon(CLI::App* cmd, RenderArgs* a, const std::string& out_help, bool video) {
   pipeline::RenderRequest& r = a->request;
-  cmd->add_option("-o,--out", r.out, out_help + " (required)")->check(OutputPath());
+  AddOut(cmd, &r.out, out_help + " (required)");
   cmd->add_option("--size", r.size, "WIDTHxHEIGHT of the whole frame (default 1280x720)");
   cmd->add_option("--view", r.view,
                   "auto (worm for worm trajectories, else iso), iso, side, top, front, or worm "
@@ -50,7 +50,7 @@ void AddCommon(CLI::App* cmd, RenderArgs* a, const std::string& out_help, bool v
   cmd->add_option("--title", r.options.title, "Title line");
   cmd->add_option("--connections", r.connections,
                   "Draw the elastic connections of this configuration (file or scenario) as lines");
-  cmd->add_flag("--json", a->json, "Machine-readable summary");
+  AddJsonFlag(cmd, &a->json, "a summary");
   if (!video) return;
   cmd->add_option("--fps", r.options.fps, "Frames per second")->check(CLI::Range(1, 240));
   cmd->add_option("--max-frames", r.options.max_frames,
@@ -68,8 +68,8 @@ void SetUp(CLI::App& app) {
   AddCommon(cmd, a.get(), "Output MP4 file (not a directory)", true);
   CLI::App* sxs =
       cmd->add_subcommand("sxs", "Side by side: reference left, candidate right, one camera");
-  sxs->add_option("reference", r.reference)->check(GivenName())->required();
-  sxs->add_option("candidate", r.candidate)->check(GivenName())->required();
+  AddInput(sxs, "reference", &r.reference);
+  AddInput(sxs, "candidate", &r.candidate);
   AddCommon(sxs, a.get(), "Output MP4 file (not a directory)", true);
   sxs->callback([a] { Print(RenderSideBySideFiles(Request(*a)), a->request.out, a->json); });
   cmd->callback([a, cmd] {
@@ -80,8 +80,8 @@ void SetUp(CLI::App& app) {
   });
   CLI::App* frames =
       app.add_subcommand("frames", "Phase 7: labelled side-by-side PNG frames and frames.json");
-  frames->add_option("reference", r.reference)->check(GivenName())->required();
-  frames->add_option("candidate", r.candidate)->check(GivenName())->required();
+  AddInput(frames, "reference", &r.reference);
+  AddInput(frames, "candidate", &r.candidate);
   frames->add_option("--at", r.at, "Reference frame indices, e.g. 0,15,100,200");
   AddCommon(frames, a.get(), "Output directory (frame_N.png and frames.json)", false);
   frames

@@ -6,6 +6,7 @@
 #include "owval/base/stop_signals.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/pipeline/run_directory.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -40,46 +41,45 @@ void RunEngine(RunArgs& a) {
   SetExitCode(s.exit_code(StopSignal()));
 }
 
+// What a run is (pipeline::RunRequest), as `run` and a checkpoint's resumption take it.
+void AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
+  cmd->add_option("config", r->config,
+                  "Scenario name (owval scenario list) or Sibernetic configuration file")
+      ->check(GivenName());
+  AddTimeFlag(cmd, &r->time_s, " (steps = (int)(time/dt))");
+  AddLogStepFlag(cmd, &r->log_step);
+  AddOut(cmd, &r->out,
+         "Output directory (position_buffer.txt and trajectory.h5, written as frames are "
+         "produced)");
+  std::string backends;
+  for (const std::string& name : engine::KnownBackends())
+    backends += (backends.empty() ? "" : ", ") + name;
+  AddBackendFlag(cmd, &r->backend, ": " + backends + " (default pcisph; owval = pcisph)");
+  AddIntegratorFlag(cmd, &r->integrator);
+  cmd->add_option("--muscles", r->muscles,
+                  "Muscle activations: auto (Sibernetic's rule: main_sim's swimming waves when "
+                  "the configuration's name contains \"worm\"), waves, or off")
+      ->check(CLI::IsMember({"auto", "waves", "off"}));
+  cmd->add_flag("--apply-physical-parameters", r->apply_physical_parameters,
+                "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
+  AddConstantOverrides(cmd, &r->set, "; the result is then not reference-equivalent");
+  cmd->add_flag("--no-fields", r->no_fields,
+                "Record positions only (no velocity, density, pressure): faster");
+  cmd->add_flag("--zarr", r->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
+  cmd->add_option(
+         "--checkpoint-every", r->checkpoint_every,
+         "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)")
+      ->check(Count());
+}
+
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   pipeline::RunRequest& r = a->request;
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
-  cmd->add_option("config", r.config,
-                  "Scenario name (owval scenario list) or Sibernetic configuration file")
-      ->check(GivenName());
-  cmd->add_option("--time", r.time_s, "Simulated time in seconds (steps = (int)(time/dt))");
-  cmd->add_option("--log-step", r.log_step, "Steps between frames")->check(Positive());
-  cmd->add_option("-o,--out", r.out,
-                  "Output directory (position_buffer.txt and trajectory.h5, written as frames "
-                  "are produced)")
-      ->check(OutputPath());
-  std::string backends;
-  for (const std::string& name : engine::KnownBackends())
-    backends += (backends.empty() ? "" : ", ") + name;
-  cmd->add_option("--backend", r.backend,
-                  "Time-step scheme: " + backends + " (default pcisph; owval = pcisph)");
-  cmd->add_option("--integrator", r.integrator, "euler (Sibernetic's default) or leapfrog")
-      ->check(CLI::IsMember({"euler", "leapfrog"}));
-  cmd->add_option("--muscles", r.muscles,
-                  "Muscle activations: auto (Sibernetic's rule: main_sim's swimming waves when "
-                  "the configuration's name contains \"worm\"), waves, or off")
-      ->check(CLI::IsMember({"auto", "waves", "off"}));
-  cmd->add_option("--set", r.set,
-                  "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=3e8); the result "
-                  "is then not reference-equivalent");
-  cmd->add_flag("--apply-physical-parameters", r.apply_physical_parameters,
-                "Apply the configuration's [physical parameters] block (Sibernetic ignores it)");
-  cmd->add_option("--threads", a->options.threads,
-                  "OpenMP threads (default: every idle core; one below 4,096 particles)")
-      ->check(CLI::Range(0, engine::kMaxThreads));
-  cmd->add_flag("--no-fields", r.no_fields,
-                "Record positions only (no velocity, density, pressure): faster");
-  cmd->add_flag("--zarr", r.zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
-  cmd->add_flag("--json", a->json, "Print a JSON summary");
-  cmd->add_option(
-         "--checkpoint-every", r.checkpoint_every,
-         "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)")
-      ->check(Count());
+  AddRunFlags(cmd, &r);
+  AddThreadsFlag(cmd, &a->options.threads,
+                 " (default: every idle core; one below 4,096 particles)");
+  AddJsonFlag(cmd, &a->json, "a summary");
   cmd->add_option("--resume", a->resume,
                   "Continue the checkpointed run in this output directory with its own "
                   "arguments; the outputs equal an uninterrupted run's byte for byte")

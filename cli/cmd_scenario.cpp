@@ -5,6 +5,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/scenarios/scenario.hpp"
+#include "run_flags.hpp"
 
 namespace owval::cli {
 namespace {
@@ -25,16 +26,14 @@ void SetUp(CLI::App& app) {
     }
   });
   CLI::App* show = cmd->add_subcommand("show", "Print a scenario's manifest");
-  show->add_option("name", a->name)->check(GivenName())->required();
+  AddInput(show, "name", &a->name);
   show->callback(
       [a] { std::cout << scenarios::LoadScenario(a->name, DataDir()).manifest.dump(2) << "\n"; });
   CLI::App* generate =
       cmd->add_subcommand("generate", "Write a scenario's configuration in Sibernetic's format");
-  generate->add_option("name", a->name)->check(GivenName())->required();
-  generate->add_option("-o,--out", a->out, "Configuration file to write")
-      ->required()
-      ->check(OutputPath());
-  generate->add_option("--param", a->params, "Override a generator parameter, NAME=NUMBER");
+  AddInput(generate, "name", &a->name);
+  AddOut(generate, &a->out, "Configuration file to write")->required();
+  AddGeneratorParams(generate, &a->params);
   generate->callback([a] {
     CheckOutputPath(a->out);  // before the lattice is made: a directory failed at the rename
     const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),

@@ -40,6 +40,34 @@ const CLI::Validator& GivenName();
 // A count that must be 1 or more (bench --steps, --frames), digits only.
 const CLI::Validator& PositiveCount();
 
+// A positional argument naming an input (a trajectory, a configuration, a directory): required,
+// not empty. Further checks (CLI::ExistingFile) chain on the result.
+template <class T>
+CLI::Option* AddInput(CLI::App* cmd, const std::string& name, T* value,
+                      const std::string& help = "") {
+  return cmd->add_option(name, *value, help)->check(GivenName())->required();
+}
+// -o,--out: what the command writes (`help` says what), an output path.
+template <class T>
+CLI::Option* AddOut(CLI::App* cmd, T* out, const std::string& help) {
+  return cmd->add_option("-o,--out", *out, help)->check(OutputPath());
+}
+// --markdown: also write `what` as Markdown to this file.
+template <class T>
+CLI::Option* AddMarkdownOut(CLI::App* cmd, T* markdown, const std::string& what) {
+  return cmd->add_option("--markdown", *markdown, "Also write " + what + " as Markdown here")
+      ->check(OutputPath());
+}
+// --layout: the Sibernetic text layout of the input; auto detects it.
+inline void AddLayoutFlag(CLI::App* cmd, std::string* layout) {
+  cmd->add_option("--layout", *layout, "Input text layout: auto, opencl or native")
+      ->check(CLI::IsMember({"auto", "opencl", "native"}));
+}
+// --json: the command's result (`what`) printed as JSON on stdout instead of text.
+inline void AddJsonFlag(CLI::App* cmd, bool* json, const std::string& what = "the report") {
+  cmd->add_flag("--json", *json, "Print " + what + " as JSON (machine-readable) instead of text");
+}
+
 // The tracked quantity as given on the command line (--PREFIXparticle, --PREFIXgroup,
 // --PREFIXaxis); `subject` says what the track is for ("Tracked", "Print this").
 using TrackFlags = TrackChoice;

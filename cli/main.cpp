@@ -22,12 +22,14 @@ std::vector<CommandSetUp>& Registry() {
 int g_exit_code = 0;
 
 // Digits only, at most 18 of them: "-1" is refused rather than wrapped to 2^64 - 1.
+bool IsDigits(const std::string& text) {
+  return !text.empty() && text.size() <= 18 &&
+         text.find_first_not_of("0123456789") == std::string::npos;
+}
 CLI::Validator DigitsOnly(const std::string& expected, const std::string& name) {
   return CLI::Validator(
       [expected](std::string& text) {
-        const bool digits = !text.empty() && text.size() <= 18 &&
-                            text.find_first_not_of("0123456789") == std::string::npos;
-        return digits ? std::string() : "expected " + expected;
+        return IsDigits(text) ? std::string() : "expected " + expected;
       },
       name);
 }
@@ -61,9 +63,7 @@ const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...
 const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
 const CLI::Validator kPositiveCount(
     [](std::string& text) {
-      const bool digits = !text.empty() && text.size() <= 18 &&
-                          text.find_first_not_of("0123456789") == std::string::npos;
-      return digits && text.find_first_not_of('0') != std::string::npos
+      return IsDigits(text) && text.find_first_not_of('0') != std::string::npos
                  ? std::string()
                  : "expected a whole number >= 1, found '" + OneLine(text, 40) + "'";
     },
