@@ -17,10 +17,12 @@
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "owval/trajectory/writer.hpp"
+#include "read_errors.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
+using testing::ReadError;
 using testing::ScratchFile;
 
 // Three particles, one frame per time in `time_s`, written by owval's own HDF5 writer.
@@ -40,14 +42,9 @@ fs::path Hdf5WithTimes(const std::string& name, const std::vector<double>& time_
   return path;
 }
 
-std::string ReadError(const fs::path& path) {
-  return testing::InputErrorOf([&] { ReadTrajectory(path); });
-}
-
 std::string OpenError(const fs::path& path) {
   return testing::InputErrorOf([&] {
-    TextReadOptions quiet;
-    quiet.quiet = true;
+    const TextReadOptions quiet = testing::QuietReading();
     const auto source = OpenFrameSource(path, quiet);
     for (std::size_t f = 0; f < source->frame_count(); ++f) source->Frame(f);
   });
@@ -122,8 +119,7 @@ TEST(FrameTimes, TextTimesAreStillFrameTimesLogStepTimesTimeStep) {
   const Trajectory t = ReadTrajectory(path);
   ASSERT_EQ(t.frame_count(), 3u);
   for (std::size_t f = 0; f < 3; ++f) EXPECT_EQ(t.time_s[f], static_cast<double>(f) * 20 * 2e-5);
-  TextReadOptions quiet;
-  quiet.quiet = true;
+  const TextReadOptions quiet = testing::QuietReading();
   EXPECT_EQ(OpenFrameSource(path, quiet)->header().time_s, t.time_s);
 }
 

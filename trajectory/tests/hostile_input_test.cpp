@@ -25,20 +25,17 @@
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
+#include "read_errors.hpp"
 
 namespace owval {
 namespace {
 namespace fs = std::filesystem;
+using testing::ReadError;
 using testing::ScratchFile;
-
-std::string ReadError(const fs::path& path) {
-  return testing::InputErrorOf([&] { ReadTrajectory(path); });
-}
 
 std::string ParseError(const std::string& text) {
   return testing::InputErrorOf([&] {
-    TextReadOptions quiet;
-    quiet.quiet = true;
+    const TextReadOptions quiet = testing::QuietReading();
     ParseSiberneticText(text, "pb.txt", quiet);
   });
 }
@@ -119,8 +116,7 @@ TEST(HostileText, RefusesATypeCodeSiberneticDoesNotKnow) {
             "(boundary)");
   const fs::path path = ScratchFile("badtype.txt");
   std::ofstream(path) << first + "1\t1\t1\t2.1\n";
-  TextReadOptions quiet;
-  quiet.quiet = true;
+  const TextReadOptions quiet = testing::QuietReading();
   try {
     OpenFrameSource(path, quiet)->Frame(0);
     ADD_FAILURE() << "the stream read type 1.4e6";

@@ -12,6 +12,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
+#include "read_errors.hpp"
 
 namespace owval {
 namespace {
@@ -95,8 +96,7 @@ TEST(TrajectoryWriter, AbortLeavesAReadablePartialFileMarkedPartial) {
   EXPECT_EQ(back.provenance.at("partial"), "1");
   EXPECT_EQ(std::vector<float>(back.positions),
             std::vector<float>(t.positions.begin(), t.positions.begin() + 21 * 15));
-  TextReadOptions quiet;
-  quiet.quiet = true;
+  const TextReadOptions quiet = testing::QuietReading();
   EXPECT_EQ(ReadTrajectory(PartialPath(txt), quiet).frame_count(), 21u);
 }
 
