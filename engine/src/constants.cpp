@@ -94,6 +94,10 @@ const ConstantInfo kTable[] = {
      "xpbd", OWVAL_FIELD(xpbd.surface_tension)},
     {"xpbd_pressure_force", nullptr, "1", "XPBD: 1 adds the SPH pressure-gradient force",
      R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.pressure_force)},
+    {"xpbd_membranes", nullptr, "1",
+     "XPBD: 0 Sibernetic's membrane pass once per step (liquid only); 1 a liquid-triangle "
+     "contact constraint in the projection passes, shared with the triangle's corners",
+     R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.membranes)},
     {"wcsph_h_factor", nullptr, "1", "WCSPH smoothing length h / particle spacing (support 2h)",
      R::kPositive, "wcsph", OWVAL_FIELD(wcsph.h_factor)},
     {"wcsph_spacing_m", nullptr, "m",
