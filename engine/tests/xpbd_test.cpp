@@ -196,6 +196,147 @@ TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount
   EXPECT_GT(dx0, 0);
 }
 
+TEST(XpbdMembrane, APointThatCrossedATriangleGoesBackToItsPlaneAndPushesTheCorners) {
+  // The triangle a = 0, b = 3x̂, c = 3ŷ in the plane z = 0; q kept on the +z side. q = (2, 0.5,
+  // −0.4): its projection's barycentric weights are β = (1/6, 2/3, 1/6), C = −0.4,
+  // Δλ = 0.4/(1 + 1/36 + 4/9 + 1/36) = 0.4/1.5, q moves +Δλ along z and corner k −β_k·Δλ.
+  Vec3<double> q{2, 0.5, -0.4}, a{0, 0, 0}, b{3, 0, 0}, c{0, 3, 0};
+  const double dlambda = 0.4 / 1.5;
+  EXPECT_NEAR(ProjectPointOffTriangle(&q, &a, &b, &c, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0), dlambda,
+              1e-15);
+  EXPECT_NEAR(q[2], -0.4 + dlambda, 1e-15);
+  EXPECT_NEAR(a[2], -dlambda / 6, 1e-15);
+  EXPECT_NEAR(b[2], -2 * dlambda / 3, 1e-15);
+  EXPECT_NEAR(c[2], -dlambda / 6, 1e-15);
+  EXPECT_NEAR((q[2] + 0.4) + a[2] + b[2] + c[2], 0, 1e-15);  // equal masses: momentum conserved
+  // q now lies on the moved corners' plane at its own (x, y): on its side, C = 0.
+  EXPECT_NEAR(q[2], a[2] / 6 + 2 * b[2] / 3 + c[2] / 6, 1e-15);
+  EXPECT_EQ(q[0], 2);  // the correction is along the normal only
+  EXPECT_EQ(q[1], 0.5);
+  // No torque: Σ r × Δr over the four (equal masses) is zero, since the corners' moves act at
+  // Σ β_k·corner_k = (2, 0.5, 0), on q's line. About z nothing; about x and y:
+  // q: (0.5·Δλ, −2·Δλ); a at 0: none; b: (0, +3·(2/3)Δλ) ; c: (−3·(1/6)Δλ, 0).
+  const Vec3<double> start[4] = {{2, 0.5, -0.4}, {0, 0, 0}, {3, 0, 0}, {0, 3, 0}};
+  const Vec3<double>* moved[4] = {&q, &a, &b, &c};
+  Vec3<double> torque{0, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    const Vec3<double>& r = start[k];
+    const Vec3<double> d{(*moved[k])[0] - r[0], (*moved[k])[1] - r[1], (*moved[k])[2] - r[2]};
+    torque[0] += r[1] * d[2] - r[2] * d[1];
+    torque[1] += r[2] * d[0] - r[0] * d[2];
+    torque[2] += r[0] * d[1] - r[1] * d[0];
+  }
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(torque[axis], 0, 1e-15) << axis;
+  // A point whose projection falls outside the triangle, (3, 3) here, is no contact: pushed
+  // along the normal with the reaction on the nearest edge it would make a couple.
+  Vec3<double> out{3, 3, -0.1}, a4{0, 0, 0}, b4{3, 0, 0}, c4{0, 3, 0};
+  EXPECT_EQ(ProjectPointOffTriangle(&out, &a4, &b4, &c4, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0), 0.0);
+  EXPECT_EQ(out[2], -0.1);
+  // On the edge b–c (β_a = 0) it is one: a shared edge belongs to both its triangles.
+  Vec3<double> edge{1.5, 1.5, -0.1};
+  EXPECT_NEAR(ProjectPointOffTriangle(&edge, &a4, &b4, &c4, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0),
+              0.1 / 1.5, 1e-15);
+  EXPECT_EQ(a4[2], 0.0);
+  // On its side: nothing moves. The other side kept (side −1): the same point is on it.
+  Vec3<double> r{1, 1, 0.2}, a2{0, 0, 0}, b2{3, 0, 0}, c2{0, 3, 0};
+  EXPECT_EQ(ProjectPointOffTriangle(&r, &a2, &b2, &c2, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0), 0.0);
+  EXPECT_EQ(r[2], 0.2);
+  EXPECT_EQ(b2[2], 0.0);
+  // Kept below (side −1), r = (1, 1, 0.2) goes down: β = 1/3 each, Δλ = 0.2/(1 + 3/9).
+  EXPECT_NEAR(ProjectPointOffTriangle(&r, &a2, &b2, &c2, 1.0, 1.0, 1.0, 1.0, -1.0, 0.0),
+              0.2 / (4.0 / 3), 1e-15);
+  EXPECT_NEAR(r[2], 0.2 - 0.15, 1e-15);
+  EXPECT_NEAR(a2[2], 0.05, 1e-15);
+  // Fixed corners (w = 0) take nothing: q goes all the way back to the plane.
+  Vec3<double> s{1, 1, -0.3}, a3{0, 0, 0}, b3{3, 0, 0}, c3{0, 3, 0};
+  ProjectPointOffTriangle(&s, &a3, &b3, &c3, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+  EXPECT_NEAR(s[2], 0, 1e-15);
+  EXPECT_EQ(a3[2], 0.0);
+}
+
+// Three elastic particles forming one membrane triangle in the plane z = 50 and one liquid
+// particle above it, 0.5 cu off its corner a in x and y (Sibernetic's distance to a, z dropped
+// and the type codes' difference kept, √(0.25 + 0.25 + 1) = 1.22 cu < r0: the triangle acts on
+// it), heading down at 1.6 cu per step. No gravity, no pair forces, a density constraint too soft
+// to matter.
+SiberneticConfig LiquidOverATriangle() {
+  SiberneticConfig c;
+  c.source = "membrane";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {
+      {50, 50, 50, 2.1f}, {53, 50, 50, 2.1f}, {50, 53, 50, 2.1f}, {50.5f, 50.5f, 51, 1.1f}};
+  c.velocity.assign(4, {0, 0, 0, 0});
+  c.connection.assign(3 * 32, {-1, 0, 0, 0});
+  c.membranes = {{0, 1, 2}};
+  c.particle_mem_index.assign(3 * 7, -1);
+  for (int e = 0; e < 3; ++e) c.particle_mem_index[std::size_t(e) * 7] = 0;
+  return c;
+}
+
+PhysicsConstants MembraneConstants(int membranes) {
+  PhysicsConstants k = Quiet();
+  k.xpbd.density_compliance = 1e3;  // α̃ = 2.5e12: moves nothing by more than ~1e-13 cu
+  k.xpbd.membranes = membranes;
+  return k;
+}
+
+TEST(XpbdSolver, MembraneConstraintKeepsTheLiquidOnItsSideAndPushesTheTriangleBack) {
+  SiberneticConfig config = LiquidOverATriangle();
+  const PhysicsConstants k = MembraneConstants(1);
+  const double s = float(k.simulation_scale), dt = float(k.time_step_s);
+  const double speed = 1.6 * s / dt;  // m/s: 1.6 cu per step
+  config.velocity[3] = {0, 0, -float(speed), 0};
+  Xpbd<double> solver(config, k, 1);
+  EXPECT_NE(solver.parameters().find("membranes = constraint"), std::string::npos);
+  solver.Step();  // step 0 moves nothing
+  solver.Step();
+  // Predicted to z = 51 − 1.6 = 49.4, through the plane: C = −0.6 − d (d = r0/1000, the
+  // clearance) with β = (2/3, 1/6, 1/6) at (0.5, 0.5) of the 3 cu legs, Δλ = −C/(1 + 4/9 + 1/36
+  // + 1/36) = (0.6 + d)/1.5.
+  const double v_liquid = config.velocity[3][2];  // the float the run starts from
+  const double clearance = double(float(k.r0_cu)) / 1000;
+  const double predicted = 51 + v_liquid * dt / s, dlambda = (50 + clearance - predicted) / 1.5;
+  const auto& x = solver.exact_positions();
+  EXPECT_NEAR(dlambda, 0.4 + clearance / 1.5, 1e-6);
+  EXPECT_NEAR(x[3][2], predicted + dlambda, 1e-9);
+  EXPECT_NEAR(x[0][2], 50 - 2 * dlambda / 3, 1e-9);
+  EXPECT_NEAR(x[1][2], 50 - dlambda / 6, 1e-9);
+  EXPECT_NEAR(x[2][2], 50 - dlambda / 6, 1e-9);
+  // The corners' velocities are the reaction, −β_k·Δλ·s/dt, and the momentum is the liquid's.
+  const auto v = solver.velocities();
+  EXPECT_NEAR(v[0].z, -2 * dlambda / 3 * s / dt, 1e-6 * speed);
+  EXPECT_NEAR(v[1].z, -dlambda / 6 * s / dt, 1e-6 * speed);
+  for (int step = 0; step < 20; ++step) {
+    double momentum[3] = {0, 0, 0};
+    for (int i = 0; i < 4; ++i) momentum[0] += v[i].x, momentum[1] += v[i].y, momentum[2] += v[i].z;
+    EXPECT_NEAR(momentum[0], 0, 1e-6 * speed) << step;
+    EXPECT_NEAR(momentum[1], 0, 1e-6 * speed) << step;
+    EXPECT_NEAR(momentum[2], v_liquid, 1e-6 * speed) << step;
+    // On its side (+z) of the corners' plane, about the clearance off it (the projection holds
+    // the normal fixed while the corners, moved by different β_k, tilt it: 0.6% of d here).
+    const Vec3<double> ab{x[1][0] - x[0][0], x[1][1] - x[0][1], x[1][2] - x[0][2]};
+    const Vec3<double> ac{x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2]};
+    const Vec3<double> n{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+                         ab[0] * ac[1] - ab[1] * ac[0]};
+    double above = 0;
+    for (int a = 0; a < 3; ++a) above += n[a] * (x[3][a] - x[0][a]) / Norm(n);
+    EXPECT_GT(above, 0.9 * clearance) << step;
+    solver.Step();
+  }
+  EXPECT_LT(x[0][2], 49);  // the triangle was carried away by the liquid
+}
+
+TEST(XpbdSolver, MembranePassMovesOnlyTheLiquid) {
+  // The default (xpbd_membranes = 0): Sibernetic's pass pushes the liquid and never the body.
+  SiberneticConfig config = LiquidOverATriangle();
+  const PhysicsConstants k = MembraneConstants(0);
+  config.velocity[3] = {0, 0, -float(1.6 * float(k.simulation_scale) / float(k.time_step_s)), 0};
+  Xpbd<double> solver(config, k, 1);
+  EXPECT_NE(solver.parameters().find("membranes = pass"), std::string::npos);
+  for (int step = 0; step < 3; ++step) solver.Step();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(solver.velocities()[i].z, 0, 1e-6) << i;
+}
+
 TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   RunOptions o;
   o.backend = "xpbd";

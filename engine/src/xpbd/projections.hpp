@@ -8,6 +8,7 @@
 //   [MMC16] M. Macklin, M. Müller, N. Chentanez. XPBD: position-based simulation of compliant
 //           constrained dynamics. Motion in Games 2016, pp. 49-54 (eqs. 17-18).
 //   [MM13]  M. Macklin, M. Müller. Position based fluids. ACM TOG 32(4), 104, 2013 (eqs. 1-12).
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -62,5 +63,62 @@ struct DensityKernel {
     return {f * d[0], f * d[1], f * d[2]};
   }
 };
+
+// A point kept on one side of a triangle's plane [MMC16; Müller et al. 2007, PBD §4, the
+// triangle-point collision with the plane's normal held fixed over the projection]:
+// C = side·n̂·(q − a) − thickness ≥ 0, n̂ = (b − a)×(c − a)/|·|, side = ±1 the side q keeps.
+// Its gradients are side·n̂ for q and −β_k·side·n̂ for the corners, β the barycentric weights of
+// q's projection onto the plane: Δλ = −C/(w_q + Σ_k w_k β_k²), q += w_q·Δλ·side·n̂, corner k
+// −= w_k·β_k·Δλ·side·n̂. With equal masses and every w = 1 the moves sum to zero (momentum is
+// conserved) and the corners take the liquid's push at Σ β_k·corner_k, the projection of q, on
+// q's line of action: no torque, so angular momentum is conserved too. That holds only when the
+// projection falls inside the triangle, as the triangle-point collision asks (the point passes
+// through the triangle): outside it, weights clamped to the triangle put the reaction off that
+// line, and on demo1's cube (every square split along the same diagonal) the couples added up
+// to a steady spin (docs/xpbd.md). So a projection outside the triangle by more than
+// kBarycentricSlack (rounding on a shared edge) is no contact; inside the slack the weights are
+// clamped at 0 and renormalised. A contact (compliance 0) and an inequality: nothing moves while
+// C ≥ 0. Returns Δλ (0 when nothing moved, the triangle is degenerate or q is not over it).
+inline constexpr double kBarycentricSlack = 1e-4;
+
+template <typename T>
+T ProjectPointOffTriangle(Vec3<T>* q, Vec3<T>* a, Vec3<T>* b, Vec3<T>* c, T wq, T wa, T wb, T wc,
+                          T side, T thickness) {
+  const Vec3<T> ab{(*b)[0] - (*a)[0], (*b)[1] - (*a)[1], (*b)[2] - (*a)[2]};
+  const Vec3<T> ac{(*c)[0] - (*a)[0], (*c)[1] - (*a)[1], (*c)[2] - (*a)[2]};
+  const Vec3<T> aq{(*q)[0] - (*a)[0], (*q)[1] - (*a)[1], (*q)[2] - (*a)[2]};
+  const Vec3<T> normal{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+                       ab[0] * ac[1] - ab[1] * ac[0]};
+  const T length = Norm(normal);
+  if (!(length > 0)) return 0;
+  const Vec3<T> n{side * normal[0] / length, side * normal[1] / length, side * normal[2] / length};
+  const T constraint = n[0] * aq[0] + n[1] * aq[1] + n[2] * aq[2] - thickness;
+  if (!(constraint < 0)) return 0;
+  // Barycentric weights of q's projection: aq = β_b·ab + β_c·ac + (normal part).
+  const T d00 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  const T d01 = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+  const T d11 = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+  const T d20 = aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2];
+  const T d21 = aq[0] * ac[0] + aq[1] * ac[1] + aq[2] * ac[2];
+  const T det = d00 * d11 - d01 * d01;  // |ab × ac|², > 0 here
+  T beta[3] = {0, (d11 * d20 - d01 * d21) / det, (d00 * d21 - d01 * d20) / det};
+  beta[0] = T(1) - beta[1] - beta[2];
+  for (T weight : beta)
+    if (!(weight >= -T(kBarycentricSlack))) return 0;  // not over the triangle (or NaN)
+  T sum = 0;
+  for (T& weight : beta) sum += weight = std::max(weight, T(0));
+  for (T& weight : beta) weight /= sum;  // sum ≥ 1: the unclamped weights add to 1
+  const T denominator =
+      wq + wa * beta[0] * beta[0] + wb * beta[1] * beta[1] + wc * beta[2] * beta[2];
+  if (!(denominator > 0)) return 0;
+  const T dlambda = -constraint / denominator;
+  Vec3<T>* corner[3] = {a, b, c};
+  const T w[3] = {wa, wb, wc};
+  for (int axis = 0; axis < 3; ++axis) {
+    (*q)[axis] += wq * dlambda * n[axis];
+    for (int k = 0; k < 3; ++k) (*corner[k])[axis] -= w[k] * beta[k] * dlambda * n[axis];
+  }
+  return dlambda;
+}
 
 }  // namespace owval::engine::internal

@@ -9,7 +9,11 @@
 //       → K × {density constraints (both directions), bonds (one-sided distance constraints, as
 //              Sibernetic's springs act only on their own row's particle), walls [IAGT10], box}
 //       → v = (p − x)·s/h, wall contacts' velocity (restitution, friction), floor restitution
-//   → the shared membrane pass.
+//   → the shared membrane pass (xpbd_membranes = 0, the default), or, with xpbd_membranes = 1,
+//     a membrane constraint in every projection pass instead: each liquid particle near a
+//     membrane triangle (Sibernetic's selection, found once per step at x(t)) is kept on the side
+//     of the triangle's plane it was on at x(t), the correction shared with the triangle's
+//     corners (projections.hpp, ProjectPointOffTriangle).
 // Split (xpbd_density_passes = m > 0, the default): the n substeps hold only the bonds (predict,
 // bonds, v = (p − x)·s/h); after every n/m of them one correction of H = dt/m projects the
 // density constraints and walls, v += Δp·s/H, wall contacts' velocity. m = 0: the scheme above.
@@ -23,6 +27,7 @@
 //   [IAGT10] M. Ihmsen et al. Boundary handling and adaptive time-stepping for PCISPH. 2010.
 //   [M19]   M. Macklin, K. Storey, M. Lu, P. Terdiman, N. Chentanez, S. Jeschke, M. Müller.
 //           Small steps in physics simulation. SCA 2019.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -132,6 +137,8 @@ class Xpbd final : public Solver {
   void WriteFloatState(std::int32_t i);
   void WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restitution);
   void InteractWithMembranes();
+  void FindMembraneContacts();
+  void ProjectMembranes();
   double DerivedRestDensity() const;
 
   SphConstants k_, k_forces_;
@@ -184,6 +191,14 @@ class Xpbd final : public Solver {
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
+  // xpbd_membranes = 1: a liquid particle and a triangle it must stay off, with the side of the
+  // triangle's plane (±1, along (b − a)×(c − a)) it was on at the step's start.
+  struct MembraneContact {
+    std::int32_t liquid;
+    std::array<int, 3> corners;
+    T side;
+  };
+  std::vector<MembraneContact> membrane_contacts_;
   mutable internal::OutputDensity output_density_;  // for Density()
   std::size_t step_ = 0;
   PhaseClock<kPhaseCount> clock_{
