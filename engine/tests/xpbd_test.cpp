@@ -349,7 +349,9 @@ TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   EXPECT_NE(t.provenance.at("scheme_parameters").find("iterations = 2"), std::string::npos);
   EXPECT_NE(t.provenance.at("scheme_parameters").find("substeps = 28 (derived)"),
             std::string::npos);
+  EXPECT_NE(t.provenance.at("scheme_parameters").find("membranes = pass"), std::string::npos);
   EXPECT_THROW(SetConstant(&o.constants, "xpbd_viscosity", 2), InputError);
+  EXPECT_THROW(SetConstant(&o.constants, "xpbd_membranes", 2), InputError);  // a switch
   o.integrator = Integrator::kLeapfrog;  // PCISPH's integrator: refused, not ignored
   EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);
 }
