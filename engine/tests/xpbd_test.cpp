@@ -352,6 +352,10 @@ TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   EXPECT_NE(t.provenance.at("scheme_parameters").find("membranes = pass"), std::string::npos);
   EXPECT_THROW(SetConstant(&o.constants, "xpbd_viscosity", 2), InputError);
   EXPECT_THROW(SetConstant(&o.constants, "xpbd_membranes", 2), InputError);  // a switch
+  SetConstant(&o.constants, "xpbd_membranes", 1);
+  SetConstant(&o.constants, "xpbd_density_passes", 0);  // unsplit: no contact velocity pass
+  EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);
+  SetConstant(&o.constants, "xpbd_membranes", 0);
   o.integrator = Integrator::kLeapfrog;  // PCISPH's integrator: refused, not ignored
   EXPECT_THROW(MakeSolver(AnchoredParticle(0.5f), o), InputError);
 }

@@ -11,6 +11,7 @@
 
 #include "kernels/kernels.hpp"
 #include "kernels/simd.hpp"
+#include "owval/base/errors.hpp"
 #include "phases/density.hpp"
 #include "phases/forces.hpp"
 #include "phases/membranes.hpp"
@@ -80,6 +81,12 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
       box_(config.box),
       grid_(config.box, k_),
       matter_(ElasticMatterOf(config, k_)) {
+  // Measured: the unsplit scheme turns each substep's membrane correction into velocity with no
+  // contact velocity pass to damp it, and demo1 spans the box by step 10 (docs/xpbd.md).
+  if (parameters_.membranes && parameters_.density_passes == 0)
+    throw InputError(
+        "--set xpbd_membranes=1: needs the split scheme (xpbd_density_passes >= 1); the unsplit "
+        "scheme has no contact velocity pass for membrane contacts");
   LoadParticles(config, &state_);
   grid_.SetStatic(state_);
   const std::size_t n = state_.size();
