@@ -171,6 +171,40 @@ struct WorstParticle {
   }
 };
 
+// The candidate's state at the reference's first frame, particle for particle: a run of the same
+// configuration starts where the reference starts (Sibernetic logs its frame 0 after step 0,
+// which moves nothing but the membrane pass; owval's backends log the same state), so the two
+// agree to the files' printed precision, and a candidate that starts elsewhere is another
+// experiment. Each coordinate's allowance is the rounding of two prints at 6 significant digits,
+// 1e-5 of its magnitude, plus float32's at the box's scale near zero; the value is the worst
+// coordinate's difference in those allowances.
+struct InitialState {
+  bool observed = false;
+  double worst = 0;  // |x_cand - x_ref| / allowance, worst coordinate
+  std::size_t particle = 0;
+  int axis = 0;
+  double reference_cu = 0, candidate_cu = 0;
+
+  void Observe(const FrameRef& ref, const FrameRef& cand, double box_scale_cu) {
+    observed = true;
+    for (std::size_t p = 0; p < ref.trajectory.particle_count(); ++p) {
+      const float* x = ref.trajectory.position(ref.frame, p);
+      const float* y = cand.trajectory.position(cand.frame, p);
+      for (int a = 0; a < 3; ++a) {
+        const double allowance =
+            kPrintedDigitsRounding * std::max(std::abs(double(x[a])), std::abs(double(y[a]))) +
+            kFloatRounding * box_scale_cu;
+        double ratio = std::abs(double(y[a]) - x[a]) / allowance;
+        if (!std::isfinite(ratio)) ratio = INFINITY;  // a NaN is the worst of all
+        if (ratio > worst)
+          worst = ratio, particle = p, axis = a, reference_cu = x[a], candidate_cu = y[a];
+      }
+    }
+  }
+  static constexpr double kPrintedDigitsRounding = 1e-5;  // two %g prints: 5e-6 of |x| each
+  static constexpr double kFloatRounding = 1e-7;          // float32's epsilon, 6e-8, rounded up
+};
+
 std::optional<double> RelativeGap(const std::optional<double>& ref,
                                   const std::optional<double>& cand) {
   if (!ref || !cand || *ref == 0) return std::nullopt;
@@ -256,6 +290,7 @@ class PairReducer {
     r_->l2_final_cu = l2;
     for (DriftAccumulator& g : drift_) g.Observe(a, b, ref_.box);
     for (WorstParticle& w : worst_) w.Observe(a, b, pairs_[k].first);
+    if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -283,6 +318,7 @@ class PairReducer {
   bool HasSampleGroup(int g) const { return !sample_groups_[g].empty(); }
   internal::BodyGates& bodies() { return bodies_; }
   const std::vector<WorstParticle>& worst_particles() const { return worst_; }
+  const InitialState& initial_state() const { return initial_; }
 
  private:
   void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
@@ -306,6 +342,7 @@ class PairReducer {
   std::map<std::size_t, std::array<double, 2>> sample_distance_;
   std::vector<DriftAccumulator> drift_;
   std::vector<WorstParticle> worst_;  // elastic, liquid, boundary: those the scene has
+  InitialState initial_;              // at the reference's first frame, when it is paired
   std::vector<double> cand_time_;
   std::vector<double> resolved_time_, resolved_series_;  // every reference frame in the window
   double l2_sum_ = 0;
@@ -573,6 +610,35 @@ void GateWorstParticles(const PairReducer& reduced, const ParityOptions& o, Pari
   }
 }
 
+// The candidate at the reference's first frame against it, particle for particle (InitialState).
+// A candidate with no frame at the reference's first time cannot show where it started: it fails.
+void GateInitialState(const Trajectory& ref, const PairReducer& reduced, const ParityOptions& o,
+                      ParityReport* r) {
+  const InitialState& s = reduced.initial_state();
+  Gate g =
+      MakeGate("initial_state",
+               "worst coordinate's |cand - ref| at the reference's first frame, in units of "
+               "the rounding of two 6-significant-digit prints",
+               s.observed ? s.worst : INFINITY, o.gates.initial_state, "of the printed precision");
+  char detail[240];
+  if (!s.observed) {
+    std::snprintf(detail, sizeof detail,
+                  "the candidate has no frame at the reference's first time (%.6g s): where it "
+                  "started cannot be checked",
+                  ref.time_s.front());
+  } else if (s.worst == 0) {
+    std::snprintf(detail, sizeof detail, "every coordinate equal at %.6g s", ref.time_s.front());
+  } else {
+    std::snprintf(detail, sizeof detail,
+                  "particle %zu (%s) %c at %.6g s: candidate %.7g cu, reference %.7g cu",
+                  s.particle, KindName(KindOf(ref.type[s.particle])), "xyz"[s.axis],
+                  ref.time_s.front(), s.candidate_cu, s.reference_cu);
+  }
+  g.detail = detail;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -664,6 +730,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateSampling(ref, pairs, o, &r);
   GateSamplingOscillation(ref, pairs, o, &r);
   GateTimeBase(cand, o, &r);
+  GateInitialState(ref, reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
@@ -827,7 +894,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
     {"sampling_period_threshold", "--sampling-period-threshold", &G::sampling_period,
      "sampling.oscillation gate: the same gap, fraction of the reference's own period"},
     {"time_base_threshold", "--time-base-threshold", &G::time_base,
-     "time_base gate: a candidate frame interval's departure from the mean, fraction"}};
+     "time_base gate: a candidate frame interval's departure from the mean, fraction"},
+    {"initial_state_threshold", "--initial-state-threshold", &G::initial_state,
+     "initial_state gate: the candidate's worst coordinate at the reference's first frame, in "
+     "units of the rounding of two 6-significant-digit prints"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

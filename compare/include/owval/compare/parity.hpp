@@ -16,6 +16,8 @@
 //    Only frames at the same time are paired (to 1% of the finer frame interval): a candidate
 //    whose header claims another time step is not compared at the wrong instants.
 //  - time_base: the candidate's frames evenly spaced in time (n/a below three frames).
+//  - initial_state: the candidate at the reference's first frame equals it particle for
+//    particle, to the printed precision (a run that starts elsewhere is another experiment).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -73,6 +75,9 @@ struct ParityGates {
   Threshold sampling_period{0.5};  // fraction of the reference's period
   // The candidate's frames evenly spaced in time (an HDF5 /time column can relabel frames).
   Threshold time_base{0.01};  // departure of an interval from the mean interval, fraction
+  // The candidate's first frame where the reference's is, particle for particle: a run of the
+  // same configuration starts where the reference starts, to the files' printed precision.
+  Threshold initial_state{1};  // worst coordinate's difference, of two 6-digit prints' rounding
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an

@@ -1,0 +1,120 @@
+// The initial_state gate: a candidate run of the same configuration starts where the reference
+// starts, particle for particle, to the files' printed precision (6 significant digits). Before
+// it, demo1's reference with one liquid particle on its neighbour's place in every frame passed
+// every gate (liquid.worst_particle 0.0471 < 0.05), and so did a candidate started elsewhere.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+#include "owval/compare/parity.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::compare {
+namespace {
+
+const Trajectory& OneSprig() {
+  static const Trajectory t =
+      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
+                     "reference_trajectories/one_sprig/position_buffer.txt");
+  return t;
+}
+
+const Trajectory* Demo1() {
+  static const std::filesystem::path path =
+      std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
+  if (!std::filesystem::exists(path)) return nullptr;
+  static const Trajectory t = ReadTrajectory(path);
+  return &t;
+}
+#define REQUIRE_DEMO1()                                                   \
+  if (!Demo1()) {                                                         \
+    if (std::getenv("OWVAL_REQUIRE_REFERENCE")) FAIL() << "no demo1 run"; \
+    GTEST_SKIP() << "no ../shared/reference/demo1";                       \
+  }
+
+TEST(InitialState, ReferenceAgainstItselfIsZero) {
+  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  ASSERT_NE(r.gate("initial_state"), nullptr);
+  EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kPass);
+  EXPECT_EQ(r.gate("initial_state")->value, 0.0);
+  EXPECT_EQ(r.gate("initial_state")->detail, "every coordinate equal at 0 s");
+}
+
+TEST(InitialState, Demo1WithOneLiquidParticleOnANeighboursPlaceFromFrameZeroFails) {
+  REQUIRE_DEMO1();
+  // Liquid particle 300 on its neighbour 301's place in every frame: 4.2 cu at worst, 4.7% of
+  // the box, under liquid.worst_particle's 5%; at frame 0 the two are 1.67 cu apart, where the
+  // printed precision allows 1e-5 of the coordinate (4.7e-4 cu): 3,555 allowances.
+  Trajectory copied = *Demo1();
+  for (std::size_t f = 0; f < copied.frame_count(); ++f)
+    for (int a = 0; a < 3; ++a) copied.position(f, 300)[a] = copied.position(f, 301)[a];
+  const ParityReport r = CompareTrajectories(*Demo1(), copied, {});
+  EXPECT_EQ(r.FailedGates(), "initial_state");
+  const Gate& g = *r.gate("initial_state");
+  EXPECT_NEAR(g.value, 3555, 1);
+  EXPECT_NE(g.detail.find("particle 300 (liquid)"), std::string::npos) << g.detail;
+  EXPECT_LT(r.gate("liquid.worst_particle")->value, 0.05);
+}
+
+TEST(InitialState, OneParticleStartedAThousandthOfACuAwayFails) {
+  // one_sprig's particle 0 (y = 20.04 at the start) 1e-3 cu higher at frame 0 only: beyond two
+  // 6-digit roundings (2e-4 cu, with float32's 3e-6 at the box's 33.4 cu); no other gate sees it.
+  Trajectory moved = OneSprig();
+  const double y = moved.position(0, 0)[1];
+  ASSERT_NEAR(y, 20.04, 1e-3);
+  moved.position(0, 0)[1] += 1e-3f;
+  const ParityReport r = CompareTrajectories(OneSprig(), moved, {});
+  EXPECT_EQ(r.FailedGates(), "initial_state");
+  EXPECT_NEAR(r.gate("initial_state")->value, 1e-3 / (1e-5 * (y + 1e-3) + 1e-7 * 33.4), 0.01);
+}
+
+TEST(InitialState, RoundingToSixSignificantDigitsPasses) {
+  // Every coordinate rounded to 6 significant digits, as a second print of the same state.
+  Trajectory printed = OneSprig();
+  for (std::size_t p = 0; p < printed.particle_count(); ++p)
+    for (int a = 0; a < 3; ++a) {
+      float& x = printed.position(0, p)[a];
+      char text[32];
+      std::snprintf(text, sizeof text, "%.6g", double(x) * (1 + 4e-6));
+      x = std::strtof(text, nullptr);
+    }
+  const ParityReport r = CompareTrajectories(OneSprig(), printed, {});
+  EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kPass) << r.gate("initial_state")->value;
+}
+
+TEST(InitialState, ACandidateWithoutTheReferencesFirstFrameFails) {
+  // The candidate's frames from the reference's second frame on: within the window gate's 2%,
+  // but where it started is unknown.
+  const Trajectory& ref = OneSprig();
+  Trajectory late = ref;
+  late.positions.erase(late.positions.begin(),
+                       late.positions.begin() + std::ptrdiff_t(ref.particle_count() * 3));
+  late.time_s.erase(late.time_s.begin());
+  const ParityReport r = CompareTrajectories(ref, late, {});
+  const Gate& g = *r.gate("initial_state");
+  EXPECT_EQ(g.status, GateStatus::kFail);
+  EXPECT_NE(g.detail.find("no frame at the reference's first time"), std::string::npos) << g.detail;
+}
+
+TEST(InitialState, ANonFiniteFirstFrameFails) {
+  Trajectory broken = OneSprig();
+  broken.position(0, 3)[0] = std::numeric_limits<float>::quiet_NaN();
+  const ParityReport r = CompareTrajectories(OneSprig(), broken, {});
+  EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kFail);
+}
+
+TEST(InitialState, ThresholdIsAManifestKeyAndAFlag) {
+  bool found = false;
+  for (const GateThresholdField& field : kGateThresholdFields)
+    if (std::string(field.manifest_key) == "initial_state_threshold") {
+      EXPECT_STREQ(field.flag, "--initial-state-threshold");
+      EXPECT_EQ(field.member, &ParityGates::initial_state);
+      found = true;
+    }
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace owval::compare
