@@ -193,6 +193,24 @@ TEST(HostileFlags, ScenarioOutputsAndStabilityDurationsAreCheckedBeforeWork) {
   EXPECT_TRUE(Entries(dir).empty());
 }
 
+// `ci validate --stability 10s --backend bogus` said "Directory does not exist: bogus": CLI11 took
+// the unknown flag's value as the directory and checked it before naming the flag. A directory
+// given with --stability was ignored.
+TEST(HostileFlags, CiValidateNamesAnUnknownFlagAndRefusesADirectoryWithStability) {
+  const fs::path dir = FreshDirectory("ci_validate");
+  const std::string out = " --out " + (dir / "run").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"ci validate --stability 10s --backend bogus" + out, "not expected: --backend"},
+      {"ci validate " + dir.string() + " --stability 10s" + out, "not both"},
+      {"ci validate " + (dir / "missing").string(), "Directory does not exist: "}};
+  for (const auto& [command, says] : cases) {
+    const Result r = Owval(command);
+    ExpectOneLineRefusal(r, says, command);
+    EXPECT_EQ(r.err.find("bogus"), std::string::npos) << command << ": " << r.err;
+  }
+  EXPECT_TRUE(Entries(dir).empty());
+}
+
 // `bench io` generates its text file, then parses it: SIGTERM during the parse left the file
 // (100 MB here, 500 MB by default) behind, since the signal's default action skips destructors.
 TEST(HostileFlags, BenchIoKilledLeavesNothingBehind) {
