@@ -104,6 +104,15 @@ void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
                  std::to_string(t.particle_count()) + " particles";
   item->pass = t.frame_count() >= 2;
   if (!item->pass) item->detail += " (expected at least 2 frames)";
+  // An interrupted or blown-up run (owval writes it under a .partial name, with HDF5 attribute
+  // partial = 1) is not a result: compared over the frames it has, one stopped in the last 2% of
+  // the reference's duration passed the window gate, and the checklist said ready.
+  if (t.partial()) {
+    item->pass = false;
+    item->detail +=
+        " (partial: its own record says the run was interrupted, or stopped on a "
+        "NaN, before it finished)";
+  }
 }
 
 // Why an owval run may not stand as the reference, or empty: its provenance says it is not

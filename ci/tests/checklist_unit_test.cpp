@@ -56,6 +56,38 @@ TEST(ChecklistUnit, IdenticalTrajectoriesPassParityButMissingEvidenceBlocks) {
   EXPECT_EQ(r.verdict, Verdict::kNotReady);
 }
 
+// The first frames of one_sprig's run: up to `fraction` of its duration.
+Trajectory FirstPart(double fraction) {
+  const Trajectory full = ReadTrajectory(kOneSprig);
+  Trajectory part;
+  part.box = full.box, part.type = full.type;
+  part.time_step_s = full.time_step_s, part.log_step = full.log_step;
+  for (std::size_t f = 0; f < full.frame_count() * fraction; ++f)
+    part.AppendFrame(full.time_s[f], full.position(f, 0));
+  return part;
+}
+
+// A run stopped at 98.6% of the reference's duration (Ctrl-C, or a NaN in its last 1.4%) passed
+// the window gate (1.4% < 2%) and item 3: the checklist said ready for a run that did not finish.
+// Its own record says it is partial; a finished run of the same length still passes item 3.
+TEST(ChecklistUnit, APartialCandidateFailsItemThree) {
+  const fs::path dir = Fresh("partial");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  Trajectory stopped = FirstPart(0.986);
+  WriteTrajectory(stopped, dir / "candidate.h5");
+  const ChecklistReport finished = RunChecklist(dir, WithReference());
+  EXPECT_TRUE(Item(finished, 3).pass) << Item(finished, 3).detail;
+  EXPECT_TRUE(finished.parity_pass()) << finished.parity->FailedGates();
+  stopped.provenance["partial"] = "1";
+  fs::remove(dir / "candidate.h5");
+  WriteTrajectory(stopped, dir / "candidate.h5");
+  const ChecklistReport r = RunChecklist(dir, WithReference());
+  EXPECT_FALSE(Item(r, 3).pass);
+  EXPECT_NE(Item(r, 3).detail.find("partial: its own record says"), std::string::npos)
+      << Item(r, 3).detail;
+  EXPECT_EQ(r.verdict, Verdict::kUnreviewable);
+}
+
 // The same directory without a reference of the caller's: nothing says reference.txt is not the
 // candidate under another name.
 TEST(ChecklistUnit, WithoutTheCallersReferenceItemTwoFails) {
