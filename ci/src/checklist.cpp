@@ -530,6 +530,24 @@ void CheckTrackedMotion(ChecklistReport* r) {
                      "quantity that moves, e.g. with --scenario)";
 }
 
+// Not a gate: a candidate equal to the reference at every paired frame, particle for particle, is
+// either a perfect port or a copy of the reference, and the trajectories cannot tell which.
+// owval's PCISPH is byte-identical to Sibernetic's runs by design (docs/parity.md); a port to
+// another substrate is not expected to be (its floating-point order differs). The reviewer is
+// told, with the candidate's own record of what made it (forgeable: a claim, not evidence).
+std::string IdenticalCandidateNote(const compare::ParityReport& p, const Trajectory& candidate) {
+  for (const compare::Gate& g : p.gates) {
+    const bool distance = g.name == "initial_state" || g.name.ends_with(".worst_particle");
+    if (distance && g.value != 0) return "";
+  }
+  const auto producer = candidate.provenance.find("producer");
+  return "the candidate equals the reference at every paired frame, particle for particle: a "
+         "perfect port (owval's PCISPH is, by design) or a copy of the reference, which the "
+         "files cannot tell apart; the candidate's own record says: " +
+         (producer != candidate.provenance.end() ? "producer " + producer->second
+                                                 : std::string("no producer (none recorded)"));
+}
+
 void JudgeParity(Evidence& e, ChecklistReport* r) {
   if (!e.reference || !e.candidate) return;
   try {
@@ -540,6 +558,7 @@ void JudgeParity(Evidence& e, ChecklistReport* r) {
     return;
   }
   CheckTrackedMotion(r);
+  r->candidate_note = IdenticalCandidateNote(*r->parity, e.candidate->header());
   if (!r->tracked_moves) return;
   const fs::path stored = e.dir / "parity.json";
   if (!fs::exists(stored)) return;
@@ -649,6 +668,7 @@ std::string ChecklistReport::ToMarkdown() const {
     s << "not computed";
   }
   if (!parity_note.empty()) s << " (" << parity_note << ")";
+  if (!candidate_note.empty()) s << "\n- ℹ️ **candidate** — " << candidate_note;
   s << "\n\nItems 1, 4, 5, 6 and the parity gate are required (else: not ready); 2 and 3 make "
        "the PR reviewable; 7–10 complete it.\n";
   if (parity) s << "\n" << compare::GatesMarkdownTable(parity->gates);
@@ -669,7 +689,8 @@ nlohmann::json ChecklistReport::ToJson() const {
           {"blocking", blocking},
           {"items", list},
           {"parity", parity ? parity->ToJson() : nlohmann::json(nullptr)},
-          {"parity_note", parity_note}};
+          {"parity_note", parity_note},
+          {"candidate_note", candidate_note}};
 }
 
 }  // namespace owval::ci

@@ -56,6 +56,26 @@ TEST(ChecklistUnit, IdenticalTrajectoriesPassParityButMissingEvidenceBlocks) {
   EXPECT_EQ(r.verdict, Verdict::kNotReady);
 }
 
+// A candidate equal to the reference is a perfect port or a copy: the report says so (not a gate:
+// owval's PCISPH is byte-identical to Sibernetic's runs by design), with the producer it records.
+TEST(ChecklistUnit, ACandidateEqualToTheReferenceIsNamedAsAPerfectPortOrACopy) {
+  const fs::path dir = Fresh("copy");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  const ChecklistReport copy = RunChecklist(dir, WithReference());
+  EXPECT_TRUE(copy.parity_pass());
+  EXPECT_NE(copy.candidate_note.find("a perfect port"), std::string::npos) << copy.candidate_note;
+  EXPECT_NE(copy.candidate_note.find("no producer (none recorded)"), std::string::npos);
+  EXPECT_NE(copy.ToMarkdown().find("**candidate** — the candidate equals the reference"),
+            std::string::npos);
+  // One coordinate of one late frame off by 1e-3 cu: no longer equal, no note.
+  Trajectory moved = ReadTrajectory(kOneSprig);
+  moved.position(moved.frame_count() - 1, 0)[0] += 1e-3f;
+  fs::remove(dir / "candidate.txt");
+  WriteTrajectory(moved, dir / "candidate.h5");
+  EXPECT_EQ(RunChecklist(dir, WithReference()).candidate_note, "");
+}
+
 // The first frames of one_sprig's run: up to `fraction` of its duration.
 Trajectory FirstPart(double fraction) {
   const Trajectory full = ReadTrajectory(kOneSprig);

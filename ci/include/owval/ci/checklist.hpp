@@ -65,6 +65,9 @@ struct ChecklistReport {
   // is missing or unreadable (then item 2 or 3 fails).
   std::optional<compare::ParityReport> parity;
   std::string parity_note;  // e.g. "parity.json is stale: it says pass, recomputed FAIL"
+  // Not a gate: set when the candidate equals the reference at every paired frame (a perfect
+  // port or a copy; the files cannot tell), with the candidate's recorded producer.
+  std::string candidate_note;
   // The tracked scalar moves in the reference; a still one (a wall particle) fails the parity
   // gate, whose frame gate it would pass with any candidate that leaves it alone.
   bool tracked_moves = false;
