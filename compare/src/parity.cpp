@@ -263,6 +263,8 @@ class PairReducer {
     }
     if (!o.sample_frames.empty())
       for (std::size_t k : gated) sampled_[k] = true;
+    tracked_members_ = o.track.group.empty() ? std::vector<std::size_t>{o.track.particle}
+                                             : GroupIndices(ref, o.track.group);
     for (const char* group : {"elastic", "liquid"}) {
       const ParticleKind kind = group[0] == 'e' ? ParticleKind::kElastic : ParticleKind::kLiquid;
       sample_groups_.push_back(ref.count(kind) == 0 ? std::vector<std::size_t>{}
@@ -284,6 +286,9 @@ class PairReducer {
     cand_time_.push_back(cand_time);
     r_->reference_series.push_back(o_.track.ValueAt(a.trajectory, a.frame));
     r_->candidate_series.push_back(o_.track.ValueAt(b.trajectory, b.frame));
+    const auto x = Centroid(a.trajectory, a.frame, tracked_members_),
+               y = Centroid(b.trajectory, b.frame, tracked_members_);
+    tracked_offset_cu_.push_back({y[0] - x[0], y[1] - x[1], y[2] - x[2]});
     const double l2 = MeanParticleDistance(a, b, moving_);
     l2_sum_ += l2;
     if (k == 0) r_->l2_initial_cu = l2;
@@ -318,6 +323,10 @@ class PairReducer {
   bool HasSampleGroup(int g) const { return !sample_groups_[g].empty(); }
   internal::BodyGates& bodies() { return bodies_; }
   const std::vector<WorstParticle>& worst_particles() const { return worst_; }
+  // The tracked particle's (or group centroid's) 3-D offset cand - ref (cu) at pair k.
+  const std::array<double, 3>& tracked_offset_cu(std::size_t k) const {
+    return tracked_offset_cu_[k];
+  }
   const InitialState& initial_state() const { return initial_; }
 
  private:
@@ -344,7 +353,9 @@ class PairReducer {
   std::vector<WorstParticle> worst_;  // elastic, liquid, boundary: those the scene has
   InitialState initial_;              // at the reference's first frame, when it is paired
   std::vector<double> cand_time_;
-  std::vector<double> resolved_time_, resolved_series_;  // every reference frame in the window
+  std::vector<double> resolved_time_, resolved_series_;   // every reference frame in the window
+  std::vector<std::size_t> tracked_members_;              // the tracked particle or group
+  std::vector<std::array<double, 3>> tracked_offset_cu_;  // per pair
   double l2_sum_ = 0;
   internal::BodyGates bodies_;
 };
@@ -377,6 +388,36 @@ void GateFrames(const Trajectory& ref, const Pairs& pairs, const std::vector<std
     g.detail += scale;
   }
   if (!r->failing_frames.empty()) g.detail += "; failing frames " + FailingList(r->failing_frames);
+  r->gates.push_back(g);
+}
+
+// The frames gate in 3-D: the tracked particle's (or group centroid's) whole position, not its
+// tracked coordinate alone, against the same scale and threshold (DD001's 5% of the reference
+// scale). one_sprig tracks particle 0 y, a vertical oscillator: with gravity tilted 0.58 degrees
+// (gravity_x 0.1) it swung 0.32 cu sideways, 9.6% of its 3.39 cu range, where the reference does
+// not move at all, and every gate passed (frames 0.1%; elastic.worst_particle 1% of the box).
+void GateFramesPosition(const Pairs& pairs, const std::vector<std::size_t>& gated,
+                        const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  Gate g = MakeGate(
+      "frames.position",
+      "worst 3-D distance / scale of the tracked " +
+          std::string(o.track.group.empty() ? "particle" : "centroid") + " over the gated frames",
+      0, o.gates.frame, r->scale_given ? "of the given scale" : "of the reference range");
+  std::size_t worst = gated.empty() ? 0 : gated.front();
+  for (std::size_t k : gated) {
+    const auto& d = reduced.tracked_offset_cu(k);
+    const double distance = std::hypot(d[0], d[1], d[2]) / r->scale;
+    if (!(distance <= g.value)) g.value = std::isfinite(distance) ? distance : INFINITY, worst = k;
+  }
+  if (!gated.empty()) {
+    const auto& d = reduced.tracked_offset_cu(worst);
+    char detail[160];
+    std::snprintf(detail, sizeof detail,
+                  "worst at reference frame %zu: offset (x, y, z) = (%+.3g, %+.3g, %+.3g) cu",
+                  pairs[worst].first, d[0], d[1], d[2]);
+    g.detail = detail;
+  }
+  Decide(&g);
   r->gates.push_back(g);
 }
 
@@ -732,6 +773,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateTimeBase(cand, o, &r);
   GateInitialState(ref, reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
+  GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
   GateOscillation(o, &r);
   GateGroups(o, &r);

@@ -38,13 +38,14 @@ TEST(Parity, ElasticYScaledBy106FailsTheFrameGateAndNamesFrames) {
   EXPECT_EQ(r.gate("frames")->status, GateStatus::kFail);
   EXPECT_FALSE(r.pass());
   // The amplitude scales by 6% too, and the scaled run starts elsewhere (initial_state).
-  EXPECT_EQ(r.FailedGates(), "initial_state, frames, half_amplitude");
+  EXPECT_EQ(r.FailedGates(), "initial_state, frames, frames.position, half_amplitude");
   EXPECT_EQ(r.failing_frames, (std::vector<std::size_t>{0, 15, 100, 200}));
   // 6% of y ≈ 18 is ≈ 1.1 cu against a 3.39 cu range: about a third of the scale.
   EXPECT_NEAR(r.frames[0].relative_difference, 0.06 * 20.04 / 3.388, 1e-3);
   EXPECT_NE(r.ToMarkdown().find("failing frames 0, 15, 100, 200"), std::string::npos);
-  EXPECT_NE(r.ToTable().find("FAIL (failed: initial_state, frames, half_amplitude)"),
-            std::string::npos);
+  EXPECT_NE(
+      r.ToTable().find("FAIL (failed: initial_state, frames, frames.position, half_amplitude)"),
+      std::string::npos);
 }
 
 TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
