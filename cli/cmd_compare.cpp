@@ -18,7 +18,9 @@ struct CompareArgs {
 const char* kGatesHelp =
     "Gates (each printed with value, threshold and source; flags override a --manifest's "
     "\"gates\", which override the defaults given with each flag): frames: |cand-ref|/reference "
-    "range of the tracked scalar at each gated frame; period and half_amplitude: relative gaps, "
+    "range of the tracked scalar at each gated frame, frames.position: of its particle's (or "
+    "centroid's) 3-D position on the same scale; initial_state: the candidate's first frame is "
+    "the reference's, to the printed precision; period and half_amplitude: relative gaps, "
     "applied only when both signals have --min-crossings upward mean crossings (else n/a); per "
     "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
     "per axis), final_distance (last frame), fractions of the box; particle_distance.initial/"
