@@ -6,17 +6,13 @@
 #include <filesystem>
 
 #include "owval/compare/parity.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() {
-  static const Trajectory t =
-      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
-                     "reference_trajectories/one_sprig/position_buffer.txt");
-  return t;
-}
+const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
 
 // Particle 0 moved along x by `offset_cu` from frame 1 on (its y, the tracked coordinate, kept).
 Trajectory SwungSideways(double offset_cu) {

@@ -9,30 +9,13 @@
 #include <limits>
 
 #include "owval/compare/parity.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() {
-  static const Trajectory t =
-      ReadTrajectory(std::filesystem::path(OWVAL_SOURCE_DIR) /
-                     "reference_trajectories/one_sprig/position_buffer.txt");
-  return t;
-}
-
-const Trajectory* Demo1() {
-  static const std::filesystem::path path =
-      std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
-  if (!std::filesystem::exists(path)) return nullptr;
-  static const Trajectory t = ReadTrajectory(path);
-  return &t;
-}
-#define REQUIRE_DEMO1()                                                   \
-  if (!Demo1()) {                                                         \
-    if (std::getenv("OWVAL_REQUIRE_REFERENCE")) FAIL() << "no demo1 run"; \
-    GTEST_SKIP() << "no ../shared/reference/demo1";                       \
-  }
+const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
 
 TEST(InitialState, ReferenceAgainstItselfIsZero) {
   const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
@@ -43,14 +26,14 @@ TEST(InitialState, ReferenceAgainstItselfIsZero) {
 }
 
 TEST(InitialState, Demo1WithOneLiquidParticleOnANeighboursPlaceFromFrameZeroFails) {
-  REQUIRE_DEMO1();
+  OWVAL_REQUIRE_DEMO1();
   // Liquid particle 300 on its neighbour 301's place in every frame: 4.2 cu at worst, 4.7% of
   // the box, under liquid.worst_particle's 5%; at frame 0 the two are 1.67 cu apart, where the
   // printed precision allows 1e-5 of the coordinate (4.7e-4 cu): 3,555 allowances.
-  Trajectory copied = *Demo1();
+  Trajectory copied = *testing::SiberneticDemo1Run();
   for (std::size_t f = 0; f < copied.frame_count(); ++f)
     for (int a = 0; a < 3; ++a) copied.position(f, 300)[a] = copied.position(f, 301)[a];
-  const ParityReport r = CompareTrajectories(*Demo1(), copied, {});
+  const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(), copied, {});
   EXPECT_EQ(r.FailedGates(), "initial_state");
   const Gate& g = *r.gate("initial_state");
   EXPECT_NEAR(g.value, 3555, 1);

@@ -11,7 +11,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
-#include "owval/testing/one_sprig_run.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 

@@ -9,7 +9,7 @@
 #include <numbers>
 
 #include "owval/compare/parity.hpp"
-#include "owval/testing/one_sprig_run.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {

@@ -9,27 +9,13 @@
 #include <limits>
 
 #include "owval/compare/parity.hpp"
-#include "owval/testing/one_sprig_run.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
 
 const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
-// Sibernetic's demo1 run, or a skip (a failure with OWVAL_REQUIRE_REFERENCE=1).
-const Trajectory* Demo1() {
-  static const std::filesystem::path path =
-      std::filesystem::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
-  if (!std::filesystem::exists(path)) return nullptr;
-  static const Trajectory t = ReadTrajectory(path);
-  return &t;
-}
-#define REQUIRE_DEMO1()                                                   \
-  if (!Demo1()) {                                                         \
-    if (std::getenv("OWVAL_REQUIRE_REFERENCE")) FAIL() << "no demo1 run"; \
-    GTEST_SKIP() << "no ../shared/reference/demo1";                       \
-  }
 
 // Particles p and q exchange positions from frame 1 on.
 Trajectory Swapped(const Trajectory& t, std::size_t p, std::size_t q) {
@@ -67,10 +53,11 @@ TEST(WorstParticle, OneSprigWithItsSpringAnchorMovedFails) {
 }
 
 TEST(WorstParticle, Demo1WithTwoLiquidParticlesSwappedFailsOnlyThere) {
-  REQUIRE_DEMO1();
+  OWVAL_REQUIRE_DEMO1();
   // Liquid particles 220 and 330 (demo1: 218 elastic, 125 liquid) exchange places: centroids,
   // extents and the mean particle distance hardly move (0.5% of the box).
-  const ParityReport r = CompareTrajectories(*Demo1(), Swapped(*Demo1(), 220, 330), {});
+  const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(),
+                                             Swapped(*testing::SiberneticDemo1Run(), 220, 330), {});
   EXPECT_EQ(r.FailedGates(), "liquid.worst_particle");
   EXPECT_LT(r.gate("particle_distance.mean")->value, 0.01);
   EXPECT_GT(r.gate("liquid.worst_particle")->value, 0.5);
@@ -78,23 +65,24 @@ TEST(WorstParticle, Demo1WithTwoLiquidParticlesSwappedFailsOnlyThere) {
 }
 
 TEST(WorstParticle, Demo1WithTwoElasticParticlesSwappedFailsOnlyThere) {
-  REQUIRE_DEMO1();
-  const ParityReport r = CompareTrajectories(*Demo1(), Swapped(*Demo1(), 10, 200), {});
+  OWVAL_REQUIRE_DEMO1();
+  const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(),
+                                             Swapped(*testing::SiberneticDemo1Run(), 10, 200), {});
   EXPECT_EQ(r.FailedGates(), "elastic.worst_particle");
   EXPECT_NEAR(r.gate("elastic.worst_particle")->value, 0.1458, 1e-3);  // 13 cu of 88.8
 }
 
 TEST(WorstParticle, Demo1WithOneLiquidParticleOnANeighboursPlaceFails) {
-  REQUIRE_DEMO1();
+  OWVAL_REQUIRE_DEMO1();
   // Liquid particle 300 takes its neighbour 301's position: two particles in one place, the
   // mean moved by 0.008% of the box. Its largest distance is 4.2 cu: 4.7% of the box, under the
   // default; a threshold of 4% (the caller's) catches it, the default's limit stated here.
-  Trajectory copied = *Demo1();
+  Trajectory copied = *testing::SiberneticDemo1Run();
   for (std::size_t f = 1; f < copied.frame_count(); ++f)
     for (int a = 0; a < 3; ++a) copied.position(f, 300)[a] = copied.position(f, 301)[a];
   ParityOptions strict;
   strict.gates.worst_particle = {0.04, ThresholdSource::kFlag};
-  const ParityReport r = CompareTrajectories(*Demo1(), copied, strict);
+  const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(), copied, strict);
   EXPECT_EQ(r.FailedGates(), "liquid.worst_particle");
   EXPECT_NEAR(r.gate("liquid.worst_particle")->value, 0.0471, 5e-4);
 }
