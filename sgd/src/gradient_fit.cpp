@@ -34,51 +34,6 @@ Mapping MappingOf(const std::string& name) {
   return {{{std::size_t(it - names.begin()), 1.0}}};
 }
 
-// The loss's terms at θ as residuals r = √(weight·axis_weight)·(y − target), one per term, frame
-// and weighted axis (per moving particle too for an all-moving term), so that Σ r² is the loss
-// (docs/fit_history.md): the PR checklist recomputes each iteration's loss from them. One more
-// forward run, which holds the positions after every step up to the last compared one
-// (steps × particles Vec3d, DifferentiableXpbd::Trajectory): above `max_bytes` none are recorded
-// and `omitted` says why (the checklist then says the loss is claimed, not verified).
-std::vector<double> LossResiduals(const engine::DifferentiableXpbd& model,
-                                  const std::vector<double>& theta,
-                                  const std::vector<engine::LossTerm>& loss, std::size_t max_bytes,
-                                  std::string* omitted) {
-  std::size_t last = 0;
-  for (const engine::LossTerm& term : loss)
-    if (!term.frame_steps.empty()) last = std::max(last, term.frame_steps.back());
-  const std::size_t bytes = last * model.particle_count() * sizeof(engine::Vec3d);
-  if (bytes > max_bytes) {
-    *omitted = "the run that recomputes them would hold " + std::to_string(bytes >> 20) +
-               " MB of positions (" + std::to_string(last) + " steps), over " +
-               std::to_string(max_bytes >> 20) + " MB";
-    return {};
-  }
-  const std::vector<std::vector<engine::Vec3d>> frames = model.Trajectory(theta, last);
-  const std::vector<std::int32_t> movers = model.moving();
-  std::vector<double> residuals;
-  for (const engine::LossTerm& term : loss)
-    for (std::size_t f = 0; f < term.frame_steps.size(); ++f) {
-      const std::vector<engine::Vec3d>& x = frames[term.frame_steps[f] - 1];
-      auto add = [&](const engine::Vec3d& y, const engine::Vec3d& target) {
-        for (int a = 0; a < 3; ++a)
-          if (term.axis_weight[a] != 0)
-            residuals.push_back(std::sqrt(term.weight * term.axis_weight[a]) * (y[a] - target[a]));
-      };
-      if (term.target == engine::LossTerm::Target::kAllMoving) {
-        for (std::size_t m = 0; m < movers.size(); ++m)
-          add(x[std::size_t(movers[m])], term.reference[f][m]);
-        continue;
-      }
-      engine::Vec3d y{0, 0, 0};
-      const double w = 1.0 / double(term.particles.size());
-      for (std::int32_t i : term.particles)
-        for (int a = 0; a < 3; ++a) y[a] += w * x[std::size_t(i)][a];
-      add(y, term.reference[f][0]);
-    }
-  return residuals;
-}
-
 // The loss and its gradient in internal coordinates (log for log-space parameters).
 class Function final : public ceres::FirstOrderFunction {
  public:
@@ -160,11 +115,12 @@ class Function final : public ceres::FirstOrderFunction {
     return true;
   }
 
-  // The loss's residuals at u (LossResiduals), their forward run counted as one simulation.
-  std::vector<double> Residuals(const double* u, std::size_t max_bytes,
-                                std::string* omitted) const {
-    std::vector<double> r = LossResiduals(model_, Theta(Values(u)), loss_, max_bytes, omitted);
-    if (!r.empty()) summary_.total_simulation_equivalents += 1;
+  // The loss's terms at u as residuals (Σ r² = its loss, for the PR checklist to recompute;
+  // docs/fit_history.md), from one more forward run, counted as one simulation.
+  std::vector<double> Residuals(const double* u) const {
+    std::vector<double> r;
+    model_.Loss(Theta(Values(u)), loss_, reverse_.steps, &r);
+    summary_.total_simulation_equivalents += 1;
     return r;
   }
 
@@ -196,7 +152,7 @@ class History final : public ceres::IterationCallback {
     it.iteration = int(summary.iteration);
     it.values = f_.Values(u_);
     it.loss = summary.cost;
-    it.residuals = f_.Residuals(u_, o_.residual_memory_bytes, &s_.residuals_omitted);
+    it.residuals = f_.Residuals(u_);
     it.gradient = f_.last_gradient();
     it.evaluations = s_.fit.evaluations;
     it.wall_s = std::chrono::duration<double>(Clock::now() - start_).count();
@@ -242,7 +198,7 @@ void FitWithAdam(const GradientFitOptions& o, const engine::DifferentiableXpbd& 
     record.iteration = it;
     record.values = f.Values(u.data());
     record.loss = cost;
-    record.residuals = f.Residuals(u.data(), o.residual_memory_bytes, &summary->residuals_omitted);
+    record.residuals = f.Residuals(u.data());
     record.gradient = g;
     record.evaluations = fit.evaluations;
     record.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
@@ -347,7 +303,6 @@ nlohmann::json ToJson(const GradientFitOptions& o, const std::vector<Parameter>&
     j["iterations"][i]["simulation_equivalents"] = s.simulation_equivalents[i];
   }
   j["simulation_equivalents"] = s.total_simulation_equivalents;
-  if (!s.residuals_omitted.empty()) j["residuals_omitted"] = s.residuals_omitted;
   return j;
 }
 

@@ -39,9 +39,12 @@ Parameters<double> ToParameters(const std::vector<double>& p) {
   return t;
 }
 
-// The loss of the frames compared after step `step`, adding dL/dx to x_bar when given.
+// The loss of the frames compared after step `step`, adding dL/dx to x_bar when given and
+// appending its terms r = √(weight·axis weight)·(y − target), Σ r² = the loss, to `residuals`
+// when given (one per term, frame and weighted axis; per moving particle for an all-moving term).
 double FrameLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms, std::size_t step,
-                 const Field<double>& x, Field<double>* x_bar) {
+                 const Field<double>& x, Field<double>* x_bar,
+                 std::vector<double>* residuals = nullptr) {
   double loss = 0;
   for (const LossTerm& term : terms) {
     // frame_steps ascend (CheckLoss).
@@ -52,6 +55,8 @@ double FrameLoss(const ad::Setup<double>& S, const std::vector<LossTerm>& terms,
       for (int a = 0; a < 3; ++a) {
         const double r = y[a] - target[a];
         loss += term.weight * term.axis_weight[a] * r * r;
+        if (residuals && term.axis_weight[a] != 0)
+          residuals->push_back(std::sqrt(term.weight * term.axis_weight[a]) * r);
         if (x_bar) spread(a, 2 * term.weight * term.axis_weight[a] * r);
       }
     };
@@ -272,7 +277,8 @@ std::vector<std::vector<Vec3d>> DifferentiableXpbd::Trajectory(
 }
 
 double DifferentiableXpbd::Loss(const std::vector<double>& parameters,
-                                const std::vector<LossTerm>& loss, std::size_t steps) const {
+                                const std::vector<LossTerm>& loss, std::size_t steps,
+                                std::vector<double>* residuals) const {
   CheckLoss(impl_->setup, loss, steps);
   const Parameters<double> theta = ToParameters(parameters);
   Field<double> x(impl_->x0.begin(), impl_->x0.end()), v(impl_->v0.begin(), impl_->v0.end()), xn,
@@ -281,7 +287,7 @@ double DifferentiableXpbd::Loss(const std::vector<double>& parameters,
   for (std::size_t t = 0; t < steps; ++t) {
     ad::StepForward(impl_->setup, theta, x, v, &xn, &vn, nullptr);
     x.swap(xn), v.swap(vn);
-    total += FrameLoss(impl_->setup, loss, t + 1, x, nullptr);
+    total += FrameLoss(impl_->setup, loss, t + 1, x, nullptr, residuals);
   }
   return total;
 }

@@ -89,8 +89,10 @@ class DifferentiableXpbd {
   // Positions after each step 1..steps (frames[t-1]), forward only.
   std::vector<std::vector<Vec3d>> Trajectory(const std::vector<double>& parameters,
                                              std::size_t steps) const;
+  // The loss over steps 1..steps, forward only, in memory bounded by the particles; with
+  // `residuals`, its terms r = √(weight·axis weight)·(model − reference) too (Σ r² = the loss).
   double Loss(const std::vector<double>& parameters, const std::vector<LossTerm>& loss,
-              std::size_t steps) const;
+              std::size_t steps, std::vector<double>* residuals = nullptr) const;
   GradientSummary Gradient(const std::vector<double>& parameters, const std::vector<LossTerm>& loss,
                            const GradientOptions& options) const;
 

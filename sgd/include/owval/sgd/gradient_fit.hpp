@@ -38,10 +38,6 @@ struct GradientFitOptions {
   // the reverse pass.
   bool finite_differences = false;
   double fd_step = 1e-4;
-  // Each iteration's residuals (Σ r² = its loss, for the PR checklist to recompute) come from one
-  // more forward run that holds every step's positions up to the last compared frame; above this
-  // many bytes of them none are recorded (GradientFitSummary::residuals_omitted says why).
-  std::size_t residual_memory_bytes = std::size_t(256) << 20;
   std::function<void(const nlohmann::json& history)> on_iteration;
   // Polled after each iteration: true ends the fit with stop reason "cancelled", its history
   // and best iterate kept.
@@ -53,7 +49,6 @@ struct GradientFitSummary {
   std::vector<double> gradient_norm;           // per iteration, internal coordinates
   std::vector<double> simulation_equivalents;  // per iteration, cumulative
   double total_simulation_equivalents = 0;     // the residuals' forward runs included
-  std::string residuals_omitted;  // why iterations carry no residuals; empty when they do
 };
 
 // Parameter names: GradientParameterNames(), or "elasticity_coefficient" (both bond types, the
