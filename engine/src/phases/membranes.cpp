@@ -203,10 +203,7 @@ Float4 MembraneCorrection(const SphConstants& k, const ElasticMatter& matter,
     const std::int32_t j = slots[n].index;
     const Float4 xj = s.position[j];
     if (!IsElastic(xj.w) || !triangles.AddNeighbour(matter, j)) continue;
-    // Distance with z dropped and the type codes' difference kept (a slip in Sibernetic's port,
-    // commit 839ee75; gotcha 16).
-    const float dx = xi.x - xj.x, dy = xi.y - xj.y, dw = xi.w - xj.w;
-    distances[found++] = std::sqrt(dx * dx + dy * dy + dw * dw);
+    distances[found++] = MembraneDistance(xi, xj);
   }
   if (found == 0 || !triangles.ComputeNormals(matter, s, xi)) return {};
   Vec3 normal{0, 0, 0};

@@ -5,6 +5,7 @@
 // (gotcha 16): the particle–membrane distance drops z and keeps the type codes' difference, and
 // a degenerate triangle, or a particle lying on a triangle's plane, cancels that particle's whole
 // correction for the step.
+#include <cmath>
 #include <vector>
 
 #include "kernels/sph_constants.hpp"
@@ -12,6 +13,14 @@
 #include "state/particle_state.hpp"
 
 namespace owval::engine::internal {
+
+// The distance by which Sibernetic selects a liquid particle's membranes through elastic
+// neighbour j: z dropped and the type codes' difference kept (a slip in Sibernetic's port,
+// commit 839ee75; gotcha 16). XPBD's membrane constraint selects by the same rule.
+inline float MembraneDistance(const Float4& liquid, const Float4& elastic) {
+  const float dx = liquid.x - elastic.x, dy = liquid.y - elastic.y, dw = liquid.w - elastic.w;
+  return std::sqrt(dx * dx + dy * dy + dw * dw);
+}
 
 // scratch holds the per-particle corrections until all are known (the pass reads positions it
 // then moves).

@@ -736,7 +736,7 @@ void Xpbd<T>::InteractWithMembranes() {
 // The membrane constraint's contacts for the step, at x(t), by Sibernetic's rule for which
 // triangles act on a liquid particle (sphFluid.cl:1042-1322, phases/membranes.cpp): every
 // triangle listed by an elastic neighbour j whose distance to it is under r0, the distance taken
-// as Sibernetic takes it (z dropped, the type codes' difference kept; gotcha 16), each triangle
+// as Sibernetic takes it (MembraneDistance: z dropped, type codes kept), each triangle
 // once per particle. The side is the one the particle is on now; a particle on a triangle's
 // plane, or a degenerate triangle, makes no contact.
 template <typename T>
@@ -754,8 +754,7 @@ void Xpbd<T>::FindMembraneContacts() {
       const std::int32_t j = slots[n].index;
       const Float4 xj = state_.position[j];
       if (!IsElastic(xj.w)) continue;
-      const float dx = xi.x - xj.x, dy = xi.y - xj.y, dw = xi.w - xj.w;
-      if (!(std::sqrt(dx * dx + dy * dy + dw * dw) < r0)) continue;
+      if (!(MembraneDistance(xi, xj) < r0)) continue;
       for (int t = 0; t < kMembraneSlots; ++t) {
         const int m = matter_.membrane_index[std::size_t(j) * kMembraneSlots + t];
         if (m < 0) break;
