@@ -47,6 +47,18 @@ void ExpectOneLineRefusal(const Result& r, const std::string& says, const std::s
   EXPECT_NE(r.err.find(says), std::string::npos) << command << ": " << r.err;
 }
 
+// Each command run in `dir` is refused with one line saying `says`, prints nothing and leaves
+// nothing in `dir`.
+void ExpectEachRefusedLeavingNothing(const fs::path& dir, const std::vector<std::string>& commands,
+                                     const std::string& says) {
+  for (const std::string& c : commands) {
+    const Result r = OwvalIn(dir, c);
+    ExpectOneLineRefusal(r, says, c);
+    EXPECT_EQ(r.out, "") << c;
+    EXPECT_TRUE(Entries(dir).empty()) << c << " left " << Entries(dir).front();
+  }
+}
+
 TEST(HostileFlags, ARepeatedSetOrParamNameIsRefusedByEveryCommand) {
   const fs::path dir = FreshDirectory("repeated");
   const std::string twice = " --set elasticity_coefficient=1e8 --set elasticity_coefficient=2e8";
@@ -88,12 +100,7 @@ TEST(HostileFlags, AnEmptyOutputPathIsRefusedByEveryCommandBeforeWork) {
       "bench io --dir ''",
       "bench backends owval --scenario one_sprig --markdown ''",
       "bench backends owval --scenario one_sprig --json ''"};
-  for (const std::string& c : commands) {
-    const Result r = OwvalIn(dir, c);
-    ExpectOneLineRefusal(r, "expected a path to write, found an empty one", c);
-    EXPECT_EQ(r.out, "") << c;
-    EXPECT_TRUE(Entries(dir).empty()) << c << " left " << Entries(dir).front();
-  }
+  ExpectEachRefusedLeavingNothing(dir, commands, "expected a path to write, found an empty one");
 }
 
 // An empty input (a backends file, a cache, a manifest, a reference, a scenario) was read as
@@ -116,12 +123,7 @@ TEST(HostileFlags, AnEmptyInputNameIsRefusedByEveryCommand) {
       "scenario show ''", "run '' --out x", "predict ''", "reconcile '' " + traj, "pipeline ''",
       "inspect ''", "convert '' x.h5", "compare '' " + traj, "render '' -o x.mp4",
       "bench engine ''"};
-  for (const std::string& c : commands) {
-    const Result r = OwvalIn(dir, c);
-    ExpectOneLineRefusal(r, "expected a path or name, found an empty one", c);
-    EXPECT_EQ(r.out, "") << c;
-    EXPECT_TRUE(Entries(dir).empty()) << c << " left " << Entries(dir).front();
-  }
+  ExpectEachRefusedLeavingNothing(dir, commands, "expected a path or name, found an empty one");
 }
 
 // A benchmark of no steps or frames said something else ("duration 0 s ... gives 0 steps", "the

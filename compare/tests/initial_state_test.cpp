@@ -88,16 +88,5 @@ TEST(InitialState, ANonFiniteFirstFrameFails) {
   EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kFail);
 }
 
-TEST(InitialState, ThresholdIsAManifestKeyAndAFlag) {
-  bool found = false;
-  for (const GateThresholdField& field : kGateThresholdFields)
-    if (std::string(field.manifest_key) == "initial_state_threshold") {
-      EXPECT_STREQ(field.flag, "--initial-state-threshold");
-      EXPECT_EQ(field.member, &ParityGates::initial_state);
-      found = true;
-    }
-  EXPECT_TRUE(found);
-}
-
 }  // namespace
 }  // namespace owval::compare

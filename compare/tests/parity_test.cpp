@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -233,6 +234,27 @@ TEST(Parity, FinalStateGateNamesAnOffsetAtTheEnd) {
   EXPECT_NEAR(r.gate("elastic.final_distance")->value, 5.0 / 33.4, 1e-3);
   EXPECT_NE(r.FailedGates().find("elastic.final_distance"), std::string::npos);
   EXPECT_FALSE(r.pass());
+}
+
+// The gates added since the table's first rows are settable as the others: a manifest key and a
+// flag, each naming its own ParityGates member.
+TEST(GateThresholdFields, NewGatesHaveAManifestKeyAndAFlag) {
+  struct Expected {
+    const char* manifest_key;
+    const char* flag;
+    Threshold ParityGates::*member;
+  };
+  for (const Expected& e : {Expected{"worst_particle_threshold", "--worst-particle-threshold",
+                                     &ParityGates::worst_particle},
+                            Expected{"initial_state_threshold", "--initial-state-threshold",
+                                     &ParityGates::initial_state}}) {
+    const auto field = std::find_if(
+        kGateThresholdFields.begin(), kGateThresholdFields.end(),
+        [&](const GateThresholdField& f) { return std::string(f.manifest_key) == e.manifest_key; });
+    ASSERT_NE(field, kGateThresholdFields.end()) << e.manifest_key;
+    EXPECT_STREQ(field->flag, e.flag);
+    EXPECT_EQ(field->member, e.member);
+  }
 }
 
 TEST(Parity, ThresholdsCarryTheirSource) {

@@ -95,17 +95,6 @@ TEST(WorstParticle, ANonFiniteParticleFails) {
   EXPECT_FALSE(r.pass());
 }
 
-TEST(WorstParticle, ThresholdIsAManifestKeyAndAFlag) {
-  bool found = false;
-  for (const GateThresholdField& field : kGateThresholdFields)
-    if (std::string(field.manifest_key) == "worst_particle_threshold") {
-      EXPECT_STREQ(field.flag, "--worst-particle-threshold");
-      EXPECT_EQ(field.member, &ParityGates::worst_particle);
-      found = true;
-    }
-  EXPECT_TRUE(found);
-}
-
 TEST(MinCrossingsOverride, IsLabelledOnTheOscillationGates) {
   // --min-crossings 1000 turns one_sprig's period gates n/a: the report must say who did it.
   ParityOptions options;
