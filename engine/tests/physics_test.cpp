@@ -7,6 +7,7 @@
 
 #include "kernels/sph_constants.hpp"
 #include "neighbours/neighbour_grid.hpp"
+#include "neighbours/reciprocal_pairs.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/run.hpp"
@@ -67,6 +68,66 @@ TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
     ASSERT_LE(expected.size(), 32u) << "the sparse test cloud stays under the 32 cap";
     std::sort(found.begin(), found.end());
     EXPECT_EQ(found, expected) << "particle " << i;
+  }
+}
+
+TEST(Neighbours, ReciprocalPairsKeepExactlyThePairsListedBothWays) {
+  // A cloud dense enough that most particles have more than 32 within h, so the capped lists
+  // are one-sided; a wall of boundary particles on one side.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(1.0f, 13.0f);
+  internal::ParticleState s;
+  const std::size_t n = 700;
+  s.Resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool boundary = i % 7 == 0;
+    s.position[i] = {boundary ? u(rng) * 0.1f + 0.5f : u(rng), u(rng), u(rng),
+                     boundary ? 3.0f : (i % 2 ? 1.1f : 2.1f)};
+    if (!boundary) s.moving.push_back(std::int32_t(i));
+  }
+  const SphConstants k = SphConstants::From(PhysicsConstants{});
+  internal::NeighbourGrid grid({0, 30, 0, 30, 0, 30}, k);
+  grid.SetStatic(s);
+  grid.Refresh(&s, 1);
+  const auto lists = [&](const internal::ParticleState& t, std::int32_t a, std::int32_t b) {
+    const internal::Neighbour* slots = t.slots(std::size_t(a));
+    for (int m = 0; m < internal::kSlots && slots[m].index >= 0; ++m)
+      if (slots[m].index == b) return true;
+    return false;
+  };
+  const internal::ParticleState before = s;
+  std::size_t one_sided = 0;
+  for (std::int32_t i : s.moving)
+    for (int m = 0; m < internal::kSlots && before.slots(std::size_t(i))[m].index >= 0; ++m) {
+      const std::int32_t j = before.slots(std::size_t(i))[m].index;
+      if (!internal::IsBoundary(before.position[j].w) && !lists(before, j, i)) ++one_sided;
+    }
+  ASSERT_GT(one_sided, 100u) << "the cloud must overflow the 32-slot cap";
+  EXPECT_EQ(internal::KeepReciprocalPairs(&s), one_sided);
+  for (std::int32_t i : s.moving) {
+    // What is kept: the old list in its order, less exactly the one-sided moving entries.
+    std::vector<internal::Neighbour> expected;
+    for (int m = 0; m < internal::kSlots && before.slots(std::size_t(i))[m].index >= 0; ++m) {
+      const internal::Neighbour slot = before.slots(std::size_t(i))[m];
+      if (internal::IsBoundary(before.position[slot.index].w) || lists(before, slot.index, i))
+        expected.push_back(slot);
+    }
+    std::uint32_t boundary_bits = 0;
+    for (std::size_t m = 0; m < internal::kSlots; ++m) {
+      const internal::Neighbour got = s.slots(std::size_t(i))[m];
+      if (m < expected.size()) {
+        EXPECT_EQ(got.index, expected[m].index) << "particle " << i << " slot " << m;
+        EXPECT_EQ(got.distance_m, expected[m].distance_m);
+        if (internal::IsBoundary(s.position[got.index].w)) boundary_bits |= 1u << m;
+      } else {
+        EXPECT_EQ(got.index, -1) << "particle " << i << " slot " << m;
+      }
+    }
+    EXPECT_EQ(s.boundary_slots[std::size_t(i)], boundary_bits) << "particle " << i;
+    for (const internal::Neighbour* slot = s.slots(std::size_t(i));
+         slot < s.slots(std::size_t(i)) + internal::kSlots && slot->index >= 0; ++slot)
+      if (!internal::IsBoundary(s.position[slot->index].w))
+        EXPECT_TRUE(lists(s, slot->index, i)) << i << " lists " << slot->index << ", not back";
   }
 }
 
