@@ -98,6 +98,10 @@ const ConstantInfo kTable[] = {
      "XPBD: 0 Sibernetic's membrane pass once per step (liquid only); 1 a liquid-triangle "
      "contact constraint in the projection passes, shared with the triangle's corners",
      R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.membranes)},
+    {"xpbd_reciprocal_lists", nullptr, "1",
+     "XPBD: 1 keeps a pair of moving particles in the neighbour lists only when each lists the "
+     "other (equal and opposite pair terms); 0 Sibernetic's capped lists as searched",
+     R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.reciprocal_lists)},
     {"wcsph_h_factor", nullptr, "1", "WCSPH smoothing length h / particle spacing (support 2h)",
      R::kPositive, "wcsph", OWVAL_FIELD(wcsph.h_factor)},
     {"wcsph_spacing_m", nullptr, "m",

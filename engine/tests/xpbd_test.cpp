@@ -337,6 +337,50 @@ TEST(XpbdSolver, MembranePassMovesOnlyTheLiquid) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(solver.velocities()[i].z, 0, 1e-6) << i;
 }
 
+// A 9 x 9 x 9 block of liquid at 0.75 r0: every interior particle has about 70 particles within
+// h, so the 32-slot lists overflow and many are one-sided.
+SiberneticConfig DenseLiquidBlock() {
+  SiberneticConfig c;
+  c.source = "dense block";
+  c.box = {0, 60, 0, 60, 0, 60};
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) {
+        c.position.push_back({20 + 1.25f * i, 20 + 1.25f * j, 20 + 1.25f * k, 1.1f});
+        c.velocity.push_back({0, 0, 0, 1.1f});
+      }
+  return c;
+}
+
+// Pairs of moving particles that one lists and the other does not.
+int OneSidedPairs(const ParticleState& s) {
+  int one_sided = 0;
+  for (std::int32_t i : s.moving)
+    for (int m = 0; m < kSlots && s.slots(std::size_t(i))[m].index >= 0; ++m) {
+      const std::int32_t j = s.slots(std::size_t(i))[m].index;
+      const Neighbour* back = s.slots(std::size_t(j));
+      bool listed = false;
+      for (int n = 0; n < kSlots && back[n].index >= 0; ++n) listed |= back[n].index == i;
+      one_sided += !listed;
+    }
+  return one_sided;
+}
+
+TEST(XpbdSolver, ReciprocalListsLeaveNoOneSidedPair) {
+  PhysicsConstants k;
+  Xpbd<float> sibernetic_lists(DenseLiquidBlock(), k, 1);
+  sibernetic_lists.Step();
+  EXPECT_GT(OneSidedPairs(sibernetic_lists.state()), 500) << "the block must overflow the cap";
+  SetConstant(&k, "xpbd_reciprocal_lists", 1);
+  Xpbd<float> reciprocal(DenseLiquidBlock(), k, 1);
+  EXPECT_NE(reciprocal.parameters().find("reciprocal_lists = 1"), std::string::npos);
+  EXPECT_EQ(OneSidedPairs(reciprocal.state()), 0) << "lists of the constructor's search";
+  for (int step = 0; step < 3; ++step) {
+    reciprocal.Step();
+    EXPECT_EQ(OneSidedPairs(reciprocal.state()), 0) << "after step " << step;
+  }
+}
+
 TEST(XpbdSolver, BackendByNameRecordsItsParameters) {
   RunOptions o;
   o.backend = "xpbd";

@@ -11,6 +11,7 @@
 
 #include "kernels/kernels.hpp"
 #include "kernels/simd.hpp"
+#include "neighbours/reciprocal_pairs.hpp"
 #include "owval/base/errors.hpp"
 #include "phases/density.hpp"
 #include "phases/forces.hpp"
@@ -152,12 +153,20 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
     }
   }
   ShareBondSubsteps();
-  grid_.Refresh(&state_, threads_);
+  RefreshLists();
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
   density_compliance_ = DensityComplianceOf(config, constants);
   kernel_ = {T(h), T(h * h), T(constants.mass_kg / (rest_density_ * s * s * s)),
              T(Wpoly6Coefficient(h)), T(SpikyGradientCoefficient(h))};
+}
+
+// The step's neighbour lists from x(t); with xpbd_reciprocal_lists, only pairs listed both ways
+// (neighbours/reciprocal_pairs.hpp), so that every pair term has its reaction.
+template <typename T>
+void Xpbd<T>::RefreshLists() {
+  grid_.Refresh(&state_, threads_);
+  if (parameters_.reciprocal_lists) KeepReciprocalPairs(&state_);
 }
 
 // The mean initial density, m/s³·(W(0) + ΣW) with the constraint's own kernel and lists, of the
@@ -190,7 +199,7 @@ template <typename T>
 void Xpbd<T>::Step() {
   const bool first = step_ == 0;
   clock_.Start();
-  grid_.Refresh(&state_, threads_);
+  RefreshLists();
   clock_.Mark(kNeighbours);
   ComputeDensity(k_, &state_, threads_);
   clock_.Mark(kDensity);
@@ -841,6 +850,7 @@ std::string Xpbd<T>::parameters() const {
     << ", surface_tension = " << parameters_.surface_tension
     << ", pressure_force = " << parameters_.pressure_force
     << ", membranes = " << (parameters_.membranes ? "constraint" : "pass")
+    << ", reciprocal_lists = " << parameters_.reciprocal_lists
     << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
   return s.str();
 }

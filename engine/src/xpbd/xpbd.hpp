@@ -77,6 +77,8 @@ class Xpbd final : public Solver {
   std::span<const float> pressure() const override { return state_.pressure; }
   std::span<float> muscle_activation() override { return matter_.muscle_activation; }
   std::string parameters() const override;
+  // The particle state: positions, neighbour lists of the last step (tests read them).
+  const ParticleState& state() const { return state_; }
   NonFinite FirstNonFinite() const override;
   void EnablePhaseTiming() override { clock_.Enable(); }
   std::vector<PhaseTime> phase_seconds() const override { return clock_.seconds(); }
@@ -140,6 +142,8 @@ class Xpbd final : public Solver {
   void FindMembraneContacts();
   void ProjectMembranes();
   double DerivedRestDensity() const;
+  // The step's neighbour lists (grid_.Refresh), reciprocal ones under xpbd_reciprocal_lists.
+  void RefreshLists();
 
   SphConstants k_, k_forces_;
   PhysicsConstants::Xpbd parameters_;

@@ -102,8 +102,10 @@ struct PhysicsConstants {
     int viscosity = 1;                 // 1: add Sibernetic's viscosity force, 0: none
     int surface_tension = 1;           // 1: add Sibernetic's cohesion force, 0: none
     int pressure_force = 0;            // 1: add the SPH pressure-gradient force, 0: none
-    int membranes = 0;  // 0: Sibernetic's membrane pass once per step (moves liquid only);
-                        // 1: a liquid–triangle contact constraint in the projection passes
+    int membranes = 0;         // 0: Sibernetic's membrane pass once per step (moves liquid only);
+                               // 1: a liquid–triangle contact constraint in the projection passes
+    int reciprocal_lists = 0;  // 1: keep a moving pair in the neighbour lists only when each
+                               // particle lists the other (docs/xpbd.md); 0: Sibernetic's lists
   } xpbd;
 
   // The WCSPH scheme's parameters (engine/src/wcsph, docs/wcsph.md); the other schemes ignore
