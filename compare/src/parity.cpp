@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "body_gates.hpp"
+#include "closest_approach.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
@@ -205,6 +206,37 @@ struct InitialState {
   static constexpr double kFloatRounding = 1e-7;          // float32's epsilon, 6e-8, rounded up
 };
 
+// The closest approach of two particles (one of them moving) over the paired frames, in each
+// run (closest_approach.hpp): two particles never coincide in an honest SPH or PBD run, so a
+// candidate whose particles come much closer than the reference's ever do has particles put
+// where the physics cannot put them (demo1: a liquid particle on its neighbour's place from
+// frame 1 on passed every distance gate, 4.2 cu being less than honest ports' own differences).
+struct ClosestApproach {
+  internal::ClosestPair reference{INFINITY}, candidate{INFINITY};
+  std::size_t reference_frame = 0, candidate_reference_frame = 0;
+
+  // The last frame's closest distances: the next frame's search starts from a cell a little
+  // wider (one sort a frame where the scene changes little; it widens itself when not).
+  double last_reference_cu = 0, last_candidate_cu = 0;
+
+  static double CellFrom(double last_cu, double fallback_cu) {
+    return std::isfinite(last_cu) && last_cu > 0 ? 1.5 * last_cu : fallback_cu;
+  }
+
+  void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
+               double cell_cu, std::size_t reference_frame_index) {
+    const internal::ClosestPair r =
+        internal::FindClosestPair(ref, moving, CellFrom(last_reference_cu, cell_cu));
+    const internal::ClosestPair c =
+        internal::FindClosestPair(cand, moving, CellFrom(last_candidate_cu, cell_cu));
+    last_reference_cu = r.distance_cu, last_candidate_cu = c.distance_cu;
+    if (r.distance_cu < reference.distance_cu)
+      reference = r, reference_frame = reference_frame_index;
+    if (c.distance_cu < candidate.distance_cu)
+      candidate = c, candidate_reference_frame = reference_frame_index;
+  }
+};
+
 std::optional<double> RelativeGap(const std::optional<double>& ref,
                                   const std::optional<double>& cand) {
   if (!ref || !cand || *ref == 0) return std::nullopt;
@@ -296,6 +328,8 @@ class PairReducer {
     for (DriftAccumulator& g : drift_) g.Observe(a, b, ref_.box);
     for (WorstParticle& w : worst_) w.Observe(a, b, pairs_[k].first);
     if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
+    if (!moving_.empty())
+      closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -328,6 +362,8 @@ class PairReducer {
     return tracked_offset_cu_[k];
   }
   const InitialState& initial_state() const { return initial_; }
+  const ClosestApproach& closest_approach() const { return closest_; }
+  bool has_moving_particles() const { return !moving_.empty(); }
 
  private:
   void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
@@ -352,6 +388,9 @@ class PairReducer {
   std::vector<DriftAccumulator> drift_;
   std::vector<WorstParticle> worst_;  // elastic, liquid, boundary: those the scene has
   InitialState initial_;              // at the reference's first frame, when it is paired
+  ClosestApproach closest_;           // of each run, over the paired frames
+  // The closest-pair search's first cell width, of the box's largest extent (it widens itself).
+  static constexpr double kClosestApproachCell = 0.01;
   std::vector<double> cand_time_;
   std::vector<double> resolved_time_, resolved_series_;   // every reference frame in the window
   std::vector<std::size_t> tracked_members_;              // the tracked particle or group
@@ -680,6 +719,64 @@ void GateInitialState(const Trajectory& ref, const PairReducer& reduced, const P
   r->gates.push_back(g);
 }
 
+// The candidate's particle type codes against the reference's (Sibernetic's position.w: kind and
+// sub-type, fixed by the configuration). Every gate reads the kinds from the reference's types,
+// so a candidate that wrote liquid as elastic (or dropped the sub-types the worm's midline bins by)
+// passed with its positions right. Equal to the printed precision (1e-5 relative: two 6-digit
+// prints), since a text file prints them with 6 significant digits and HDF5 keeps the float.
+void GateParticleTypes(const Trajectory& ref, const Trajectory& cand, ParityReport* r) {
+  std::size_t differing = 0, first = 0;
+  for (std::size_t p = 0; p < ref.particle_count(); ++p) {
+    const double a = ref.type[p], b = cand.type[p];
+    if (std::abs(a - b) <= 1e-5 * std::max(std::abs(a), std::abs(b))) continue;
+    if (differing++ == 0) first = p;
+  }
+  Gate g = MakeGate("particle_types", "particles whose type code differs from the reference's",
+                    double(differing), Threshold{1}, "particles");
+  char detail[200];
+  if (differing == 0) {
+    std::snprintf(detail, sizeof detail, "all %zu equal", ref.particle_count());
+  } else {
+    std::snprintf(detail, sizeof detail,
+                  "%zu of %zu differ; first particle %zu: candidate %.6g, reference %.6g",
+                  differing, ref.particle_count(), first, double(cand.type[first]),
+                  double(ref.type[first]));
+  }
+  g.detail = detail;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
+// The candidate's closest approach of two particles against the reference's (ClosestApproach):
+// the value is reference / candidate, so a candidate whose particles come k times closer than the
+// reference's ever do measures k, and two coincident particles infinity.
+void GateClosestApproach(const Trajectory& ref, const PairReducer& reduced, const ParityOptions& o,
+                         ParityReport* r) {
+  if (!reduced.has_moving_particles()) return;
+  const ClosestApproach& c = reduced.closest_approach();
+  const double reference = c.reference.distance_cu, candidate = c.candidate.distance_cu;
+  // No pair in the reference (one moving particle alone), or coincident particles in it: the
+  // candidate cannot come closer than that.
+  const double value = !(std::isfinite(reference) && reference > 0) ? 0
+                       : candidate > 0                              ? reference / candidate
+                                                                    : INFINITY;
+  Gate g = MakeGate("closest_approach",
+                    "the reference's closest approach of two particles (one moving) over the "
+                    "paired frames / the candidate's",
+                    value, o.gates.closest_approach, "times closer than the reference");
+  char detail[320];
+  std::snprintf(detail, sizeof detail,
+                "candidate %.4g cu (particles %zu %s and %zu %s, reference frame %zu); reference "
+                "%.4g cu (particles %zu and %zu, frame %zu)",
+                candidate, c.candidate.first, KindName(KindOf(ref.type[c.candidate.first])),
+                c.candidate.second, KindName(KindOf(ref.type[c.candidate.second])),
+                c.candidate_reference_frame, reference, c.reference.first, c.reference.second,
+                c.reference_frame);
+  g.detail = detail;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -771,7 +868,9 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateSampling(ref, pairs, o, &r);
   GateSamplingOscillation(ref, pairs, o, &r);
   GateTimeBase(cand, o, &r);
+  GateParticleTypes(ref, cand, &r);
   GateInitialState(ref, reducer, o, &r);
+  GateClosestApproach(ref, reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -939,11 +1038,37 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "time_base gate: a candidate frame interval's departure from the mean, fraction"},
     {"initial_state_threshold", "--initial-state-threshold", &G::initial_state,
      "initial_state gate: the candidate's worst coordinate at the reference's first frame, in "
-     "units of the rounding of two 6-significant-digit prints"}};
+     "units of the rounding of two 6-significant-digit prints"},
+    {"closest_approach_threshold", "--closest-approach-threshold", &G::closest_approach,
+     "closest_approach gate: how many times closer than the reference's closest approach two "
+     "of the candidate's particles (one moving) may come"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +
          FormatNumber((ParityGates{}.*field.member).value) + ")";
+}
+
+std::vector<std::string> LoosenedThresholds(const ParityGates& gates) {
+  const ParityGates defaults;
+  std::vector<std::string> loosened;
+  for (const GateThresholdField& field : kGateThresholdFields) {
+    const Threshold& given = gates.*field.member;
+    const double default_value = (defaults.*field.member).value;
+    if (!(given.value <= default_value))
+      loosened.push_back(std::string(field.manifest_key) + " " + FormatNumber(given.value) + " (" +
+                         SourceName(given.source) + "; default " + FormatNumber(default_value) +
+                         ")");
+  }
+  return loosened;
+}
+
+ParityGates NoLooserThanDefaults(const ParityGates& gates) {
+  const ParityGates defaults;
+  ParityGates out = gates;
+  for (const GateThresholdField& field : kGateThresholdFields)
+    if (!((gates.*field.member).value <= (defaults.*field.member).value))
+      out.*field.member = defaults.*field.member;
+  return out;
 }
 
 }  // namespace owval::compare

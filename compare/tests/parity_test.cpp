@@ -247,7 +247,9 @@ TEST(GateThresholdFields, NewGatesHaveAManifestKeyAndAFlag) {
   for (const Expected& e : {Expected{"worst_particle_threshold", "--worst-particle-threshold",
                                      &ParityGates::worst_particle},
                             Expected{"initial_state_threshold", "--initial-state-threshold",
-                                     &ParityGates::initial_state}}) {
+                                     &ParityGates::initial_state},
+                            Expected{"closest_approach_threshold", "--closest-approach-threshold",
+                                     &ParityGates::closest_approach}}) {
     const auto field = std::find_if(
         kGateThresholdFields.begin(), kGateThresholdFields.end(),
         [&](const GateThresholdField& f) { return std::string(f.manifest_key) == e.manifest_key; });

@@ -78,6 +78,11 @@ struct ParityGates {
   // The candidate's first frame where the reference's is, particle for particle: a run of the
   // same configuration starts where the reference starts, to the files' printed precision.
   Threshold initial_state{1};  // worst coordinate's difference, of two 6-digit prints' rounding
+  // The reference's closest approach of two particles (one moving) over the paired frames over
+  // the candidate's: two particles never share a place in an honest run. Measured honest runs
+  // reach 481 (XPBD's liquid clumps: demo1 over 1 s, 6.3e-5 cu), so the bound only catches
+  // particles coincident to float precision (docs/checklist.md).
+  Threshold closest_approach{1e4};  // reference distance / candidate distance
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
@@ -92,6 +97,15 @@ extern const std::vector<GateThresholdField> kGateThresholdFields;
 
 // `field`'s help with its default: "frames gate (default 0.05)".
 std::string GateThresholdHelp(const GateThresholdField& field);
+
+// The thresholds of `gates` looser than DD001's defaults (ParityGates{}): every gate passes when
+// its value is below its threshold, and min_crossings decides whether the oscillation gates apply
+// at all, so a larger number is looser for every field. One line each: "worst_particle_threshold
+// 0.3 (manifest; default 0.05)". Empty when none is.
+std::vector<std::string> LoosenedThresholds(const ParityGates& gates);
+// `gates` with every threshold looser than its default put back to the default (sources kept
+// for the others): the caller's tightenings stay, its loosenings go.
+ParityGates NoLooserThanDefaults(const ParityGates& gates);
 
 struct ParityOptions {
   Track track;  // the tracked scalar of the frame gate
