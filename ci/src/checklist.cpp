@@ -548,11 +548,24 @@ std::string IdenticalCandidateNote(const compare::ParityReport& p, const Traject
                                                  : std::string("no producer (none recorded)"));
 }
 
+// The caller's gates looser than DD001's defaults: a candidate that passes them is compared
+// again with those put back to the defaults, and the gates it fails there are recorded (the
+// parity gate then fails: "ready" is never said of a candidate that passes only loosened gates).
+void JudgeLoosenedGates(Evidence& e, ChecklistReport* r) {
+  r->loosened_thresholds = compare::LoosenedThresholds(e.options.gates);
+  if (r->loosened_thresholds.empty() || !r->parity->pass()) return;
+  const compare::ParityReport strict = compare::CompareFrameSources(
+      *e.reference, *e.candidate,
+      {e.track, {}, std::nullopt, compare::NoLooserThanDefaults(e.options.gates)});
+  if (!strict.pass()) r->failed_at_default_thresholds = strict.FailedGates();
+}
+
 void JudgeParity(Evidence& e, ChecklistReport* r) {
   if (!e.reference || !e.candidate) return;
   try {
     r->parity = compare::CompareFrameSources(*e.reference, *e.candidate,
                                              {e.track, {}, std::nullopt, e.options.gates});
+    JudgeLoosenedGates(e, r);
   } catch (const std::exception& ex) {
     r->parity_note = std::string("parity could not be computed: ") + ex.what();
     return;
@@ -574,6 +587,19 @@ void JudgeParity(Evidence& e, ChecklistReport* r) {
   }
 }
 
+std::string LoosenedList(const ChecklistReport& r) {
+  std::string list;
+  for (const std::string& l : r.loosened_thresholds) list += (list.empty() ? "" : ", ") + l;
+  return list;
+}
+
+std::string ParityBlocking(const ChecklistReport& r) {
+  if (!r.parity || !r.tracked_moves) return "parity gate (" + r.parity_note + ")";
+  if (!r.parity->pass()) return "parity gate (failed: " + r.parity->FailedGates() + ")";
+  return "parity gate (passes only with thresholds looser than DD001's defaults: " +
+         LoosenedList(r) + "; at the defaults it fails: " + r.failed_at_default_thresholds + ")";
+}
+
 void Decide(ChecklistReport* r) {
   auto fails = [&](int n) { return !r->items[std::size_t(n - 1)].pass; };
   auto block = [&](int n) {
@@ -582,10 +608,7 @@ void Decide(ChecklistReport* r) {
   };
   for (int n : {2, 3, 1, 4, 5, 6})
     if (fails(n)) block(n);
-  if (!fails(2) && !fails(3) && !r->parity_pass())
-    r->blocking.push_back(r->parity && r->tracked_moves
-                              ? "parity gate (failed: " + r->parity->FailedGates() + ")"
-                              : "parity gate (" + r->parity_note + ")");
+  if (!fails(2) && !fails(3) && !r->parity_pass()) r->blocking.push_back(ParityBlocking(*r));
   if (fails(2) || fails(3)) {
     r->verdict = Verdict::kUnreviewable;
   } else if (!r->blocking.empty()) {
@@ -661,13 +684,22 @@ std::string ChecklistReport::ToMarkdown() const {
   s << "- " << (parity_pass() ? "✅" : "❌") << " **parity gate** — ";
   if (parity) {
     s << parity->subject << ", " << parity->paired_frames << " paired frames: "
-      << (!parity->pass() ? "failed: " + parity->FailedGates()
-          : tracked_moves ? "every applicable gate passes"
-                          : "the tracked quantity does not move");
+      << (!parity->pass()  ? "failed: " + parity->FailedGates()
+          : !tracked_moves ? "the tracked quantity does not move"
+          : failed_at_default_thresholds.empty()
+              ? "every applicable gate passes"
+              : "passes only with the loosened gates below; at DD001's defaults it fails: " +
+                    failed_at_default_thresholds);
   } else {
     s << "not computed";
   }
   if (!parity_note.empty()) s << " (" << parity_note << ")";
+  if (!loosened_thresholds.empty())
+    s << "\n- ⚠️ **gates loosened by the caller** — " << LoosenedList(*this) << ": "
+      << (!parity || !parity->pass() ? std::string("the candidate fails even these")
+          : failed_at_default_thresholds.empty()
+              ? std::string("the candidate passes the defaults too")
+              : "at the defaults it FAILS: " + failed_at_default_thresholds);
   if (!candidate_note.empty()) s << "\n- ℹ️ **candidate** — " << candidate_note;
   s << "\n\nItems 1, 4, 5, 6 and the parity gate are required (else: not ready); 2 and 3 make "
        "the PR reviewable; 7–10 complete it.\n";
@@ -690,6 +722,8 @@ nlohmann::json ChecklistReport::ToJson() const {
           {"items", list},
           {"parity", parity ? parity->ToJson() : nlohmann::json(nullptr)},
           {"parity_note", parity_note},
+          {"loosened_thresholds", loosened_thresholds},
+          {"failed_at_default_thresholds", failed_at_default_thresholds},
           {"candidate_note", candidate_note}};
 }
 

@@ -134,5 +134,46 @@ TEST(ChecklistUnit, AMalformedPredictionFailsItemOneNamingTheField) {
   EXPECT_FALSE(Item(r, 10).pass);
 }
 
+// one_sprig's particle 0 raised by 0.2 cu from frame 1 on: 5.9% of its 3.39 cu range, so the
+// frames gate fails at DD001's 5%. A caller's manifest with frame_threshold 0.1 let it pass, and
+// the checklist said nothing of the loosened gate: the parity gate passed.
+TEST(ChecklistUnit, ACandidatePassingOnlyLoosenedGatesFailsTheParityGateNamingThem) {
+  const fs::path dir = Fresh("loosened");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  Trajectory raised = ReadTrajectory(kOneSprig);
+  for (std::size_t f = 1; f < raised.frame_count(); ++f) raised.position(f, 0)[1] += 0.2f;
+  WriteTrajectory(raised, dir / "candidate.h5");
+  ChecklistOptions loose = WithReference();
+  loose.gates.frame = {0.1, compare::ThresholdSource::kManifest};
+  const ChecklistReport r = RunChecklist(dir, loose);
+  ASSERT_TRUE(r.parity);
+  EXPECT_TRUE(r.parity->pass());  // at the caller's thresholds
+  ASSERT_EQ(r.loosened_thresholds.size(), 1u);
+  EXPECT_EQ(r.loosened_thresholds[0], "frame_threshold 0.1 (manifest; default 0.05)");
+  EXPECT_EQ(r.failed_at_default_thresholds, "frames, frames.position");
+  EXPECT_FALSE(r.parity_pass());
+  EXPECT_NE(r.ToMarkdown().find("**gates loosened by the caller** — frame_threshold 0.1 "
+                                "(manifest; default 0.05): at the defaults it FAILS: frames, "
+                                "frames.position"),
+            std::string::npos)
+      << r.ToMarkdown();
+  const std::string blocking = r.blocking.empty() ? "" : r.blocking.back();
+  EXPECT_NE(blocking.find("parity gate (passes only with thresholds looser than DD001's"),
+            std::string::npos)
+      << blocking;
+  // The same loosened gate over a candidate that passes the defaults: the gate is named, the
+  // parity gate passes.
+  fs::remove(dir / "candidate.h5");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  const ChecklistReport honest = RunChecklist(dir, loose);
+  EXPECT_TRUE(honest.parity_pass());
+  EXPECT_EQ(honest.loosened_thresholds.size(), 1u);
+  EXPECT_NE(honest.ToMarkdown().find("the candidate passes the defaults too"), std::string::npos);
+  // Tightened gates are not loosened ones.
+  ChecklistOptions tight = WithReference();
+  tight.gates.frame = {0.01, compare::ThresholdSource::kManifest};
+  EXPECT_TRUE(RunChecklist(dir, tight).loosened_thresholds.empty());
+}
+
 }  // namespace
 }  // namespace owval::ci

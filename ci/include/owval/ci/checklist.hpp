@@ -71,11 +71,19 @@ struct ChecklistReport {
   // The tracked scalar moves in the reference; a still one (a wall particle) fails the parity
   // gate, whose frame gate it would pass with any candidate that leaves it alone.
   bool tracked_moves = false;
+  // The caller's thresholds looser than DD001's defaults (compare::LoosenedThresholds), and when
+  // there are any, the gates the candidate fails with those put back to the defaults: a
+  // candidate that passes only because its caller loosened the gates is not ready, and the
+  // report says which gates were loosened either way.
+  std::vector<std::string> loosened_thresholds;
+  std::string failed_at_default_thresholds;  // "liquid.worst_particle"; empty: passes them too
   Verdict verdict = Verdict::kNotReady;
   std::vector<std::string> blocking;  // what makes the verdict what it is, e.g. "item 5 (...)"
 
   int exit_code() const;  // 0 ready or incomplete, 1 otherwise
-  bool parity_pass() const { return parity && parity->pass() && tracked_moves; }
+  bool parity_pass() const {
+    return parity && parity->pass() && tracked_moves && failed_at_default_thresholds.empty();
+  }
   std::string ToMarkdown() const;
   nlohmann::json ToJson() const;
 };
