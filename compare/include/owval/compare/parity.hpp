@@ -18,6 +18,10 @@
 //  - time_base: the candidate's frames evenly spaced in time (n/a below three frames).
 //  - initial_state: the candidate at the reference's first frame equals it particle for
 //    particle, to the printed precision (a run that starts elsewhere is another experiment).
+//  - particle_types: the candidate's type codes equal the reference's (every other gate reads
+//    the kinds from the reference).
+//  - closest_approach: the reference's closest approach of two particles (one moving) over the
+//    candidate's: two particles never share a place (closest_approach.hpp).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
