@@ -120,7 +120,8 @@ Setup<double> SetupOf(const SiberneticConfig& config, const PhysicsConstants& co
       S.movers.push_back(std::int32_t(i));
     }
   }
-  for (std::size_t e = 0; e < config.elastic_count(); ++e)
+  const std::size_t elastic = config.elastic_count();  // counts the particles: once
+  for (std::size_t e = 0; e < elastic; ++e)
     for (int slot = 0; slot < kConnectionSlots; ++slot) {
       const Row4& c = config.connection[e * kConnectionSlots + slot];
       if (c[0] < 0) break;

@@ -42,7 +42,10 @@ int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants
   const PhysicsConstants::Xpbd& p = constants.xpbd;
   if (p.substeps > 0) return p.substeps;
   double k_max = 0;
-  for (std::size_t e = 0; e < config.elastic_count(); ++e)
+  // elastic_count() counts the configuration's particles: once, not once per elastic particle
+  // (demo1's 17,841 particles × 218 elastic ones cost 90 M instructions of a 0.01 s run).
+  const std::size_t elastic = config.elastic_count();
+  for (std::size_t e = 0; e < elastic; ++e)
     for (int slot = 0; slot < kSpringSlots; ++slot) {
       const Row4& c = config.connection[e * kSpringSlots + slot];
       if (c[0] < 0) break;
