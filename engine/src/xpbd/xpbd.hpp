@@ -193,6 +193,10 @@ class Xpbd final : public Solver {
   std::vector<Vec3<T>> wall_normal_;      // a substep's last wall push direction, or zero
   double wall_friction_ = 1;              // Sibernetic's 0.99 per step, per substep
   std::vector<T> density_lambda_, density_dlambda_, bond_lambda_, bond_alpha_tilde_;
+  // What bond_alpha_tilde_ was computed for (BondComplianceOf): the substep h, or −1 before the
+  // first step, and the muscle activations.
+  T compliance_h_ = T(-1);
+  std::vector<float> compliance_activation_;
   std::vector<Float4> pressure_acceleration_, membrane_scratch_;
   std::vector<Float4> membrane_before_;  // per moving particle, as the membrane pass began
   // xpbd_membranes = 1: a liquid particle and a triangle it must stay off, with the side of the
