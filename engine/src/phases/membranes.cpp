@@ -130,9 +130,18 @@ __attribute__((target("avx2,fma"))) void UnitNormalsAvx2(const ElasticMatter& ma
 
 // The triangles listed by liquid particle i's elastic neighbours, each listed once: a triangle is
 // listed by each of its three vertices, and its normal seen from x_i is computed once (the same
-// operations, so the same floats). Open addressing over a table larger than 32·7 entries.
+// operations, so the same floats). `unique_of` is the calling thread's table of every triangle's
+// place in this list, −1 where absent; it is −1 again everywhere once the list is destroyed.
+// (An open-addressing hash cleared per particle took more instructions than the normals.)
 class NeighbourTriangles {
  public:
+  explicit NeighbourTriangles(int* unique_of) : unique_of_(unique_of) {}
+  ~NeighbourTriangles() {
+    for (int u = 0; u < unique_; ++u) unique_of_[triangle_[u]] = -1;
+  }
+  NeighbourTriangles(const NeighbourTriangles&) = delete;
+  NeighbourTriangles& operator=(const NeighbourTriangles&) = delete;
+
   // Adds neighbour j's triangles; false when it lists none.
   bool AddNeighbour(const ElasticMatter& matter, std::int32_t j) {
     int listed = 0;
@@ -172,32 +181,29 @@ class NeighbourTriangles {
   static constexpr int kSize = 256;
   static_assert(kSize > kSlots * kMembraneSlots);
   int Unique(int m) {
-    if (unique_ == 0) std::fill(key_, key_ + kSize, -1);
-    int h = int((unsigned(m) * 2654435761u) >> 24);  // top 8 bits: kSize = 256
-    while (key_[h] >= 0 && key_[h] != m) h = (h + 1) & (kSize - 1);
-    if (key_[h] != m) {
-      key_[h] = m;
-      value_[h] = unique_;
+    int& unique = unique_of_[m];
+    if (unique < 0) {
+      unique = unique_;
       triangle_[unique_++] = m;
     }
-    return value_[h];
+    return unique;
   }
-  int key_[kSize], value_[kSize];
   int triangle_[kSize];  // unique triangles, in first-listed order
   Vec3 unit_[kSize];
   int unique_ = 0;
   int uses_[kSlots * kMembraneSlots];  // per neighbour, its triangles' unique indices
   int first_use_[kSlots + 1] = {0};    // neighbour n's uses are [first_use_[n], first_use_[n + 1])
   int used_ = 0, neighbours_ = 0;
+  int* unique_of_;
 };
 
 // Liquid particle i's push out of the membranes near it, or zero.
 Float4 MembraneCorrection(const SphConstants& k, const ElasticMatter& matter,
-                          const ParticleState& s, std::int32_t i) {
+                          const ParticleState& s, std::int32_t i, int* unique_of) {
   const Float4 xi = s.position[i];
   float distances[kSlots];
   int found = 0;
-  NeighbourTriangles triangles;
+  NeighbourTriangles triangles(unique_of);
   const Neighbour* slots = s.slots(i);
   for (int n = 0; n < kSlots && slots[n].index >= 0; ++n) {
     const std::int32_t j = slots[n].index;
@@ -232,10 +238,16 @@ void InteractWithMembranes(const SphConstants& k, const ElasticMatter& matter, P
   ParticleState& s = *state;
   std::vector<Float4>& correction = *scratch;
   correction.resize(s.size());  // only moving particles' entries are written and read
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t n = 0; n < s.moving.size(); ++n) {
-    const std::int32_t i = s.moving[n];
-    correction[i] = IsLiquid(s.position[i].w) ? MembraneCorrection(k, matter, s, i) : Float4{};
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<int> unique_of(matter.membranes.size(), -1);  // this thread's NeighbourTriangles
+#pragma omp for schedule(static)
+    for (std::size_t n = 0; n < s.moving.size(); ++n) {
+      const std::int32_t i = s.moving[n];
+      correction[i] = IsLiquid(s.position[i].w)
+                          ? MembraneCorrection(k, matter, s, i, unique_of.data())
+                          : Float4{};
+    }
   }
   for (std::int32_t i : s.moving) {
     s.position[i].x += correction[i].x;
