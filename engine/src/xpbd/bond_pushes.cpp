@@ -20,12 +20,14 @@ __attribute__((target("avx2,fma"))) inline void LoadPointsAt(const float* points
   LoadPoints(at, x, y, z);
 }
 
-// One group's rows, one per lane: each slot's push (λ updated unless `keep_lambda` is false:
-// a substep's only pass, whose λ nothing reads), summed slot by slot from +0.
+// One group's rows, one per lane: each slot's push (λ updated unless `kKeepLambda` is false:
+// a substep's only pass, whose λ nothing reads), summed slot by slot from +0. The pass's kind is
+// a template parameter so that the slot loop carries no branch on it.
+template <bool kFirstPass, bool kKeepLambda>
 __attribute__((target("avx2,fma"))) inline void GroupPushesAvx2(
     const float* start, const std::int32_t* lane_offset, const std::int32_t* partner_offset,
     std::size_t first, std::size_t last, const float* rest_cu, const float* alpha_tilde,
-    float* lambda, bool first_pass, bool keep_lambda, float sum[3][8]) {
+    float* lambda, float sum[3][8]) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
   const __m256 sign = _mm256_set1_ps(-0.0f);
   __m256 ax, ay, az;
@@ -40,13 +42,13 @@ __attribute__((target("avx2,fma"))) inline void GroupPushesAvx2(
         _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz)));
     const __m256 alpha = _mm256_loadu_ps(alpha_tilde + s);
     const __m256 rest = _mm256_loadu_ps(rest_cu + s);
-    const __m256 old_lambda = first_pass ? zero : _mm256_loadu_ps(lambda + s);
+    const __m256 old_lambda = kFirstPass ? zero : _mm256_loadu_ps(lambda + s);
     const __m256 taken = _mm256_and_ps(_mm256_cmp_ps(alpha, zero, _CMP_NLT_UQ),   // !(α̃ < 0)
                                        _mm256_cmp_ps(length, zero, _CMP_GT_OQ));  // L > 0
     const __m256 numerator = _mm256_sub_ps(_mm256_xor_ps(_mm256_sub_ps(length, rest), sign),
                                            _mm256_mul_ps(alpha, old_lambda));
     const __m256 dlambda = _mm256_div_ps(numerator, _mm256_add_ps(one, alpha));
-    if (keep_lambda)
+    if constexpr (kKeepLambda)
       _mm256_storeu_ps(lambda + s,
                        _mm256_blendv_ps(old_lambda, _mm256_add_ps(old_lambda, dlambda), taken));
     const __m256 step = _mm256_div_ps(dlambda, length);
@@ -69,21 +71,21 @@ struct Groups {
   float* lambda;
 };
 
+template <bool kFirst, bool kKeepLambda>
 __attribute__((target("avx2,fma"))) void PassGroupsAvx2(const Groups& in, Vec3<float>* p,
-                                                        Vec3<float>* correction, bool first,
+                                                        Vec3<float>* correction,
                                                         std::size_t first_group,
                                                         std::size_t last_group) {
   constexpr std::size_t kLanes = BondLanes::kLanes;
-  const bool keep_lambda = !(first && p == nullptr);  // a later pass reads λ
   for (std::size_t g = first_group; g < last_group; ++g) {
     float sum[3][kLanes];
-    GroupPushesAvx2(in.start, &in.lane_offset[g * kLanes], in.partner_offset, in.group_slot[g],
-                    in.group_slot[g + 1], in.rest_cu, in.alpha_tilde, in.lambda, first, keep_lambda,
-                    sum);
+    GroupPushesAvx2<kFirst, kKeepLambda>(in.start, &in.lane_offset[g * kLanes], in.partner_offset,
+                                         in.group_slot[g], in.group_slot[g + 1], in.rest_cu,
+                                         in.alpha_tilde, in.lambda, sum);
     for (std::size_t l = 0; l < kLanes; ++l) {
       const std::int32_t i = in.lane_particle[g * kLanes + l];
       if (i < 0) continue;
-      if (first) {
+      if constexpr (kFirst) {
         correction[i] = {sum[0][l], sum[1][l], sum[2][l]};
       } else {
         for (int a = 0; a < 3; ++a) correction[i][a] = correction[i][a] + sum[a][l];
@@ -159,7 +161,13 @@ void BondLanes::Pass(const Vec3<float>* start, Vec3<float>* p, Vec3<float>* corr
   const Groups in{
       start[0].data(),    lane_particle_.data(), lane_offset_.data(), slot_partner_offset_.data(),
       group_slot_.data(), rest_cu_.data(),       alpha_tilde_.data(), lambda_.data()};
-  PassGroupsAvx2(in, p, correction, first, first_group, last_group);
+  // A pass that is both a substep's first and its last (p null) keeps no λ: nothing reads it.
+  if (first && p == nullptr)
+    PassGroupsAvx2<true, false>(in, p, correction, first_group, last_group);
+  else if (first)
+    PassGroupsAvx2<true, true>(in, p, correction, first_group, last_group);
+  else
+    PassGroupsAvx2<false, true>(in, p, correction, first_group, last_group);
 }
 
 __attribute__((target("avx2,fma"))) void PredictAvx2(std::size_t values, float h, float to_cu,
