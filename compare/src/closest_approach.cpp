@@ -31,11 +31,25 @@ bool Finite(const float* x) {
 ClosestPair ClosestWithinCell(const FrameRef& f, const std::vector<std::size_t>& moving,
                               double cell_cu) {
   const Trajectory& t = f.trajectory;
+  // A pair closer than one cell lies within one cell of the moving particles' bounding box on
+  // every axis: only particles there are binned, not the walls' thousands far from them (the
+  // per-frame sort of every particle was 90% of a demo1 compare).
+  double low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i : moving) {
+    const float* x = t.position(f.frame, i);
+    if (!Finite(x)) continue;
+    for (int a = 0; a < 3; ++a) low[a] = std::min(low[a], x[a] - cell_cu);
+    for (int a = 0; a < 3; ++a) high[a] = std::max(high[a], x[a] + cell_cu);
+  }
+  const auto near_moving = [&](const float* x) {
+    for (int a = 0; a < 3; ++a)
+      if (x[a] < low[a] || x[a] > high[a]) return false;
+    return true;
+  };
   std::vector<Binned> bins;
-  bins.reserve(t.particle_count());
   for (std::size_t p = 0; p < t.particle_count(); ++p) {
     const float* x = t.position(f.frame, p);
-    if (Finite(x)) bins.push_back({CellOf(x, cell_cu), p});
+    if (Finite(x) && near_moving(x)) bins.push_back({CellOf(x, cell_cu), p});
   }
   std::sort(bins.begin(), bins.end());
   ClosestPair best{std::numeric_limits<double>::infinity()};
