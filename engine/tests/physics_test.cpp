@@ -39,16 +39,28 @@ TEST(Kernels, ConstantsMatchSiberneticsHostValuesToTheLastBit) {
   EXPECT_NEAR(k.mass_wpoly6 * k.hs6, 207.53, 0.01);
 }
 
-TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(1.0f, 29.0f);
+// n particles drawn uniformly in [lo, hi)³ (seeded); `type(i, x)` gives particle i's type code
+// (Sibernetic's w: 1.x liquid, 2.x elastic, 3 boundary) and may move its x first (a wall);
+// every non-boundary particle is moving.
+template <class TypeOf>
+internal::ParticleState RandomCloud(unsigned seed, std::size_t n, float lo, float hi, TypeOf type) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
   internal::ParticleState s;
-  const std::size_t n = 400;
   s.Resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    s.position[i] = {u(rng), u(rng), u(rng), i % 2 ? 1.1f : 3.0f};
-    if (i % 2) s.moving.push_back(std::int32_t(i));
+    float x = u(rng);
+    const float w = type(i, &x);
+    s.position[i] = {x, u(rng), u(rng), w};
+    if (!internal::IsBoundary(w)) s.moving.push_back(std::int32_t(i));
   }
+  return s;
+}
+
+TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
+  const std::size_t n = 400;
+  internal::ParticleState s =
+      RandomCloud(3, n, 1.0f, 29.0f, [](std::size_t i, float*) { return i % 2 ? 1.1f : 3.0f; });
   const SphConstants k = SphConstants::From(PhysicsConstants{});
   internal::NeighbourGrid grid({0, 30, 0, 30, 0, 30}, k);
   grid.SetStatic(s);
@@ -74,17 +86,11 @@ TEST(Neighbours, SearchMatchesBruteForceWithinTheCap) {
 TEST(Neighbours, ReciprocalPairsKeepExactlyThePairsListedBothWays) {
   // A cloud dense enough that most particles have more than 32 within h, so the capped lists
   // are one-sided; a wall of boundary particles on one side.
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(1.0f, 13.0f);
-  internal::ParticleState s;
-  const std::size_t n = 700;
-  s.Resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool boundary = i % 7 == 0;
-    s.position[i] = {boundary ? u(rng) * 0.1f + 0.5f : u(rng), u(rng), u(rng),
-                     boundary ? 3.0f : (i % 2 ? 1.1f : 2.1f)};
-    if (!boundary) s.moving.push_back(std::int32_t(i));
-  }
+  internal::ParticleState s = RandomCloud(7, 700, 1.0f, 13.0f, [](std::size_t i, float* x) {
+    if (i % 7 != 0) return i % 2 ? 1.1f : 2.1f;
+    *x = *x * 0.1f + 0.5f;  // the wall: boundary particles at x in [0.6, 1.8)
+    return 3.0f;
+  });
   const SphConstants k = SphConstants::From(PhysicsConstants{});
   internal::NeighbourGrid grid({0, 30, 0, 30, 0, 30}, k);
   grid.SetStatic(s);
