@@ -7,10 +7,11 @@
 namespace owval::kinematics {
 namespace {
 
+// The speed keeps its sign (+ forward, tail to head): Palyanov's speeds are of a worm going
+// forward, and a worm going backwards at the reference's pace is not the reference's worm (its
+// magnitude alone let the time-reversed reference pass the speed parity, 0.00% apart).
 std::optional<double> Measured(const Report& r, const std::string& metric) {
-  if (metric == "speed")
-    return r.midbody_speed_mm_s ? std::optional<double>(std::abs(*r.midbody_speed_mm_s))
-                                : std::nullopt;
+  if (metric == "speed") return r.midbody_speed_mm_s;
   if (metric == "frequency") return r.frequency_hz;
   return r.wavelength_mm;
 }
@@ -58,10 +59,11 @@ std::vector<Tier3Check> CheckTier3(const Report& report, Regime regime, double t
     char buffer[256];
     if (c.measured) {
       c.pass = *c.measured >= lo && *c.measured <= hi;
-      std::snprintf(buffer, sizeof buffer,
-                    "%.4g %s, baseline (%s) %.4g-%.4g %s, +-%.0f%%: %.4g-%.4g", *c.measured,
-                    range.unit.c_str(), RegimeName(regime), range.low, range.high,
-                    range.unit.c_str(), tolerance * 100, lo, hi);
+      std::snprintf(
+          buffer, sizeof buffer, "%.4g %s%s, baseline (%s) %.4g-%.4g %s, +-%.0f%%: %.4g-%.4g",
+          *c.measured, range.unit.c_str(),
+          range.metric == "speed" && *c.measured < 0 ? " (backwards)" : "", RegimeName(regime),
+          range.low, range.high, range.unit.c_str(), tolerance * 100, lo, hi);
     } else {
       std::snprintf(buffer, sizeof buffer, "%s; baseline (%s) %.4g-%.4g %s",
                     Why(report, range.metric).c_str(), RegimeName(regime), range.low, range.high,

@@ -17,7 +17,7 @@ Report Swimmer(double speed, double frequency, double wavelength) {
 TEST(Tier3, ValuesInsideTheWidenedRangePass) {
   // Swimming: 0.26-0.41 mm/s, 1.76-1.83 Hz, 0.43-0.47 mm; +-15% widens to 0.221-0.4715 mm/s,
   // 1.496-2.1045 Hz, 0.3655-0.5405 mm.
-  const std::vector<Tier3Check> c = CheckTier3(Swimmer(-0.45, 1.5, 0.54));
+  const std::vector<Tier3Check> c = CheckTier3(Swimmer(0.45, 1.5, 0.54));
   ASSERT_EQ(c.size(), 3u);
   for (const Tier3Check& check : c) EXPECT_TRUE(check.pass) << check.detail;
   EXPECT_EQ(c[0].detail, "0.45 mm/s, baseline (swimming) 0.26-0.41 mm/s, +-15%: 0.221-0.4715");
@@ -32,6 +32,26 @@ TEST(Tier3, ValuesOutsideFailAndMissingValuesFail) {
   EXPECT_FALSE(c[1].pass);
   EXPECT_NE(c[1].detail.find("no bend frequency: run holds less than one cycle"),
             std::string::npos);
+}
+
+// Palyanov's worms go forward: a backward speed of the baseline's magnitude is not its speed
+// (the magnitude alone passed it: -0.45 mm/s was within 0.221-0.4715).
+TEST(Tier3, ABackwardSpeedFailsWhateverItsMagnitude) {
+  const std::vector<Tier3Check> c = CheckTier3(Swimmer(-0.45, 1.5, 0.54));
+  EXPECT_FALSE(c[0].pass);
+  EXPECT_EQ(c[0].detail,
+            "-0.45 mm/s (backwards), baseline (swimming) 0.26-0.41 mm/s, +-15%: 0.221-0.4715");
+  EXPECT_TRUE(c[1].pass && c[2].pass);
+}
+
+// The time-reversed reference swims backwards at its pace: the speed parity compared magnitudes
+// and found them 0.00% apart.
+TEST(Tier3, KinematicsParityComparesTheSpeedWithItsDirection) {
+  const std::vector<AgreementCheck> c =
+      CompareKinematics(Swimmer(0.30, 1.80, 0.45), Swimmer(-0.30, 1.80, 0.45));
+  EXPECT_FALSE(c[0].pass);
+  EXPECT_EQ(c[0].detail, "reference 0.3, candidate -0.3: 200.00% apart (max 5%)");
+  EXPECT_TRUE(c[1].pass && c[2].pass);
 }
 
 TEST(Tier3, TheRegimeChoosesTheBaseline) {
