@@ -109,8 +109,15 @@ GateReport QuickTest(const fs::path& dir) {
       worm = worm || kinematics::IsWorm(frames->header());
       NoNaN(*frames, g);
     }));
-  if (worm)
-    for (const GateResult& g : internal::WormQuickTestGates(dir)) r.gates.push_back(g);
+  if (worm) {
+    fs::path candidate;
+    try {
+      candidate = Find(dir, "candidate");
+    } catch (const InputError&) {
+      // none: the candidate's own gate above says so, and its side files stay unchecked
+    }
+    for (const GateResult& g : internal::WormQuickTestGates(dir, candidate)) r.gates.push_back(g);
+  }
   return r;
 }
 
@@ -169,7 +176,7 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
   }));
   if (worm)
     for (const GateResult& g : internal::WormValidateGates(
-             ref_checks.skeletons ? &*ref_checks.skeletons : nullptr, *cand_checks.skeletons))
+             dir, ref_checks.skeletons ? &*ref_checks.skeletons : nullptr, *cand_checks.skeletons))
       r.gates.push_back(g);
   return r;
 }

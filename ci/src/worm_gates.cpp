@@ -1,35 +1,93 @@
 #include "worm_gates.hpp"
 
+#include <algorithm>
+#include <optional>
+
 #include "owval/kinematics/baseline.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/side_files.hpp"
+#include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval::ci::internal {
 namespace fs = std::filesystem;
+namespace {
 
-std::vector<GateResult> WormQuickTestGates(const fs::path& dir) {
-  GateResult g{"worm run wrote a WCON", false, ""};
+std::vector<fs::path> Wcons(const fs::path& dir) {
+  std::vector<fs::path> found;
   std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-    if (e.path().extension() != ".wcon") continue;
-    try {
-      const WormTrack t = ReadWcon(e.path());
-      g.pass = true;
-      g.detail = e.path().filename().string() + ": " + std::to_string(t.time_s.size()) +
-                 " time points, " + std::to_string(t.x_mm.front().size()) + " midline points";
-      return {g};
-    } catch (const std::exception& error) {
-      g.detail = error.what();
-      return {g};
-    }
-  }
-  g.detail = "no .wcon in " + dir.string() + " (DD001's quick test requires one for worm runs)";
-  return {g};
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".wcon") found.push_back(e.path());
+  std::sort(found.begin(), found.end());
+  return found;
 }
 
-std::vector<GateResult> WormValidateGates(const kinematics::SkeletonSeries* reference,
-                                          const kinematics::SkeletonSeries& candidate) {
+GateResult SideFileGate(const fs::path& file, const kinematics::SkeletonSeries* candidate) {
+  GateResult g{file.filename().string() + " describes the candidate", false, ""};
+  try {
+    if (!candidate) {
+      g.detail = "no readable candidate trajectory to check it against";
+      return g;
+    }
+    const WormTrack track =
+        file.extension() == ".wcon" ? ReadWcon(file) : kinematics::ReadWormMotionLog(file);
+    const kinematics::TrackAgreement a = kinematics::CompareWithTrajectory(track, *candidate);
+    g.pass = a.agrees;
+    g.detail = a.detail;
+  } catch (const std::exception& error) {
+    g.detail = error.what();
+  }
+  return g;
+}
+
+// Each .wcon and worm_motion_log.txt in the directory against the candidate.
+std::vector<GateResult> SideFileGates(const fs::path& dir,
+                                      const kinematics::SkeletonSeries* candidate) {
   std::vector<GateResult> gates;
+  std::vector<fs::path> files = Wcons(dir);
+  for (const char* log : {"worm_motion_log.txt", "worm_motion_log.txt.gz"})
+    if (fs::exists(dir / log)) files.push_back(dir / log);
+  for (const fs::path& f : files) gates.push_back(SideFileGate(f, candidate));
+  return gates;
+}
+
+GateResult WconReadable(const fs::path& dir) {
+  GateResult g{"worm run wrote a WCON", false, ""};
+  const std::vector<fs::path> wcons = Wcons(dir);
+  if (wcons.empty()) {
+    g.detail = "no .wcon in " + dir.string() + " (DD001's quick test requires one for worm runs)";
+    return g;
+  }
+  try {
+    const WormTrack t = ReadWcon(wcons.front());
+    g.pass = true;
+    g.detail = wcons.front().filename().string() + ": " + std::to_string(t.time_s.size()) +
+               " time points, " + std::to_string(t.x_mm.front().size()) + " midline points";
+  } catch (const std::exception& error) {
+    g.detail = error.what();
+  }
+  return g;
+}
+
+}  // namespace
+
+std::vector<GateResult> WormQuickTestGates(const fs::path& dir, const fs::path& candidate) {
+  std::vector<GateResult> gates{WconReadable(dir)};
+  std::optional<kinematics::SkeletonSeries> skeletons;
+  try {
+    if (!candidate.empty()) skeletons = kinematics::LoadSkeletons(candidate);
+  } catch (const std::exception&) {
+    // The candidate's own gate says why it cannot be read; its side files stay unchecked.
+  }
+  for (const GateResult& g : SideFileGates(dir, skeletons ? &*skeletons : nullptr))
+    gates.push_back(g);
+  return gates;
+}
+
+std::vector<GateResult> WormValidateGates(const fs::path& dir,
+                                          const kinematics::SkeletonSeries* reference,
+                                          const kinematics::SkeletonSeries& candidate) {
+  std::vector<GateResult> gates = SideFileGates(dir, &candidate);
   const kinematics::Report cand = kinematics::Analyse(candidate);
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});

@@ -1,9 +1,14 @@
 #pragma once
 // The worm's gates (DD001, issue 15), added to quick-test and validate when the run is a worm:
 //  - quick-test: the directory holds a .wcon that a WCON reader accepts;
+//  - both: every worm side file in the directory (each .wcon, worm_motion_log.txt) describes the
+//    candidate's trajectory, recomputed from its particles (kinematics/side_files.hpp): a side
+//    file is what other tools read, and one copied from the reference or another run beside a
+//    worm that does not swim passed quick-test;
 //  - validate: Tier-3, each kinematic metric of the candidate against Palyanov et al. 2018's
-//    baseline within +-15% (kinematics/baseline.hpp), and the candidate's kinematics within 5% of
-//    the reference's.
+//    baseline within +-15% (kinematics/baseline.hpp; the speed forward), and the candidate's
+//    kinematics within 5% of the reference's (the speed signed: a worm going backwards is not
+//    the reference's).
 #include <filesystem>
 #include <vector>
 
@@ -12,10 +17,14 @@
 
 namespace owval::ci::internal {
 
-std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory);
+// `candidate`: the directory's candidate trajectory (empty when it has none: the side files are
+// then unchecked and their gates fail).
+std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory,
+                                           const std::filesystem::path& candidate);
 // The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by
 // frame); reference: null when the reference is not a worm.
-std::vector<GateResult> WormValidateGates(const kinematics::SkeletonSeries* reference,
+std::vector<GateResult> WormValidateGates(const std::filesystem::path& directory,
+                                          const kinematics::SkeletonSeries* reference,
                                           const kinematics::SkeletonSeries& candidate);
 
 }  // namespace owval::ci::internal

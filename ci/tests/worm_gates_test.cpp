@@ -3,9 +3,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "owval/ci/gates.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -67,6 +69,74 @@ TEST(WormGates, ValidatePrintsEachTier3MetricWithItsBaselineRange) {
   EXPECT_NE(Find(r, "Tier-3 frequency")->detail.find("fewer than 3 zero crossings"),
             std::string::npos);
   EXPECT_FALSE(r.pass());
+  fs::remove_all(dir);
+}
+
+Trajectory ReadWorm() {
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  return ReadTrajectory(kWorm, quiet);
+}
+
+// The run's first `frames` frames, every one replaced by frame 0 when `frozen`, or in reverse
+// order at the run's own times when `reversed`.
+Trajectory Edited(const Trajectory& run, std::size_t frames, bool frozen, bool reversed) {
+  Trajectory t = run;
+  const std::size_t n = run.particle_count() * 3;
+  t.time_s.resize(frames);
+  t.positions.resize(frames * n);
+  for (std::size_t f = 0; f < frames; ++f) {
+    const std::size_t from = frozen ? 0 : reversed ? frames - 1 - f : f;
+    std::copy_n(run.positions.begin() + long(from * n), n, t.positions.begin() + long(f * n));
+  }
+  t.velocities.clear(), t.density.clear(), t.pressure.clear();
+  return t;
+}
+
+// A worm that does not move (frame 0 repeated) beside the WCON and midline log of the run it
+// copies: quick-test passed it (the WCON was readable); the side files now have to describe the
+// candidate's particles. The first 20 frames keep the test short.
+TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
+  if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
+  const Trajectory run = ReadWorm();
+  const Trajectory reference = Edited(run, 20, false, false);
+  const Trajectory frozen = Edited(run, 20, true, false);
+  const fs::path dir = owval::testing::TestScratch("worm_side");
+  WriteHdf5(reference, dir / "reference.h5");
+  WriteHdf5(frozen, dir / "candidate.h5");
+  WriteWcon(kinematics::TrackFromTrajectory(reference), dir / "worm.wcon");
+  kinematics::WriteWormMotionLog(reference, dir / "worm_motion_log.txt");
+  const GateReport copied = QuickTest(dir);
+  EXPECT_FALSE(copied.pass()) << copied.ToText();
+  ASSERT_TRUE(Find(copied, "worm.wcon describes the candidate"));
+  EXPECT_EQ(Find(copied, "worm.wcon describes the candidate")
+                ->detail.rfind("20 time points; 19 disagree", 0),
+            0u);
+  EXPECT_FALSE(Find(copied, "worm_motion_log.txt describes the candidate")->pass);
+  EXPECT_TRUE(Find(copied, "worm run wrote a WCON")->pass);
+  WriteWcon(kinematics::TrackFromTrajectory(frozen), dir / "worm.wcon");
+  kinematics::WriteWormMotionLog(frozen, dir / "worm_motion_log.txt");
+  const GateReport own = QuickTest(dir);
+  EXPECT_TRUE(own.pass()) << own.ToText();
+  fs::remove_all(dir);
+}
+
+// The reference's frames in reverse order: the worm goes backwards at the reference's pace, with
+// its frequency and wavelength. The speed parity compared magnitudes ("0.08322, 0.08322: 0.00%
+// apart") and Tier-3 printed 0.08322 mm/s; both now see the direction.
+TEST(WormGates, ValidateFailsAWormGoingBackwards) {
+  if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
+  const fs::path dir = owval::testing::TestScratch("worm_backwards");
+  fs::create_symlink(kWorm, dir / "reference.txt.gz");
+  const Trajectory run = ReadWorm();
+  WriteHdf5(Edited(run, run.frame_count(), false, true), dir / "candidate.h5");
+  const GateReport r = Validate(dir, {}, kWorm);
+  EXPECT_EQ(Find(r, "kinematics parity speed")->detail,
+            "reference 0.08322, candidate -0.08322: 200.00% apart (max 5%)");
+  EXPECT_FALSE(Find(r, "kinematics parity speed")->pass);
+  EXPECT_EQ(Find(r, "Tier-3 speed")->detail.rfind("-0.08322 mm/s (backwards)", 0), 0u)
+      << Find(r, "Tier-3 speed")->detail;
+  EXPECT_TRUE(Find(r, "kinematics parity wavelength")->pass);
   fs::remove_all(dir);
 }
 

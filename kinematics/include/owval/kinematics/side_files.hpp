@@ -1,0 +1,40 @@
+#pragma once
+// A worm run's side files against its trajectory. A WCON (tracker-commons) or
+// worm_motion_log.txt (Sibernetic's midline log, midline.hpp) is what other tools and `owval
+// kinematics FILE` read, but it is the producer's claim about the run, not the run: a port that
+// wrote the reference's midline log or WCON beside a worm that does not swim, a WCON in µm
+// labelled mm, or one whose "t" is scaled, would show kinematics its trajectory does not have.
+// So a side file must describe the trajectory it sits beside, recomputed from its particles:
+//  - the same time points, each within 1% of the trajectory's mean frame interval (the rounding
+//    allowance by which every owval command pairs frames by time, trajectory's PairFramesByTime);
+//  - per time point the same number of skeleton points (non-empty midline bins, head first);
+//  - every point's x and y within 1e-5 of the coordinate's magnitude (a midline from
+//    full-precision floats against one from 6-significant-digit prints: 5e-6 each, as the
+//    initial_state gate allows) plus 1e-3 cu = 7.4e-6 mm (the tolerance by which the caller's
+//    reference is the directory's), in mm.
+// Measured on Sibernetic's 0.6 s worm run (docs/worm.md, "Side files"): its own worm_motion_log
+// against its 6-digit position_buffer, worst 0.36 of the allowance.
+#include <filesystem>
+#include <string>
+
+#include "owval/kinematics/skeleton.hpp"
+#include "owval/trajectory/worm_formats.hpp"
+
+namespace owval::kinematics {
+
+struct TrackAgreement {
+  bool agrees = false;
+  double worst_fraction_of_allowance = 0;  // worst point's distance / its allowance
+  std::string detail;                      // one line: what was compared, or the first mismatch
+};
+
+// `trajectory`: the skeletons recomputed from the trajectory's particles (SkeletonsFromFrames).
+TrackAgreement CompareWithTrajectory(const WormTrack& track, const SkeletonSeries& trajectory);
+
+// worm_motion_log.txt as a track: per line, time (s) and the non-empty bins' (X:, Y:) means
+// (simulation z, x in mm: the WCON body plane); a bin whose three means print 0 is empty, as
+// Sibernetic prints empty bins. Plain or gzip-compressed. InputError naming the file and line on
+// a malformed line.
+WormTrack ReadWormMotionLog(const std::filesystem::path& path);
+
+}  // namespace owval::kinematics

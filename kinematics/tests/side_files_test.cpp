@@ -1,0 +1,88 @@
+// A worm run's side files (WCON, worm_motion_log.txt) against the trajectory they sit beside,
+// on Sibernetic's 0.6 s worm run: its own files agree, edited copies do not.
+#include "owval/kinematics/side_files.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "owval/kinematics/worm_track.hpp"
+#include "owval/trajectory/formats.hpp"
+
+namespace owval::kinematics {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kRun = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
+
+struct Worm {
+  WormTrack track;           // the WCON owval writes of the run
+  SkeletonSeries skeletons;  // recomputed from the particles
+};
+
+const Worm& Reference() {
+  static const Worm worm = [] {
+    TextReadOptions quiet;
+    quiet.quiet = true;
+    const Trajectory t = ReadTrajectory(kRun / "position_buffer.txt.gz", quiet);
+    return Worm{TrackFromTrajectory(t), SkeletonsFromTrajectory(t)};
+  }();
+  return worm;
+}
+
+TEST(SideFiles, SiberneticsOwnMotionLogAndOwvalsWconDescribeTheRun) {
+  if (!fs::exists(kRun)) GTEST_SKIP() << "no " << kRun;
+  const TrackAgreement wcon = CompareWithTrajectory(Reference().track, Reference().skeletons);
+  EXPECT_TRUE(wcon.agrees) << wcon.detail;
+  EXPECT_EQ(wcon.worst_fraction_of_allowance, 0);
+  // Sibernetic's log is computed from full-precision floats, the trajectory from its 6-digit
+  // prints: measured 0.113 of the allowance at worst.
+  const TrackAgreement log = CompareWithTrajectory(
+      ReadWormMotionLog(kRun / "worm_motion_log.txt.gz"), Reference().skeletons);
+  EXPECT_TRUE(log.agrees) << log.detail;
+  EXPECT_GT(log.worst_fraction_of_allowance, 0.05);
+  EXPECT_LT(log.worst_fraction_of_allowance, 0.2);
+}
+
+TEST(SideFiles, EditedTracksDisagreeWithTheRun) {
+  if (!fs::exists(kRun)) GTEST_SKIP() << "no " << kRun;
+  const SkeletonSeries& run = Reference().skeletons;
+  WormTrack t = Reference().track;
+  for (double& time_s : t.time_s) time_s *= 2;  // a frame rate claimed wrong
+  EXPECT_EQ(CompareWithTrajectory(t, run).detail,
+            "time point 1 at t 0.006 s, the trajectory's frame at 0.003 s");
+  t = Reference().track;
+  for (auto& row : t.x_mm)
+    for (float& x : row) x *= 1000;  // µm labelled mm
+  EXPECT_FALSE(CompareWithTrajectory(t, run).agrees);
+  t = Reference().track;
+  for (auto& row : t.y_mm)
+    for (float& y : row) y = -y;  // mirrored left/right
+  EXPECT_FALSE(CompareWithTrajectory(t, run).agrees);
+  t = Reference().track;
+  for (std::size_t i = 0; i < t.x_mm.size(); ++i) {  // head and tail swapped
+    std::reverse(t.x_mm[i].begin(), t.x_mm[i].end());
+    std::reverse(t.y_mm[i].begin(), t.y_mm[i].end());
+  }
+  EXPECT_FALSE(CompareWithTrajectory(t, run).agrees);
+  t = Reference().track;
+  for (std::size_t i = 1; i < t.x_mm.size(); ++i) {  // the worm of frame 0, every frame
+    t.x_mm[i] = t.x_mm[0];
+    t.y_mm[i] = t.y_mm[0];
+  }
+  const TrackAgreement frozen = CompareWithTrajectory(t, run);
+  EXPECT_FALSE(frozen.agrees);
+  EXPECT_EQ(frozen.detail.rfind("200 time points; 199 disagree", 0), 0u) << frozen.detail;
+  t = Reference().track;
+  t.x_mm[100][40] += 1e-4f;  // 1e-4 mm (0.0135 cu), one point of one frame
+  EXPECT_FALSE(CompareWithTrajectory(t, run).agrees);
+  t = Reference().track;
+  t.time_s.pop_back();  // a frame missing
+  t.x_mm.pop_back();
+  t.y_mm.pop_back();
+  EXPECT_EQ(CompareWithTrajectory(t, run).detail, "199 time points, the trajectory 200 frames");
+}
+
+}  // namespace
+}  // namespace owval::kinematics
