@@ -29,7 +29,8 @@ const char* kGatesHelp =
     "time_base: the paired frames cover the reference, often enough to resolve its oscillation, "
     "at evenly spaced times (frames pair only where their times meet). Worms (both runs): "
     "worm.centre_of_mass (of the box), "
-    "worm.span and worm.cross_section_diameter (relative). Liquid over an elastic sheet (demo2): "
+    "worm.span, worm.cross_section_diameter and worm.ring_diameter (relative). Liquid over an "
+    "elastic sheet (demo2): "
     "liquid.fraction_above_membrane difference. Both runs are measured over their common time "
     "window only.";
 

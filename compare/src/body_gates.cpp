@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "owval/kinematics/body_shape.hpp"
 #include "owval/kinematics/midline.hpp"
@@ -49,6 +50,10 @@ BodyGates::BodyGates(const Trajectory& ref, const Trajectory& cand, FrameSource&
   diameter_ = MakeGate("worm.cross_section_diameter",
                        "max over time of the mid-body cross-section diameter's relative difference",
                        0, gates.body_shape, "of the reference's");
+  ring_ = MakeGate("worm.ring_diameter",
+                   "max over time and rings of a ring's diameter difference, relative to the "
+                   "reference's mid-body cross-section diameter",
+                   0, gates.body_shape, "of the reference's mid-body diameter");
   membrane_gate_ =
       MakeGate("liquid.fraction_above_membrane",
                "max over time of the difference in the liquid fraction above the sheet", 0,
@@ -70,6 +75,7 @@ void BodyGates::Observe(const FrameRef& ref, const FrameRef& cand, double box_sc
     span_.value = std::max(span_.value, RelativeDifference(a.span_cu, b.span_cu));
     diameter_.value = std::max(diameter_.value, RelativeDifference(a.cross_section_diameter_cu,
                                                                    b.cross_section_diameter_cu));
+    ObserveRings(a, b, ref.trajectory.time_s[ref.frame]);
   }
   if (membrane_) {
     last_reference_fraction_ = LiquidFractionAbove(ref, liquid_, elastic_);
@@ -79,9 +85,31 @@ void BodyGates::Observe(const FrameRef& ref, const FrameRef& cand, double box_sc
   }
 }
 
+void BodyGates::ObserveRings(const kinematics::BodyShape& a, const kinematics::BodyShape& b,
+                             double reference_time_s) {
+  for (std::size_t k = 0; k < a.ring_diameter_cu.size(); ++k) {
+    const double gap =
+        std::abs(b.ring_diameter_cu[k] - a.ring_diameter_cu[k]) / a.cross_section_diameter_cu;
+    if (!(gap <= ring_.value)) {  // a NaN is kept: it fails
+      ring_.value = std::isfinite(gap) ? gap : INFINITY;
+      worst_ring_bin_ = int(k) + 51;
+      worst_ring_time_s_ = reference_time_s;
+      worst_ring_reference_cu_ = a.ring_diameter_cu[k];
+      worst_ring_candidate_cu_ = b.ring_diameter_cu[k];
+    }
+  }
+}
+
 void BodyGates::AddGates(ParityReport* r) {
+  if (worm_) {
+    char detail[160];
+    std::snprintf(detail, sizeof detail,
+                  "worst ring: bin %d at %.6g s, %.4g cu (reference %.4g cu)", worst_ring_bin_,
+                  worst_ring_time_s_, worst_ring_candidate_cu_, worst_ring_reference_cu_);
+    ring_.detail = worst_ring_bin_ ? detail : "every ring's diameter equal";
+  }
   if (worm_)
-    for (Gate* g : {&com_, &span_, &diameter_}) {
+    for (Gate* g : {&com_, &span_, &diameter_, &ring_}) {
       Decide(g);
       r->gates.push_back(*g);
     }

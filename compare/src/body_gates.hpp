@@ -4,7 +4,11 @@
 //    paired frames, of the box; the centroid_distance threshold), worm.span and
 //    worm.cross_section_diameter (max relative difference; the body_shape threshold), measured by
 //    kinematics::MeasureBodyShape. Ports that let the worm sink or swell fail here
-//    (openworm/sibernetic#238);
+//    (openworm/sibernetic#238); and worm.ring_diameter: max over the paired frames and the rings
+//    (midline bins) of a ring's diameter difference, relative to the reference's mid-body
+//    cross-section diameter at that frame (a scale that does not vanish where head and tail
+//    taper; the body_shape threshold): a part of the body crushed or swollen, its ring means
+//    and so its midline and centroid unchanged;
 //  - liquid over an elastic sheet (demo2: every elastic particle on one horizontal plane at the
 //    first frame, with liquid above it): liquid.fraction_above_membrane, the max difference of
 //    the fraction of liquid particles above the sheet's mean height (the
@@ -16,6 +20,7 @@
 #include <vector>
 
 #include "owval/compare/parity.hpp"
+#include "owval/kinematics/body_shape.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare::internal {
@@ -33,7 +38,11 @@ class BodyGates {
 
  private:
   bool worm_ = false, membrane_ = false;
-  Gate com_, span_, diameter_, membrane_gate_;
+  void ObserveRings(const kinematics::BodyShape& reference, const kinematics::BodyShape& candidate,
+                    double reference_time_s);
+  Gate com_, span_, diameter_, ring_, membrane_gate_;
+  int worst_ring_bin_ = 0;  // Sibernetic's bin (51..149) of the worst ring
+  double worst_ring_time_s_ = 0, worst_ring_reference_cu_ = 0, worst_ring_candidate_cu_ = 0;
   std::vector<std::size_t> liquid_, elastic_;
   double last_reference_fraction_ = 0, last_candidate_fraction_ = 0;
 };

@@ -1024,7 +1024,7 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "worst_particle gates (elastic, liquid, boundary): one particle's largest distance, "
      "fraction of the box"},
     {"body_shape_threshold", "--body-threshold", &G::body_shape,
-     "worm.span and worm.cross_section_diameter gates, relative"},
+     "worm.span, worm.cross_section_diameter and worm.ring_diameter gates, relative"},
     {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
      "liquid.fraction_above_membrane gate"},
     {"window_threshold", "--window-threshold", &G::window,

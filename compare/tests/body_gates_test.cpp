@@ -2,8 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <map>
 
 #include "owval/compare/parity.hpp"
+#include "owval/kinematics/midline.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
 namespace {
@@ -45,10 +49,56 @@ TEST(BodyGates, WormGatesPassForTheSameWormAndNameASwollenOne) {
   EXPECT_EQ(StatusOf(swollen, "worm.cross_section_diameter"), GateStatus::kFail);
   EXPECT_NEAR(swollen.gate("worm.cross_section_diameter")->value, 0.2, 1e-5);
   EXPECT_EQ(StatusOf(swollen, "worm.span"), GateStatus::kPass);
+  // Every ring swollen by 0.3 cu of the reference's mid-body 3 cu.
+  EXPECT_NEAR(swollen.gate("worm.ring_diameter")->value, 0.2, 1e-5);
+  EXPECT_EQ(StatusOf(same, "worm.ring_diameter"), GateStatus::kPass);
   // Sinking 1 cu a frame: 4 cu by the last frame, 4/60 of the box > 0.05.
   const ParityReport sinking = CompareTrajectories(ref, Worm(1.5f, 1.0f), {});
   EXPECT_EQ(StatusOf(sinking, "worm.centre_of_mass"), GateStatus::kFail);
   EXPECT_NEAR(sinking.gate("worm.centre_of_mass")->value, 4.0 / 60, 1e-5);
+}
+
+// Sibernetic's 0.6 s worm run with its tail quarter's rings (bins 125..149) each scaled by
+// `factor` about the ring's mean from frame 1 on: the ring means, so the midline, the span and
+// the centroid, are unchanged.
+Trajectory WormWithScaledTail(const Trajectory& run, float factor) {
+  Trajectory t = run;
+  for (std::size_t f = 1; f < t.frame_count(); ++f) {
+    std::map<int, std::array<double, 4>> sums;  // bin -> x, y, z, count
+    for (std::size_t i = 0; i < t.particle_count(); ++i) {
+      const int bin = kinematics::MidlineBin(t.type[i]);
+      if (bin < 125) continue;
+      for (int a = 0; a < 3; ++a) sums[bin][a] += t.position(f, i)[a];
+      sums[bin][3] += 1;
+    }
+    for (std::size_t i = 0; i < t.particle_count(); ++i) {
+      const int bin = kinematics::MidlineBin(t.type[i]);
+      if (bin < 125) continue;
+      for (int a = 0; a < 3; ++a) {
+        const double mean = sums[bin][a] / sums[bin][3];
+        t.position(f, i)[a] = float(mean + factor * (t.position(f, i)[a] - mean));
+      }
+    }
+  }
+  return t;
+}
+
+// The tail quarter crushed to 5% of its thickness passed every gate (exit 0): the
+// cross-section gate averages the middle half. worm.ring_diameter sees every ring.
+TEST(BodyGates, RingDiameterNamesATailCrushedWhileItsMidlineIsUnchanged) {
+  const std::filesystem::path run =
+      std::filesystem::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
+  if (!std::filesystem::exists(run)) GTEST_SKIP() << "no " << run;
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  const Trajectory ref = ReadTrajectory(run, quiet);
+  const ParityReport crushed = CompareTrajectories(ref, WormWithScaledTail(ref, 0.05f), {});
+  EXPECT_EQ(crushed.FailedGates(), "worm.ring_diameter");
+  EXPECT_NEAR(crushed.gate("worm.ring_diameter")->value, 0.888, 0.001);
+  EXPECT_EQ(StatusOf(crushed, "worm.cross_section_diameter"), GateStatus::kPass);
+  const ParityReport same = CompareTrajectories(ref, ref, {});
+  EXPECT_EQ(same.gate("worm.ring_diameter")->value, 0);
+  EXPECT_TRUE(same.pass());
 }
 
 // An elastic sheet at y = 10 across the box, 100 liquid particles above it; `leaked` of them

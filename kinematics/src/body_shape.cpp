@@ -34,6 +34,17 @@ Vec3 Mean(const Trajectory& t, std::size_t frame, const std::vector<std::size_t>
   return sum;
 }
 
+// Twice the mean distance of the ring's particles from its centre.
+double RingDiameter(const Trajectory& t, std::size_t frame, const std::vector<std::size_t>& ring,
+                    const Vec3& centre) {
+  double radius = 0;
+  for (std::size_t i : ring) {
+    const float* p = t.position(frame, i);
+    radius += Distance({p[0], p[1], p[2]}, centre);
+  }
+  return 2 * radius / double(ring.size());
+}
+
 }  // namespace
 
 BodyShape MeasureBodyShape(const Trajectory& t, std::size_t frame) {
@@ -50,13 +61,10 @@ BodyShape MeasureBodyShape(const Trajectory& t, std::size_t frame) {
     for (int a = 0; a < 3; ++a) shape.centre_of_mass_cu[a] += centre[a] * double(rings[b].size());
     particles += rings[b].size();
     centres.push_back(centre);
-    if (b >= rings.size() / 4 && b < 3 * rings.size() / 4 && rings[b].size() >= 2) {
-      double radius = 0;
-      for (std::size_t i : rings[b]) {
-        const float* p = t.position(frame, i);
-        radius += Distance({p[0], p[1], p[2]}, centre);
-      }
-      diameter_sum += 2 * radius / double(rings[b].size());
+    if (rings[b].size() < 2) continue;
+    shape.ring_diameter_cu[b] = RingDiameter(t, frame, rings[b], centre);
+    if (b >= rings.size() / 4 && b < 3 * rings.size() / 4) {
+      diameter_sum += shape.ring_diameter_cu[b];
       ++diameter_rings;
     }
   }

@@ -37,6 +37,7 @@ TEST(BodyShape, StraightWormHasItsRingsDiameterAndLength) {
   const BodyShape s = MeasureBodyShape(worm, 0);
   EXPECT_NEAR(s.span_cu, 49.0, 1e-4);
   EXPECT_NEAR(s.cross_section_diameter_cu, 3.0, 1e-5);
+  for (double ring_cu : s.ring_diameter_cu) EXPECT_NEAR(ring_cu, 3.0, 1e-5);
   EXPECT_NEAR(s.centre_of_mass_cu[0], 10.0, 1e-5);
   EXPECT_NEAR(s.centre_of_mass_cu[1], 5.0, 1e-5);
   EXPECT_NEAR(s.centre_of_mass_cu[2], 2 + 0.5 * 49, 1e-4);
