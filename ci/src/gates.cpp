@@ -175,8 +175,9 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();
   }));
   if (worm)
-    for (const GateResult& g : internal::WormValidateGates(
-             dir, ref_checks.skeletons ? &*ref_checks.skeletons : nullptr, *cand_checks.skeletons))
+    for (const GateResult& g :
+         internal::WormValidateGates(dir, ref_checks.skeletons ? &*ref_checks.skeletons : nullptr,
+                                     *cand_checks.skeletons, *cand))
       r.gates.push_back(g);
   return r;
 }

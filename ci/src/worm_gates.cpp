@@ -1,25 +1,48 @@
 #include "worm_gates.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <optional>
 
 #include "owval/kinematics/baseline.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/side_files.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval::ci::internal {
 namespace fs = std::filesystem;
 namespace {
 
-std::vector<fs::path> Wcons(const fs::path& dir) {
+// The directory's entries named *`extension`, sorted.
+std::vector<fs::path> Entries(const fs::path& dir, const char* extension) {
   std::vector<fs::path> found;
   std::error_code ec;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".wcon") found.push_back(e.path());
+    if (e.path().extension() == extension) found.push_back(e.path());
   std::sort(found.begin(), found.end());
   return found;
+}
+
+std::vector<fs::path> Wcons(const fs::path& dir) { return Entries(dir, ".wcon"); }
+
+GateResult ZarrGate(const fs::path& store, FrameSource* candidate) {
+  GateResult g{store.filename().string() + " describes the candidate", false, ""};
+  try {
+    if (!candidate) {
+      g.detail = "no readable candidate trajectory to check it against";
+      return g;
+    }
+    OmeZarrReader zarr(store);
+    const kinematics::TrackAgreement a = kinematics::CompareWithTrajectory(zarr, *candidate);
+    g.pass = a.agrees;
+    g.detail = a.detail;
+  } catch (const std::exception& error) {
+    g.detail = error.what();
+  }
+  return g;
 }
 
 GateResult SideFileGate(const fs::path& file, const kinematics::SkeletonSeries* candidate) {
@@ -40,14 +63,17 @@ GateResult SideFileGate(const fs::path& file, const kinematics::SkeletonSeries* 
   return g;
 }
 
-// Each .wcon and worm_motion_log.txt in the directory against the candidate.
+// Each .wcon, worm_motion_log.txt[.gz] and .zarr store in the directory against the candidate.
 std::vector<GateResult> SideFileGates(const fs::path& dir,
-                                      const kinematics::SkeletonSeries* candidate) {
+                                      const kinematics::SkeletonSeries* candidate,
+                                      FrameSource* candidate_frames) {
   std::vector<GateResult> gates;
   std::vector<fs::path> files = Wcons(dir);
   for (const char* log : {"worm_motion_log.txt", "worm_motion_log.txt.gz"})
     if (fs::exists(dir / log)) files.push_back(dir / log);
   for (const fs::path& f : files) gates.push_back(SideFileGate(f, candidate));
+  for (const fs::path& store : Entries(dir, ".zarr"))
+    gates.push_back(ZarrGate(store, candidate_frames));
   return gates;
 }
 
@@ -74,20 +100,28 @@ GateResult WconReadable(const fs::path& dir) {
 std::vector<GateResult> WormQuickTestGates(const fs::path& dir, const fs::path& candidate) {
   std::vector<GateResult> gates{WconReadable(dir)};
   std::optional<kinematics::SkeletonSeries> skeletons;
+  std::unique_ptr<FrameSource> frames;
   try {
-    if (!candidate.empty()) skeletons = kinematics::LoadSkeletons(candidate);
+    if (!candidate.empty()) {
+      TextReadOptions quiet;
+      quiet.quiet = true;
+      frames = OpenFrameSource(candidate, quiet);
+      skeletons = kinematics::SkeletonsFromFrames(*frames);
+    }
   } catch (const std::exception&) {
     // The candidate's own gate says why it cannot be read; its side files stay unchecked.
   }
-  for (const GateResult& g : SideFileGates(dir, skeletons ? &*skeletons : nullptr))
+  for (const GateResult& g :
+       SideFileGates(dir, skeletons ? &*skeletons : nullptr, skeletons ? frames.get() : nullptr))
     gates.push_back(g);
   return gates;
 }
 
 std::vector<GateResult> WormValidateGates(const fs::path& dir,
                                           const kinematics::SkeletonSeries* reference,
-                                          const kinematics::SkeletonSeries& candidate) {
-  std::vector<GateResult> gates = SideFileGates(dir, &candidate);
+                                          const kinematics::SkeletonSeries& candidate,
+                                          FrameSource& candidate_frames) {
+  std::vector<GateResult> gates = SideFileGates(dir, &candidate, &candidate_frames);
   const kinematics::Report cand = kinematics::Analyse(candidate);
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});

@@ -1,10 +1,10 @@
 #pragma once
 // The worm's gates (DD001, issue 15), added to quick-test and validate when the run is a worm:
 //  - quick-test: the directory holds a .wcon that a WCON reader accepts;
-//  - both: every worm side file in the directory (each .wcon, worm_motion_log.txt) describes the
-//    candidate's trajectory, recomputed from its particles (kinematics/side_files.hpp): a side
-//    file is what other tools read, and one copied from the reference or another run beside a
-//    worm that does not swim passed quick-test;
+//  - both: every worm side file in the directory (each .wcon, worm_motion_log.txt[.gz], .zarr
+//    store) describes the candidate's trajectory, recomputed from its particles
+//    (kinematics/side_files.hpp): a side file is what other tools read, and one copied from the
+//    reference or another run beside a worm that does not swim passed quick-test;
 //  - validate: Tier-3, each kinematic metric of the candidate against Palyanov et al. 2018's
 //    baseline within +-15% (kinematics/baseline.hpp; the speed forward), and the candidate's
 //    kinematics within 5% of the reference's (the speed signed: a worm going backwards is not
@@ -14,6 +14,7 @@
 
 #include "owval/ci/gates.hpp"
 #include "owval/kinematics/skeleton.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::ci::internal {
 
@@ -23,8 +24,10 @@ std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& director
                                            const std::filesystem::path& candidate);
 // The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by
 // frame); reference: null when the reference is not a worm.
+// candidate_frames: the candidate's trajectory, read again for its .zarr stores.
 std::vector<GateResult> WormValidateGates(const std::filesystem::path& directory,
                                           const kinematics::SkeletonSeries* reference,
-                                          const kinematics::SkeletonSeries& candidate);
+                                          const kinematics::SkeletonSeries& candidate,
+                                          FrameSource& candidate_frames);
 
 }  // namespace owval::ci::internal

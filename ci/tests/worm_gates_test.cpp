@@ -93,9 +93,9 @@ Trajectory Edited(const Trajectory& run, std::size_t frames, bool frozen, bool r
   return t;
 }
 
-// A worm that does not move (frame 0 repeated) beside the WCON and midline log of the run it
-// copies: quick-test passed it (the WCON was readable); the side files now have to describe the
-// candidate's particles. The first 20 frames keep the test short.
+// A worm that does not move (frame 0 repeated) beside the WCON, midline log and Zarr store of the
+// run it copies: quick-test passed it (the WCON was readable); the side files now have to describe
+// the candidate's particles. The first 20 frames keep the test short.
 TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
   if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
   const Trajectory run = ReadWorm();
@@ -106,6 +106,7 @@ TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
   WriteHdf5(frozen, dir / "candidate.h5");
   WriteWcon(kinematics::TrackFromTrajectory(reference), dir / "worm.wcon");
   kinematics::WriteWormMotionLog(reference, dir / "worm_motion_log.txt");
+  WriteOmeZarr(reference, dir / "trajectory.zarr");
   const GateReport copied = QuickTest(dir);
   EXPECT_FALSE(copied.pass()) << copied.ToText();
   ASSERT_TRUE(Find(copied, "worm.wcon describes the candidate"));
@@ -113,10 +114,14 @@ TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
                 ->detail.rfind("20 time points; 19 disagree", 0),
             0u);
   EXPECT_FALSE(Find(copied, "worm_motion_log.txt describes the candidate")->pass);
+  EXPECT_FALSE(Find(copied, "trajectory.zarr describes the candidate")->pass);
   EXPECT_TRUE(Find(copied, "worm run wrote a WCON")->pass);
   WriteWcon(kinematics::TrackFromTrajectory(frozen), dir / "worm.wcon");
   kinematics::WriteWormMotionLog(frozen, dir / "worm_motion_log.txt");
+  fs::remove_all(dir / "trajectory.zarr");
+  WriteOmeZarr(frozen, dir / "trajectory.zarr");
   const GateReport own = QuickTest(dir);
+  EXPECT_TRUE(Find(own, "trajectory.zarr describes the candidate")->pass);
   EXPECT_TRUE(own.pass()) << own.ToText();
   fs::remove_all(dir);
 }

@@ -103,6 +103,65 @@ TrackAgreement CompareWithTrajectory(const WormTrack& track, const SkeletonSerie
   return a;
 }
 
+namespace {
+
+// The first disagreement in frame count, times or types between a store and its trajectory, or
+// "" when they agree.
+std::string StoreHeaderMismatch(const OmeZarrReader& store, FrameSource& traj) {
+  const Trajectory& h = traj.header();
+  if (store.frame_count() != traj.frame_count() || store.particle_count() != h.particle_count())
+    return std::to_string(store.frame_count()) + " frames of " +
+           std::to_string(store.particle_count()) + " particles, the trajectory " +
+           std::to_string(traj.frame_count()) + " of " + std::to_string(h.particle_count());
+  const double allowed_s = kTimeTolerance * MeanInterval_s(h.time_s);
+  for (std::size_t f = 0; f < store.frame_count(); ++f)
+    if (std::abs(store.time_s()[f] - h.time_s[f]) > allowed_s)
+      return "frame " + std::to_string(f) +
+             Format(" at t %.9g s, the trajectory's at %.9g s", store.time_s()[f], h.time_s[f]);
+  for (std::size_t i = 0; i < h.particle_count(); ++i)
+    if (!(std::abs(store.type()[i] - h.type[i]) <= kRelativeTolerance * std::abs(h.type[i])))
+      return "particle " + std::to_string(i) +
+             Format(" type %.7g, the trajectory's %.7g", store.type()[i], h.type[i]);
+  return "";
+}
+
+}  // namespace
+
+TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& traj) {
+  TrackAgreement a;
+  a.detail = StoreHeaderMismatch(store, traj);
+  if (!a.detail.empty()) {
+    a.worst_fraction_of_allowance = INFINITY;
+    return a;
+  }
+  const double to_um = static_cast<double>(kSiberneticSimulationScale) * 1e6;
+  std::size_t failing_frames = 0, worst_frame = 0, worst_value = 0;
+  for (std::size_t f = 0; f < traj.frame_count(); ++f) {
+    const FrameRef frame = traj.Frame(f);
+    const float* cu = frame.trajectory.position(frame.frame, 0);
+    const float* um = store.FrameMicrometres(f);
+    bool failing = false;
+    for (std::size_t k = 0; k < store.particle_count() * 3; ++k) {
+      const double expected_um = double(cu[k]) * to_um;
+      const double fraction = std::abs(um[k] - expected_um) /
+                              (kRelativeTolerance * std::abs(expected_um) + 1e-3 * to_um);
+      failing = failing || !(fraction <= 1);
+      if (!(fraction <= a.worst_fraction_of_allowance)) {
+        a.worst_fraction_of_allowance = std::isnan(fraction) ? INFINITY : fraction;
+        worst_frame = f, worst_value = k;
+      }
+    }
+    failing_frames += failing;
+  }
+  a.agrees = failing_frames == 0;
+  a.detail = std::to_string(traj.frame_count()) + " frames; " + std::to_string(failing_frames) +
+             " disagree with the trajectory's positions; worst" +
+             Format(" %.3g of its allowance", a.worst_fraction_of_allowance) + " at frame " +
+             std::to_string(worst_frame) + ", particle " + std::to_string(worst_value / 3) +
+             " axis " + std::to_string(worst_value % 3);
+  return a;
+}
+
 WormTrack ReadWormMotionLog(const std::filesystem::path& path) {
   std::istringstream in(ReadMaybeGzipped(path));
   WormTrack track;

@@ -3,12 +3,14 @@
 // round-tripped through owval's own reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/kinematics.hpp"
+#include "owval/kinematics/side_files.hpp"
 #include "owval/kinematics/skeleton.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
@@ -227,6 +229,43 @@ TEST(OmeZarr, ZarrPythonReadsBackEveryValue) {
   WriteRaw(Temp("positions.f32"), um);
   EXPECT_EQ(Python(args), 1);
   for (const char* f : {"positions.f32", "types.f32", "time.f64"}) fs::remove(Temp(f));
+  fs::remove_all(store);
+}
+
+// owval's reader reads back every value, and the store must describe the trajectory beside it:
+// the reversed run's store beside the run disagrees at every frame (200: no middle frame)
+// (side_files.hpp; ci's quick-test and validate use this).
+TEST(OmeZarr, OwvalsReaderReadsBackEveryValueAndNamesAStoreOfAnotherRun) {
+  if (!Worm()) GTEST_SKIP() << "needs the worm reference";
+  const Trajectory& t = *Worm();
+  const fs::path store = Temp("worm.zarr");
+  WriteOmeZarr(t, store);
+  OmeZarrReader zarr(store);
+  ASSERT_EQ(zarr.frame_count(), t.frame_count());
+  EXPECT_EQ(zarr.time_s(), t.time_s);
+  EXPECT_EQ(zarr.type(), t.type);
+  const float to_um = static_cast<float>(ZarrWriteOptions{}.simulation_scale_m * 1e6);
+  std::size_t unequal = 0;
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    const float* um = zarr.FrameMicrometres(f);
+    for (std::size_t k = 0; k < t.particle_count() * 3; ++k)
+      unequal += um[k] != t.position(f, 0)[k] * to_um;
+  }
+  EXPECT_EQ(unequal, 0u);
+  const auto frames = MemoryFrameSource(t);
+  const TrackAgreement same = CompareWithTrajectory(zarr, *frames);
+  EXPECT_TRUE(same.agrees) << same.detail;
+  EXPECT_LT(same.worst_fraction_of_allowance, 0.01);
+  Trajectory reversed = t;
+  const std::size_t n = t.particle_count() * 3;
+  for (std::size_t f = 0; f < t.frame_count(); ++f)
+    std::copy_n(t.position(t.frame_count() - 1 - f, 0), n, reversed.position(f, 0));
+  fs::remove_all(store);
+  WriteOmeZarr(reversed, store);
+  OmeZarrReader other(store);
+  const TrackAgreement a = CompareWithTrajectory(other, *frames);
+  EXPECT_FALSE(a.agrees);
+  EXPECT_EQ(a.detail.rfind("200 frames; 200 disagree", 0), 0u) << a.detail;
   fs::remove_all(store);
 }
 

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "owval/kinematics/skeleton.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval::kinematics {
@@ -30,6 +31,12 @@ struct TrackAgreement {
 
 // `trajectory`: the skeletons recomputed from the trajectory's particles (SkeletonsFromFrames).
 TrackAgreement CompareWithTrajectory(const WormTrack& track, const SkeletonSeries& trajectory);
+
+// An OME-Zarr store (body/positions in µm) against the trajectory it was converted from: the same
+// frame count, times (1% of the mean interval), type codes (1e-5 relative, as particle_types) and
+// every coordinate within 1e-5 of its magnitude plus 1e-3 cu (at Sibernetic's float scale,
+// 7.39999905e-3 µm). The trajectory is read frame by frame.
+TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& trajectory);
 
 // worm_motion_log.txt as a track: per line, time (s) and the non-empty bins' (X:, Y:) means
 // (simulation z, x in mm: the WCON body plane); a bin whose three means print 0 is empty, as

@@ -8,6 +8,7 @@
 //  - OME-Zarr viewer contract in zarr v2 layout: body/positions (T, N, 3) float32 in micrometres,
 //    chunked by frames, body/types (N,) float32, body/time (T,) float64 seconds, provenance as
 //    attributes of the root group. Readable by zarr-python without owval.
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -97,6 +98,30 @@ class OmeZarrWriter {
   struct Store;
   void WriteChunk();
   std::unique_ptr<Store> store_;
+};
+
+// An OME-Zarr store read back a chunk of frames at a time (memory: one chunk): zarr v2,
+// body/positions (T, N, 3) "<f4" in micrometres chunked along time only, body/time (T,) "<f8" s,
+// body/types (N,) "<f4"; C order, compressor zlib or none, no filters. What owval writes, and
+// what another writer of the same contract writes. InputError naming the file on anything else
+// (a chunk that is missing is the fill value, as zarr reads it).
+class OmeZarrReader {
+ public:
+  explicit OmeZarrReader(const std::filesystem::path& store);
+  std::size_t frame_count() const { return time_s_.size(); }
+  std::size_t particle_count() const { return type_.size(); }
+  const std::vector<double>& time_s() const { return time_s_; }
+  const std::vector<float>& type() const { return type_; }
+  // Frame `frame`'s positions in micrometres, 3 a particle; valid until the next call.
+  const float* FrameMicrometres(std::size_t frame);
+
+ private:
+  std::filesystem::path positions_;
+  std::string compressor_;  // "zlib" or "" (none)
+  std::size_t chunk_frames_ = 1, loaded_chunk_ = SIZE_MAX;
+  float fill_value_ = 0;
+  std::vector<double> time_s_;
+  std::vector<float> type_, chunk_;
 };
 
 // An OME-Zarr store as WriteOmeZarr writes it: its root .zattrs has owval's "@owval" block and it

@@ -1,0 +1,125 @@
+// OmeZarrReader (worm_formats.hpp): zarr-specs v2, .zarray metadata and one file per chunk named
+// "i.j.k" ("." separator), read back for checking a store against its trajectory.
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "owval/base/errors.hpp"
+#include "owval/trajectory/worm_formats.hpp"
+
+namespace owval {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+namespace {
+
+std::string ReadBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "cannot open");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct ArrayMeta {
+  std::vector<std::size_t> shape, chunks;
+  std::string compressor;  // "zlib" or ""
+  double fill_value = 0;
+};
+
+// The array's .zarray, checked against what this reader can read: `dtype`, C order, no filters,
+// "." separator, zlib or no compressor, `rank` dimensions.
+ArrayMeta ReadMeta(const fs::path& array, const char* dtype, std::size_t rank) {
+  const fs::path file = array / ".zarray";
+  auto fail = [&](const std::string& what) { throw InputError(file.string(), 0, what); };
+  json m;
+  try {
+    m = json::parse(ReadBytes(file));
+  } catch (const json::exception& e) {
+    fail(std::string("not JSON: ") + e.what());
+  }
+  if (m.value("zarr_format", 0) != 2) fail("zarr_format: expected 2");
+  if (m.value("dtype", "") != dtype) fail(std::string("dtype: expected \"") + dtype + "\"");
+  if (m.value("order", "") != "C") fail("order: expected \"C\"");
+  if (m.contains("filters") && !m["filters"].is_null()) fail("filters: expected null");
+  if (m.value("dimension_separator", ".") != ".") fail("dimension_separator: expected \".\"");
+  ArrayMeta meta;
+  meta.shape = m.at("shape").get<std::vector<std::size_t>>();
+  meta.chunks = m.at("chunks").get<std::vector<std::size_t>>();
+  if (meta.shape.size() != rank || meta.chunks.size() != rank)
+    fail("shape, chunks: expected " + std::to_string(rank) + " dimensions");
+  for (std::size_t c : meta.chunks)
+    if (c == 0) fail("chunks: expected positive sizes");
+  if (m.contains("compressor") && !m["compressor"].is_null()) {
+    if (m["compressor"].value("id", "") != "zlib") fail("compressor: expected zlib or null");
+    meta.compressor = "zlib";
+  }
+  if (m.contains("fill_value") && m["fill_value"].is_number())
+    meta.fill_value = m["fill_value"].get<double>();
+  return meta;
+}
+
+// The chunk's `bytes` decoded; the fill value's when its file is missing (zarr's rule).
+template <typename T>
+std::vector<T> ReadChunk(const fs::path& file, const std::string& compressor, std::size_t count,
+                         double fill_value) {
+  std::vector<T> values(count, static_cast<T>(fill_value));
+  if (!fs::exists(file)) return values;
+  const std::string data = ReadBytes(file);
+  uLongf size = count * sizeof(T);
+  if (compressor == "zlib") {
+    if (uncompress(reinterpret_cast<Bytef*>(values.data()), &size,
+                   reinterpret_cast<const Bytef*>(data.data()), data.size()) != Z_OK ||
+        size != count * sizeof(T))
+      throw InputError(file.string(), 0, "corrupt zlib chunk or wrong size");
+  } else {
+    if (data.size() != size) throw InputError(file.string(), 0, "chunk of the wrong size");
+    std::memcpy(values.data(), data.data(), size);
+  }
+  return values;
+}
+
+template <typename T>
+std::vector<T> Read1d(const fs::path& array, const char* dtype) {
+  const ArrayMeta m = ReadMeta(array, dtype, 1);
+  std::vector<T> values;
+  for (std::size_t c = 0; c * m.chunks[0] < m.shape[0]; ++c) {
+    std::vector<T> chunk =
+        ReadChunk<T>(array / std::to_string(c), m.compressor, m.chunks[0], m.fill_value);
+    chunk.resize(std::min(m.chunks[0], m.shape[0] - c * m.chunks[0]));
+    values.insert(values.end(), chunk.begin(), chunk.end());
+  }
+  return values;
+}
+
+}  // namespace
+
+OmeZarrReader::OmeZarrReader(const fs::path& store) : positions_(store / "body/positions") {
+  time_s_ = Read1d<double>(store / "body/time", "<f8");
+  type_ = Read1d<float>(store / "body/types", "<f4");
+  const ArrayMeta m = ReadMeta(positions_, "<f4", 3);
+  const std::string where = (positions_ / ".zarray").string();
+  if (m.shape[0] != time_s_.size() || m.shape[1] != type_.size() || m.shape[2] != 3)
+    throw InputError(where, 0,
+                     "shape: expected (" + std::to_string(time_s_.size()) + ", " +
+                         std::to_string(type_.size()) + ", 3), body/time's and body/types' sizes");
+  if (m.chunks[1] != m.shape[1] || m.chunks[2] != 3)
+    throw InputError(where, 0, "chunks: expected every particle in one chunk of frames");
+  chunk_frames_ = m.chunks[0];
+  compressor_ = m.compressor;
+  fill_value_ = static_cast<float>(m.fill_value);
+}
+
+const float* OmeZarrReader::FrameMicrometres(std::size_t frame) {
+  const std::size_t chunk = frame / chunk_frames_, n = particle_count() * 3;
+  if (chunk != loaded_chunk_) {
+    chunk_ = ReadChunk<float>(positions_ / (std::to_string(chunk) + ".0.0"), compressor_,
+                              chunk_frames_ * n, fill_value_);
+    loaded_chunk_ = chunk;
+  }
+  return chunk_.data() + (frame % chunk_frames_) * n;
+}
+
+}  // namespace owval
