@@ -102,6 +102,15 @@ const ConstantInfo kTable[] = {
      "XPBD: 1 keeps a pair of moving particles in the neighbour lists only when each lists the "
      "other (equal and opposite pair terms); 0 Sibernetic's capped lists as searched",
      R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.reciprocal_lists)},
+    {"xpbd_tensile_correction", nullptr, "1",
+     "XPBD: k of position-based fluids' artificial pressure s_corr = -k (W(r)/W(dq))^n in the "
+     "density correction (Macklin & Mueller 2013 eq. 13; paper 0.1), in units of h^2; 0 off",
+     R::kNonNegative, "xpbd", OWVAL_FIELD(xpbd.tensile_correction)},
+    {"xpbd_tensile_exponent", nullptr, "1", "XPBD: n of s_corr (paper 4)", R::kIntegerAtLeastOne,
+     "xpbd", OWVAL_FIELD(xpbd.tensile_exponent)},
+    {"xpbd_tensile_distance_h", nullptr, "h",
+     "XPBD: |dq| of s_corr as a fraction of h (paper 0.1-0.3)", R::kOpenFraction, "xpbd",
+     OWVAL_FIELD(xpbd.tensile_distance_h)},
     {"wcsph_h_factor", nullptr, "1", "WCSPH smoothing length h / particle spacing (support 2h)",
      R::kPositive, "wcsph", OWVAL_FIELD(wcsph.h_factor)},
     {"wcsph_spacing_m", nullptr, "m",

@@ -19,11 +19,13 @@ const fs::path kShared = OWVAL_SHARED_DIR;
 enum class Path { kCpuChoice, kScalar, kAvx2 };
 
 Trajectory RunWith(Path path, const std::string& name, double duration_s, int threads = 1,
-                   const std::string& backend = "pcisph", int xpbd_iterations = 1) {
+                   const std::string& backend = "pcisph", int xpbd_iterations = 1,
+                   double xpbd_tensile_correction = 0) {
   internal::ForceScalarPaths(path == Path::kScalar);
   if (path == Path::kAvx2) internal::ForceAvx2Paths();
   RunOptions o;
   o.constants.xpbd.iterations = xpbd_iterations;
+  o.constants.xpbd.tensile_correction = xpbd_tensile_correction;
   o.duration_s = duration_s;
   o.log_step = 10;
   o.threads = threads;
@@ -38,9 +40,12 @@ bool SameBits(const std::vector<float>& a, const std::vector<float>& b) {
 }
 
 void ExpectSameBits(const std::string& name, double duration_s, Path vector_path,
-                    const std::string& backend = "pcisph", int xpbd_iterations = 1) {
-  const Trajectory vector = RunWith(vector_path, name, duration_s, 1, backend, xpbd_iterations);
-  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s, 1, backend, xpbd_iterations);
+                    const std::string& backend = "pcisph", int xpbd_iterations = 1,
+                    double xpbd_tensile_correction = 0) {
+  const Trajectory vector =
+      RunWith(vector_path, name, duration_s, 1, backend, xpbd_iterations, xpbd_tensile_correction);
+  const Trajectory scalar = RunWith(Path::kScalar, name, duration_s, 1, backend, xpbd_iterations,
+                                    xpbd_tensile_correction);
   ASSERT_GT(vector.frame_count(), 1u);
   EXPECT_TRUE(SameBits(vector.positions, scalar.positions)) << name;
   EXPECT_TRUE(SameBits(vector.velocities, scalar.velocities)) << name;
@@ -80,6 +85,11 @@ TEST(VectorPaths, GiveTheScalarPathsBitsOnDemo1UnderXpbdWithTwoPasses) {
 }
 TEST(VectorPaths, GiveTheScalarPathsBitsOnADenseLiquidBlockUnderXpbd) {
   ExpectSameBits("test_energy", 0.0004, Path::kCpuChoice, "xpbd");
+}
+// [MM13]'s s_corr (xpbd_tensile_correction) in the density lanes: the scalar loop's pair terms.
+TEST(VectorPaths, GiveTheScalarPathsBitsUnderXpbdWithTheTensileCorrection) {
+  ExpectSameBits("demo1", 0.004, Path::kCpuChoice, "xpbd", 1, 0.1);
+  ExpectSameBits("test_energy", 0.0004, Path::kCpuChoice, "xpbd", 1, 0.1);
 }
 
 // The default thread count follows the machine's idle cores, so the output must not depend on it:

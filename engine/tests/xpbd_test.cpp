@@ -196,6 +196,66 @@ TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount
   EXPECT_GT(dx0, 0);
 }
 
+// Two liquid particles 1.5 cu apart, nothing else, one density projection from rest (as above),
+// with [MM13]'s s_corr at strength `k`; returns particle 0's x after it.
+double PairXAfterOneProjection(double k_tensile, int exponent = 4, double dq_h = 0.2) {
+  SiberneticConfig c;
+  c.source = "pair";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
+  c.velocity.assign(2, {0, 0, 0, 0});
+  PhysicsConstants k = Quiet();
+  k.xpbd.rest_density = 1000;
+  k.xpbd.substeps = 1;
+  k.xpbd.density_passes = 1;
+  SetConstant(&k, "xpbd_tensile_correction", k_tensile);
+  SetConstant(&k, "xpbd_tensile_exponent", exponent);
+  SetConstant(&k, "xpbd_tensile_distance_h", dq_h);
+  Xpbd<double> solver(c, k, 1);
+  solver.Step();
+  solver.Step();
+  EXPECT_NEAR(solver.exact_positions()[0][0] - 50, 51.5 - solver.exact_positions()[1][0], 1e-12)
+      << "the pair moves symmetrically";
+  return solver.exact_positions()[0][0];
+}
+
+TEST(XpbdSolver, TensileCorrectionPushesTwoCloseParticlesApartByTheHandComputedAmount) {
+  // [MM13 eqs. 13-14]: Δp_0 gains s_corr·V0∇W(p_0 − p_1), s_corr = −k·h²·(W(r)/W(0.2 h))⁴.
+  const PhysicsConstants k;
+  const double h = float(k.h_cu), r = 1.5;
+  const double ratio = std::pow(h * h - r * r, 3) / std::pow(h * h - 0.04 * h * h, 3);
+  const double s_corr = -0.1 * h * h * std::pow(ratio, 4);
+  const double s = float(k.simulation_scale), v0 = k.mass_kg / (1000 * s * s * s);
+  const double g = v0 * SpikyGradientCoefficient(h) * (h - r) * (h - r);  // along x_0 − x_1
+  const double push = -s_corr * g;     // V0∇W(p_0 − p_1) = −g·x̂
+  EXPECT_NEAR(s_corr, -0.1219, 5e-4);  // by hand: 11.1556 · 0.1 · (8.9056/10.7094)^12
+  EXPECT_LT(push, 0) << "particle 0 (at lower x) is pushed away from particle 1";
+  const double off = PairXAfterOneProjection(0), on = PairXAfterOneProjection(0.1);
+  EXPECT_NEAR(on - off, push, 1e-9);
+  EXPECT_GT(std::abs(push), 1e-3) << "a test that can fail: the push is not rounding";
+  // n and |Δq| enter as the paper's: n = 2, |Δq| = 0.3 h.
+  const double ratio_03 = std::pow(h * h - r * r, 3) / std::pow(h * h - 0.09 * h * h, 3);
+  EXPECT_NEAR(PairXAfterOneProjection(0.1, 2, 0.3) - off, 0.1 * h * h * ratio_03 * ratio_03 * g,
+              1e-9);
+}
+
+TEST(XpbdSolver, TensileCorrectionOffLeavesTheDensityCorrectionUnchanged) {
+  // k = 0 is the constraint alone (the hand-computed pair above), whatever n and |Δq| say.
+  const double alone = PairXAfterOneProjection(0);
+  EXPECT_EQ(PairXAfterOneProjection(0, 2, 0.3), alone);
+  PhysicsConstants k;
+  EXPECT_EQ(k.xpbd.tensile_correction, 0) << "off by default";
+  Xpbd<double> solver(AnchoredParticle(0.5f), k, 1);
+  EXPECT_NE(solver.parameters().find("tensile_correction = 0,"), std::string::npos);
+  SetConstant(&k, "xpbd_tensile_correction", 0.1);
+  Xpbd<double> on(AnchoredParticle(0.5f), k, 1);
+  EXPECT_NE(on.parameters().find("tensile_correction = 0.1 (n = 4, dq = 0.2 h)"),
+            std::string::npos);
+  EXPECT_THROW(SetConstant(&k, "xpbd_tensile_distance_h", 1), InputError);
+  EXPECT_THROW(SetConstant(&k, "xpbd_tensile_exponent", 0), InputError);
+  EXPECT_THROW(SetConstant(&k, "xpbd_tensile_correction", -0.1), InputError);
+}
+
 TEST(XpbdMembrane, APointThatCrossedATriangleGoesBackToItsPlaneAndPushesTheCorners) {
   // The triangle a = 0, b = 3x̂, c = 3ŷ in the plane z = 0; q kept on the +z side. q = (2, 0.5,
   // −0.4): its projection's barycentric weights are β = (1/6, 2/3, 1/6), C = −0.4,

@@ -65,7 +65,8 @@ __attribute__((target("avx2,fma"))) __m256 Squares(__m256 a, __m256 b, __m256 c)
 __attribute__((target("avx2,fma"))) int DensityConstraintAvx2(const DensityLanes& in,
                                                               const std::int32_t particle[8],
                                                               float w_out[8], float norm2_out[8],
-                                                              float* record) {
+                                                              float* record,
+                                                              float tensile_out[3][8]) {
   const DensityKernel<float>& k = in.kernel;
   const __m256 zero = _mm256_setzero_ps(), h = _mm256_set1_ps(k.h), h2 = _mm256_set1_ps(k.h2);
   const __m256 poly6 = _mm256_set1_ps(k.poly6);
@@ -73,6 +74,10 @@ __attribute__((target("avx2,fma"))) int DensityConstraintAvx2(const DensityLanes
   __m256 xi, yi, zi;
   Load(in, particle, &xi, &yi, &zi);
   __m256 w = _mm256_set1_ps(k.W(0)), norm2 = zero, gx = zero, gy = zero, gz = zero;
+  const TensileCorrection<float>& s = in.tensile;
+  const __m256 inverse_w_dq = _mm256_set1_ps(s.inverse_w_dq),
+               minus_strength = _mm256_set1_ps(-s.strength);
+  __m256 tx = zero, ty = zero, tz = zero;
   const __m256i slot_index =
       _mm256_slli_epi32(_mm256_mullo_epi32(ToVector(particle), _mm256_set1_epi32(kSlots)), 1);
   int m = 0;
@@ -111,9 +116,23 @@ __attribute__((target("avx2,fma"))) int DensityConstraintAvx2(const DensityLanes
     _mm256_storeu_ps(slot + 24, gzj);
     gx = Add(gx, gxj, listed), gy = Add(gy, gyj, listed), gz = Add(gz, gzj, listed);
     norm2 = Add(norm2, Squares(gxj, gyj, gzj), moving);
+    if (s.on()) {  // TensileCorrection::Of, then its pair's term, as the scalar loop
+      const __m256 ratio = _mm256_mul_ps(wj, inverse_w_dq);
+      __m256 power = ratio;
+      for (int e = 1; e < s.exponent; ++e) power = _mm256_mul_ps(power, ratio);
+      const __m256 s_corr = _mm256_mul_ps(minus_strength, power);
+      tx = Add(tx, _mm256_mul_ps(s_corr, gxj), listed);
+      ty = Add(ty, _mm256_mul_ps(s_corr, gyj), listed);
+      tz = Add(tz, _mm256_mul_ps(s_corr, gzj), listed);
+    }
   }
   _mm256_storeu_ps(w_out, w);
   _mm256_storeu_ps(norm2_out, _mm256_add_ps(norm2, Squares(gx, gy, gz)));
+  if (s.on()) {
+    _mm256_storeu_ps(tensile_out[0], tx);
+    _mm256_storeu_ps(tensile_out[1], ty);
+    _mm256_storeu_ps(tensile_out[2], tz);
+  }
   return m;
 }
 

@@ -18,6 +18,7 @@ struct DensityLanes {
   const Neighbour* neighbours;  // kSlots per particle, empty slots (−1) at the end
   const std::int32_t* moving;   // per particle: −1 moving, 0 fixed
   DensityKernel<float> kernel;
+  TensileCorrection<float> tensile;  // [MM13]'s s_corr, or off
   // The moving particles [moving_first, moving_end) when they are one block of the
   // configuration (a neighbour is then tested by two compares), or moving_end = moving_first
   // (the table `moving` is gathered).
@@ -30,10 +31,11 @@ struct DensityLanes {
 constexpr int kRecord = 32;
 
 // Particles `particle[0..8)`: per lane w = W(0) + Σ_j W(|p_i − p_j|) and norm2 = Σ_{j moving}
-// |∇_j C_i|² + |∇_i C_i|², and each slot's record into `record` (kSlots × kRecord floats).
+// |∇_j C_i|² + |∇_i C_i|², and each slot's record into `record` (kSlots × kRecord floats); when
+// in.tensile is on, also tensile[axis][lane] = Σ_j s_corr(W(|p_i − p_j|))·V0∇W(p_i − p_j).
 // Returns the slots used (the longest lane's list).
 int DensityConstraintAvx2(const DensityLanes& in, const std::int32_t particle[8], float w[8],
-                          float norm2[8], float* record);
+                          float norm2[8], float* record, float tensile[3][8]);
 
 // Per lane Δp_i = Σ_j (Δλ_i + [j moving]·Δλ_j)·V0∇W(p_i − p_j), from DensityConstraintAvx2's
 // record of the same particles and its slot count.

@@ -64,6 +64,30 @@ struct DensityKernel {
   }
 };
 
+// Position-based fluids' artificial pressure [MM13 §4, eqs. 13-14]: each pair's term of the
+// density correction Δp_i = Σ_j (Δλ_i + Δλ_j + s_corr)·V0∇W(p_i − p_j) gets
+// s_corr = −k·(W(|p_i − p_j|)/W(|Δq|))^n, a repulsion that grows as a pair closes in, so that a
+// two-sided constraint (C < 0 pulls) cannot clump under-dense particles (the tensile
+// instability). The paper's constants: k = 0.1, n = 4, |Δq| = 0.1-0.3 h. The paper adds the
+// dimensionless s_corr to λ, which has units of length² (C is dimensionless, ∇C 1/length), so
+// its k holds in one unit of length only; here lengths are measured in h (k·h² in cu²), which
+// makes the push a fixed fraction of h whatever the configuration's units (docs/xpbd.md).
+// strength = k·h² (cu²) ≥ 0, 0: off.
+template <typename T>
+struct TensileCorrection {
+  T strength = 0;      // k·h², cu²
+  T inverse_w_dq = 0;  // 1/W(|Δq|), with the density kernel's W
+  int exponent = 4;    // n
+  bool on() const { return strength > 0; }
+  // s_corr (cu²) of a pair whose kernel value is w = W(|p_i − p_j|).
+  T Of(T w) const {
+    const T ratio = w * inverse_w_dq;
+    T power = ratio;
+    for (int e = 1; e < exponent; ++e) power *= ratio;
+    return -strength * power;
+  }
+};
+
 // A point kept on one side of a triangle's plane [MMC16; Müller et al. 2007, PBD §4, the
 // triangle-point collision with the plane's normal held fixed over the projection]:
 // C = side·n̂·(q − a) − thickness ≥ 0, n̂ = (b − a)×(c − a)/|·|, side = ±1 the side q keeps.

@@ -162,6 +162,12 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   density_compliance_ = DensityComplianceOf(config, constants);
   kernel_ = {T(h), T(h * h), T(constants.mass_kg / (rest_density_ * s * s * s)),
              T(Wpoly6Coefficient(h)), T(SpikyGradientCoefficient(h))};
+  if (parameters_.tensile_correction > 0) {
+    const T dq = T(parameters_.tensile_distance_h * h);
+    tensile_ = {T(parameters_.tensile_correction * h * h), T(1) / kernel_.W(dq * dq),
+                parameters_.tensile_exponent};
+    tensile_dp_.assign(n, {0, 0, 0});
+  }
 }
 
 // The step's neighbour lists from x(t); with xpbd_reciprocal_lists, only pairs listed both ways
@@ -486,7 +492,10 @@ void Xpbd<T>::Predict(T dt) {
 // Jacobi over the particles [MM13 eqs. 9-12] with XPBD's compliance: every Δλ_i from the same
 // positions, then Δp_i = Σ_j (Δλ_i + Δλ_j)·V0∇W(p_i − p_j), a fixed neighbour counting only its
 // own constraint's share. The second loop reuses the first's per-slot gradients (the positions
-// do not move between them), so each pair's square root and division are taken once.
+// do not move between them), so each pair's square root and division are taken once. With
+// xpbd_tensile_correction every listed pair adds s_corr·V0∇W [MM13 eq. 14] (a fixed neighbour
+// too: it is a pair term, not a multiplier), summed in the first loop and added after the Δλ
+// terms.
 template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
@@ -501,20 +510,26 @@ void Xpbd<T>::ProjectDensity(T dt) {
     const Neighbour* slots = state_.slots(i);
     Vec3<T>* gradient = &slot_gradient_[n * kSlots];
     T w = kernel_.W(0);
-    Vec3<T> gradient_i{0, 0, 0};
+    Vec3<T> gradient_i{0, 0, 0}, tensile{0, 0, 0};
     T norm2 = 0;
     for (int m = 0; m < kSlots && slots[m].index >= 0; ++m) {
       const std::int32_t j = slots[m].index;
       const Vec3<T> d{p_[i][0] - p_[j][0], p_[i][1] - p_[j][1], p_[i][2] - p_[j][2]};
-      w += kernel_.W(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const T wj = kernel_.W(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      w += wj;
       const Vec3<T> g = kernel_.Gradient(d);
       gradient[m] = g;
       for (int a = 0; a < 3; ++a) gradient_i[a] += g[a];
       if (moving_[j]) norm2 += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+      if (tensile_.on()) {
+        const T s_corr = tensile_.Of(wj);
+        for (int a = 0; a < 3; ++a) tensile[a] += s_corr * g[a];
+      }
     }
     norm2 += gradient_i[0] * gradient_i[0] + gradient_i[1] * gradient_i[1] +
              gradient_i[2] * gradient_i[2];
     UpdateDensityLambda(i, w, norm2, alpha_tilde);
+    if (tensile_.on()) tensile_dp_[i] = tensile;
   }
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::size_t n = 0; n < moving.size(); ++n) {
@@ -527,6 +542,8 @@ void Xpbd<T>::ProjectDensity(T dt) {
       const T lambda = density_dlambda_[i] + (moving_[j] ? density_dlambda_[j] : T(0));
       for (int a = 0; a < 3; ++a) dp[a] += lambda * gradient[m][a];
     }
+    if (tensile_.on())
+      for (int a = 0; a < 3; ++a) dp[a] += tensile_dp_[i][a];
     dp_[i] = dp;
   }
   for (std::int32_t i : moving)
@@ -555,8 +572,8 @@ void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
     lane_slots_.resize(groups);
     const std::int32_t last = std::int32_t(p_.size()) - 1;
     const float last_point[4] = {p_[last][0], p_[last][1], p_[last][2], 0.0f};
-    DensityLanes in{p_[0].data(),   last,   last_point, state_.neighbours.data(),
-                    moving_.data(), kernel_};
+    DensityLanes in{p_[0].data(),   last,    last_point, state_.neighbours.data(),
+                    moving_.data(), kernel_, tensile_};
     if (moving_block_) in.moving_first = moving.front(), in.moving_end = moving.back() + 1;
     const auto lanes_of = [&](std::size_t g, std::int32_t particle[8]) {
       const std::size_t lanes = std::min<std::size_t>(8, moving.size() - 8 * g);
@@ -567,10 +584,13 @@ void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
     for (std::size_t g = 0; g < groups; ++g) {
       std::int32_t particle[8];
       const std::size_t lanes = lanes_of(g, particle);
-      float w[8], norm2[8];
-      lane_slots_[g] = DensityConstraintAvx2(in, particle, w, norm2, &lane_record_[g * per_group]);
-      for (std::size_t l = 0; l < lanes; ++l)
+      float w[8], norm2[8], tensile[3][8];
+      lane_slots_[g] =
+          DensityConstraintAvx2(in, particle, w, norm2, &lane_record_[g * per_group], tensile);
+      for (std::size_t l = 0; l < lanes; ++l) {
         UpdateDensityLambda(particle[l], w[l], norm2[l], alpha_tilde);
+        if (tensile_.on()) tensile_dp_[particle[l]] = {tensile[0][l], tensile[1][l], tensile[2][l]};
+      }
     }
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
     for (std::size_t g = 0; g < groups; ++g) {
@@ -579,7 +599,11 @@ void Xpbd<T>::ProjectDensityInLanes(T alpha_tilde) {
       float dp[3][8];
       DensityDisplacementAvx2(particle, density_dlambda_.data(), &lane_record_[g * per_group],
                               lane_slots_[g], dp);
-      for (std::size_t l = 0; l < lanes; ++l) dp_[particle[l]] = {dp[0][l], dp[1][l], dp[2][l]};
+      for (std::size_t l = 0; l < lanes; ++l) {
+        dp_[particle[l]] = {dp[0][l], dp[1][l], dp[2][l]};
+        if (tensile_.on())
+          for (int a = 0; a < 3; ++a) dp_[particle[l]][a] += tensile_dp_[particle[l]][a];
+      }
     }
     for (std::int32_t i : moving)
       for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
@@ -859,7 +883,11 @@ std::string Xpbd<T>::parameters() const {
     << ", pressure_force = " << parameters_.pressure_force
     << ", membranes = " << (parameters_.membranes ? "constraint" : "pass")
     << ", reciprocal_lists = " << parameters_.reciprocal_lists
-    << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
+    << ", tensile_correction = " << parameters_.tensile_correction;
+  if (tensile_.on())
+    s << " (n = " << parameters_.tensile_exponent << ", dq = " << parameters_.tensile_distance_h
+      << " h)";
+  s << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
   return s.str();
 }
 

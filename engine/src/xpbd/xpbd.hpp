@@ -169,6 +169,10 @@ class Xpbd final : public Solver {
   bool moving_block_ = false;  // the moving particles are rows [first, first + count)
   double rest_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
+  // [MM13]'s s_corr (xpbd_tensile_correction; off by default) and, per particle, its part of a
+  // density pass's Δp, Σ_j s_corr·V0∇W (it does not depend on the pass's Δλ).
+  TensileCorrection<T> tensile_{};
+  std::vector<Vec3<T>> tensile_dp_;
   std::vector<std::int32_t> moving_;  // per particle: −1 moving, 0 fixed (a lane mask)
   std::vector<Vec3<T>> x_, v_, p_, dp_;
   std::vector<Vec3<T>> held_acceleration_;  // per moving particle (HoldAcceleration)
