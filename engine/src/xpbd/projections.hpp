@@ -7,7 +7,7 @@
 //
 //   [MMC16] M. Macklin, M. Müller, N. Chentanez. XPBD: position-based simulation of compliant
 //           constrained dynamics. Motion in Games 2016, pp. 49-54 (eqs. 17-18).
-//   [MM13]  M. Macklin, M. Müller. Position based fluids. ACM TOG 32(4), 104, 2013 (eqs. 1-12).
+//   [MM13]  M. Macklin, M. Müller. Position based fluids. ACM TOG 32(4), 104, 2013 (eqs. 1-14).
 #include <algorithm>
 #include <array>
 #include <cmath>

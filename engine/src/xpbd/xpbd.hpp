@@ -6,7 +6,8 @@
 //   over the step
 //   → n substeps of h = dt/n [M19], each:
 //       predict p = x + h·v*/s with v* = v + h·a
-//       → K × {density constraints (both directions), bonds (one-sided distance constraints, as
+//       → K × {density constraints (both directions; xpbd_tensile_correction adds [MM13]'s
+//              artificial pressure s_corr, eqs. 13-14), bonds (one-sided distance constraints, as
 //              Sibernetic's springs act only on their own row's particle), walls [IAGT10], box}
 //       → v = (p − x)·s/h, wall contacts' velocity (restitution, friction), floor restitution
 //   → the shared membrane pass (xpbd_membranes = 0, the default), or, with xpbd_membranes = 1,
