@@ -131,9 +131,11 @@ TEST(Neighbours, ReciprocalPairsKeepExactlyThePairsListedBothWays) {
     }
     EXPECT_EQ(s.boundary_slots[std::size_t(i)], boundary_bits) << "particle " << i;
     for (const internal::Neighbour* slot = s.slots(std::size_t(i));
-         slot < s.slots(std::size_t(i)) + internal::kSlots && slot->index >= 0; ++slot)
-      if (!internal::IsBoundary(s.position[slot->index].w))
+         slot < s.slots(std::size_t(i)) + internal::kSlots && slot->index >= 0; ++slot) {
+      if (!internal::IsBoundary(s.position[slot->index].w)) {
         EXPECT_TRUE(lists(s, slot->index, i)) << i << " lists " << slot->index << ", not back";
+      }
+    }
   }
 }
 
