@@ -23,6 +23,7 @@ void RunFit(FitArgs& a) {
   pipeline::FitRequest& r = a.request;
   r.track = a.track.Over(Track{});
   r.quiet = QuietMode();
+  r.reference_file = a.reference;
   const bool engine_runs = r.gradient != "fd" || r.command.empty();
   const engine::SiberneticConfig config =
       engine_runs ? ResolveConfig(a.config) : engine::SiberneticConfig{};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <sstream>
 
@@ -10,10 +11,15 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/json_file.hpp"
+#include "owval/base/progress.hpp"
+#include "owval/compare/signal_metrics.hpp"
+#include "owval/engine/config.hpp"
 #include "owval/predict/predict.hpp"
+#include "owval/sgd/fit_record.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
+#include "owval/trajectory/tracked_series.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
@@ -326,6 +332,130 @@ std::string HistoryContradiction(const nlohmann::json& h, std::size_t* unverifie
   return "";
 }
 
+// The best iteration: the one whose loss final.loss names (HistoryContradiction has checked that
+// one exists).
+const nlohmann::json& BestIteration(const nlohmann::json& h) {
+  const nlohmann::json* best = &h["iterations"][0];
+  for (const auto& it : h["iterations"])
+    if (NumberOr(it, "loss") < NumberOr(*best, "loss")) best = &it;
+  return *best;
+}
+
+// The targets' values against the directory's reference, measured as the pipeline's fit phase
+// measures them (the tracked series' zero-crossing period, half-amplitude, equilibrium): a
+// history whose targets were moved to what its parameters produce fails here. rms targets
+// must aim at 0 (the reference itself) with a positive weight. Returns the first disagreement,
+// or why the targets cannot be checked ("not verified: ...").
+std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
+                                    std::shared_ptr<const TrackedSeries>* reference_series) {
+  if (!targets.is_array() || targets.empty()) return "not verified: the history lists no target";
+  if (!e.reference)
+    return "not verified: the directory's reference trajectory, which the targets are measured "
+           "on, is missing or unreadable";
+  for (const auto& t : targets) {
+    if (!t.is_object() || !t.contains("track")) return "not verified: a target names no track";
+    const Track track = Track::FromJson(t["track"], "fit/history.json targets");
+    if (!*reference_series)
+      *reference_series =
+          std::make_shared<const TrackedSeries>(ReadTrackedSeries(*e.reference, track));
+    const TrackedSeries& series = **reference_series;
+    const std::string metric = t.value("metric", std::string());
+    const double value = NumberOr(t, "value");
+    if (!(NumberOr(t, "weight") > 0))
+      return "targets do not match the directory's reference: target " + metric +
+             " has no positive weight";
+    // The pipeline's scales (|value|; rms: the reference's range) at most: a larger one shrinks
+    // the residuals, and a bad fit converges.
+    const double scale = NumberOr(t, "scale");
+    if (metric == "rms") {
+      if (value != 0)
+        return "targets do not match the directory's reference: target rms aims at " +
+               FormatNumber(value, 6) + ", not 0";
+      const auto [lo, hi] = std::minmax_element(series.value.begin(), series.value.end());
+      const double range = series.value.empty() ? 0 : *hi - *lo;
+      if (!(scale <= std::max(range, 1e-300) * (1 + 1e-9)))
+        return "target rms's scale " + FormatNumber(scale, 6) +
+               " is looser than the reference's range " + FormatNumber(range, 6);
+      continue;
+    }
+    const compare::SignalMetrics m = compare::MeasureSignal(series.time_s, series.value);
+    const std::optional<double> measured = metric == "period"           ? m.period_s
+                                           : metric == "half_amplitude" ? m.half_amplitude
+                                           : metric == "equilibrium" ? std::optional(m.equilibrium)
+                                                                     : std::nullopt;
+    if (!measured) return "not verified: target " + metric + " cannot be measured on the reference";
+    if (!SameNumber(value, *measured))
+      return "targets do not match the directory's reference: target " + metric + " is " +
+             FormatNumber(value, 6) + ", the reference's " + track.Describe() + " measures " +
+             FormatNumber(*measured, 6);
+    if (!(scale <= std::max(std::abs(value), 1e-12) * (1 + 1e-9)))
+      return "target " + metric + "'s scale " + FormatNumber(scale, 6) +
+             " is looser than its value's magnitude";
+  }
+  return "";
+}
+
+// The fit's configuration against the directory's (configuration.txt, when it holds one): the
+// particles, velocities, connections and box must be the same numbers.
+std::string ConfigurationAgainstDirectory(const fs::path& dir) {
+  const fs::path mine = dir / "configuration.txt", fitted = dir / "fit" / "configuration.txt";
+  if (!fs::is_regular_file(mine) || !fs::is_regular_file(fitted)) return "";
+  const engine::SiberneticConfig a = engine::ReadSiberneticConfig(mine),
+                                 b = engine::ReadSiberneticConfig(fitted);
+  const bool same = a.position == b.position && a.velocity == b.velocity &&
+                    a.connection == b.connection && a.membranes == b.membranes &&
+                    std::memcmp(&a.box, &b.box, sizeof a.box) == 0;
+  return same ? "" : "the fit's configuration.txt is not the directory's configuration.txt";
+}
+
+// Residuals that agree: the engine is deterministic on one thread and the rerun goes through
+// the fit's own simulator and loss, so the numbers are the same to the last bit; 1e-9 relative
+// (absolute below 1e-12) only absorbs a decimal rendering of the history, which JSON's
+// shortest round-trip form does not even need.
+bool SameResiduals(const nlohmann::json& recorded, const std::vector<double>& rerun) {
+  if (!recorded.is_array() || recorded.size() != rerun.size()) return false;
+  for (std::size_t i = 0; i < rerun.size(); ++i) {
+    const double a = recorded[i].is_number() ? recorded[i].get<double>() : NAN;
+    if (!(std::abs(a - rerun[i]) <=
+          std::max(1e-12, 1e-9 * std::max(std::abs(a), std::abs(rerun[i])))))
+      return false;
+  }
+  return true;
+}
+
+// The history's best iterate rerun once with its recorded simulation; "" when the rerun's
+// residuals and loss are the history's, else why not (docs/checklist.md, item 6).
+std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
+  const nlohmann::json& targets = h.contains("targets") ? h["targets"] : nlohmann::json();
+  std::shared_ptr<const TrackedSeries> reference;
+  const bool engine_fit = h.contains("simulation") && h["simulation"].is_object() &&
+                          h["simulation"].value("kind", "") == "engine";
+  if (engine_fit) {
+    const std::string moved = TargetsAgainstReference(e, targets, &reference);
+    if (!moved.empty()) return moved;
+  }
+  const std::string configuration = ConfigurationAgainstDirectory(e.dir);
+  if (!configuration.empty()) return configuration;
+  Progress progress("checklist: rerunning the fit's best parameters", 0, QuietMode());
+  sgd::FitRerunOptions options;
+  options.rms_reference = reference;
+  options.on_step = [&](std::size_t done, std::size_t total) {
+    progress.Update(done, std::to_string(done) + "/" + std::to_string(total) + " steps");
+  };
+  const sgd::FitRerun rerun = sgd::RerunBestIterate(h, e.dir / "fit", options);
+  progress.Finish();
+  if (!rerun.not_verified.empty()) return "not verified: " + rerun.not_verified;
+  const nlohmann::json& best = BestIteration(h);
+  const double claimed = NumberOr(best, "loss");
+  *rerun_detail = "rerun at the best parameters (" + rerun.simulated + "): loss " +
+                  FormatNumber(rerun.loss, 6) + ", history says " + FormatNumber(claimed, 6);
+  if (!SameNumber(rerun.loss, claimed) ||
+      !SameResiduals(best.contains("residuals") ? best["residuals"] : nlohmann::json(),
+                     rerun.residuals))
+    return "the rerun does not reproduce the best iteration's residuals";
+  return "";
+}
+
 void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
   if (!h.is_object())
@@ -347,19 +477,38 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   if (!item->pass) return;
   std::size_t unverified = 0;
   const std::string contradiction = HistoryContradiction(h, &unverified);
+  item->pass = false;
   if (!contradiction.empty()) {
-    item->pass = false;
     item->detail += "; CONTRADICTED by its own numbers: " + contradiction;
-  } else if (unverified > 0) {
+    return;
+  }
+  if (unverified > 0) {
     // Nothing in the file to recompute those losses from: a claim, not evidence.
-    item->pass = false;
     item->detail += "; converged claimed, not verified: " + std::to_string(unverified) +
                     " iteration(s) record no residuals to recompute the loss from";
-  } else {
-    item->detail +=
-        "; recomputed from the history's residuals: each loss, the best one and converged agree "
-        "(the simulations behind the residuals are not rerun)";
+    return;
   }
+  const double best = NumberOr(h["final"], "loss");
+  if (!(best < e.options.fit_loss_threshold)) {
+    item->detail += "; FAILS: the best loss " + FormatNumber(best, 6) +
+                    " is not below the caller's threshold " +
+                    FormatNumber(e.options.fit_loss_threshold, 6) +
+                    " (the history's own loss_threshold is " +
+                    FormatNumber(NumberOr(h, "loss_threshold"), 6) + ")";
+    return;
+  }
+  std::string rerun;
+  const std::string disagreement = RerunDisagreement(e, h, &rerun);
+  if (!rerun.empty()) item->detail += "; " + rerun;
+  if (!disagreement.empty()) {
+    item->detail += "; " + (disagreement.rfind("not verified", 0) == 0 ? disagreement
+                                                                       : "FAILS: " + disagreement);
+    return;
+  }
+  item->pass = true;
+  item->detail +=
+      "; each loss, the best one and converged agree with the residuals, and the rerun "
+      "reproduces the best iteration's residuals";
 }
 
 // A test's "pass" is a claim; its own relative error against its own tolerance (gradcheck's

@@ -1,5 +1,8 @@
 // Item 6 recomputes fit/history.json's claims from its own numbers instead of taking
-// "converged": true on trust (docs/checklist.md).
+// "converged": true on trust, and then reruns the best iterate (docs/checklist.md): a history
+// that only agrees with itself is not verified. The reruns of a real fit, and histories edited
+// after it, are tested on the pipeline's directory (cli/tests/checklist_test.cpp) and on
+// `owval fit`'s (pipeline/tests/fit_rerun_test.cpp).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -39,10 +42,46 @@ nlohmann::json ConvergedFit() {
     "final": {"loss": 8.277120222159476e-07, "parameters": {"elasticity_coefficient": 2.99e8}}})");
 }
 
-TEST(FitHistoryClaims, AConsistentConvergedHistoryPasses) {
+// Numbers that agree with each other are what a forger writes first: without the record of
+// what was simulated there is nothing to rerun, and the item fails.
+TEST(FitHistoryClaims, ASelfConsistentHistoryWithoutItsSimulationIsNotVerified) {
   const ChecklistItem i = ItemSix("consistent", ConvergedFit());
-  EXPECT_TRUE(i.pass) << i.detail;
-  EXPECT_NE(i.detail.find("recomputed from the history's residuals"), std::string::npos);
+  EXPECT_FALSE(i.pass) << i.detail;
+  EXPECT_NE(i.detail.find("not verified: the history records no \"simulation\""), std::string::npos)
+      << i.detail;
+}
+
+// A record whose evidence is not there (no configuration beside it, no reference to measure the
+// targets on) cannot be rerun either.
+TEST(FitHistoryClaims, AnEngineRecordWithoutItsEvidenceIsNotVerified) {
+  nlohmann::json h = ConvergedFit();
+  h["simulation"] = {{"kind", "engine"},
+                     {"configuration", {{"file", "configuration.txt"}, {"fnv1a64", "0"}}}};
+  const ChecklistItem i = ItemSix("no_configuration", h);
+  EXPECT_FALSE(i.pass) << i.detail;
+  EXPECT_NE(i.detail.find("; not verified: "), std::string::npos) << i.detail;
+}
+
+// A history may set its own loss_threshold; the caller's (DD001's 1e-4 by default) judges it.
+TEST(FitHistoryClaims, AThresholdLoosenedByTheHistoryFails) {
+  nlohmann::json h = ConvergedFit();
+  h["iterations"].erase(2);  // stopped after iteration 1, loss 0.0019
+  h["final"]["loss"] = 0.0019326329159522996;
+  h["loss_threshold"] = 0.01;
+  const ChecklistItem i = ItemSix("loose_threshold", h);
+  EXPECT_FALSE(i.pass);
+  EXPECT_NE(i.detail.find("is not below the caller's threshold 0.0001"), std::string::npos)
+      << i.detail;
+}
+
+// An external command's runs cannot be rerun by owval: not verified, never passed on trust.
+TEST(FitHistoryClaims, ACommandFitIsNotVerified) {
+  nlohmann::json h = ConvergedFit();
+  h["simulation"] = {{"kind", "command"}, {"command", "./metal_port {out}"}};
+  const ChecklistItem i = ItemSix("command_fit", h);
+  EXPECT_FALSE(i.pass) << i.detail;
+  EXPECT_NE(i.detail.find("not verified: simulation.kind 'command'"), std::string::npos)
+      << i.detail;
 }
 
 TEST(FitHistoryClaims, ConvergedOverALossAboveTheThresholdFails) {

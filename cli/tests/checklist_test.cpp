@@ -109,6 +109,10 @@ TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
   EXPECT_NE(j["items"][1]["detail"].get<std::string>().find("the caller's reference"),
             std::string::npos)
       << j["items"][1].dump();
+  // Item 6 reran the fit's best parameters and got the history's residuals back.
+  EXPECT_NE(j["items"][5]["detail"].get<std::string>().find("rerun at the best parameters"),
+            std::string::npos)
+      << j["items"][5].dump();
 }
 
 // `--markdown DIR/candidate.h5` would have replaced the evidence with the report on it.
@@ -294,6 +298,76 @@ TEST_F(Checklist, Item6FailsOnAnUnconvergedFit) {
   const auto j = Judge(d, 1);
   EXPECT_EQ(j["verdict"], "not ready");
   EXPECT_FALSE(ItemPasses(j, 6));
+}
+
+// Item 6's detail in the report `j`, and that it failed.
+std::string FailedItem6(const nlohmann::json& j) {
+  EXPECT_EQ(j["verdict"], "not ready");
+  EXPECT_FALSE(ItemPasses(j, 6));
+  return j["items"][5]["detail"].get<std::string>();
+}
+
+// A forged history whose numbers agree with each other: every residual invented (1e-4 and
+// below), each loss their sum of squares, the last the best, converged. Only the rerun of the
+// best parameters can tell.
+TEST_F(Checklist, Item6FailsOnAForgedSelfConsistentHistory) {
+  const fs::path d = Copy("item6_forged");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    double scale = 1e-3;
+    for (auto& it : h["iterations"]) {
+      scale /= 10;
+      double loss = 0;
+      for (auto& r : it["residuals"]) r = scale, loss += scale * scale;
+      it["loss"] = loss;
+    }
+    h["final"]["loss"] = h["iterations"].back()["loss"];
+    h["final"]["parameters"] = h["iterations"].back()["parameters"];
+    h["converged"] = true;
+  });
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("rerun at the best parameters"), std::string::npos) << detail;
+  EXPECT_NE(detail.find("does not reproduce"), std::string::npos) << detail;
+}
+
+TEST_F(Checklist, Item6FailsWhenTheBestParametersWereEdited) {
+  const fs::path d = Copy("item6_parameters");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    nlohmann::json* best = &h["iterations"][0];
+    for (auto& it : h["iterations"])
+      if (it["loss"].get<double>() < (*best)["loss"].get<double>()) best = &it;
+    for (auto& [name, value] : (*best)["parameters"].items()) value = value.get<double>() * 1.01;
+    h["final"]["parameters"] = (*best)["parameters"];
+  });
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("does not reproduce"), std::string::npos) << detail;
+}
+
+TEST_F(Checklist, Item6FailsWhenTheTargetsWereMoved) {
+  const fs::path d = Copy("item6_targets");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    for (auto& t : h["targets"])
+      if (t["metric"] != "rms") t["value"] = t["value"].get<double>() * 1.02;
+  });
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("targets do not match the directory's reference"), std::string::npos)
+      << detail;
+}
+
+TEST_F(Checklist, Item6FailsAsNotVerifiedWithoutTheSimulationRecord) {
+  const fs::path d = Copy("item6_no_simulation");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) { h.erase("simulation"); });
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("not verified: the history records no \"simulation\""), std::string::npos)
+      << detail;
+}
+
+TEST_F(Checklist, Item6FailsAsNotVerifiedWhenTheConfigurationWasSwapped) {
+  const fs::path d = Copy("item6_configuration");
+  std::ofstream(d / "fit/configuration.txt", std::ios::app) << "\n";
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("not verified: configuration.txt is not the configuration the fit"),
+            std::string::npos)
+      << detail;
 }
 
 TEST_F(Checklist, Items7To9FailingLeaveItIncompleteButNotBlocking) {

@@ -10,6 +10,7 @@
 #include "owval/reports/pipeline_report.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/fit.hpp"
+#include "owval/sgd/fit_record.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
 
@@ -81,11 +82,22 @@ void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
   const fs::path out = r.out;
   CreateOutputDirectories(out);
   const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
-  options.on_iteration = [&](const nlohmann::json& h) { WriteProgress(out, h, r.quiet); };
+  if (r.reference_file.empty())
+    throw InputError("fit --gradient " + r.gradient +
+                     ": the reference's file is required (recorded for the rerun)");
+  const nlohmann::json simulation =
+      sgd::ModelSimulationJson(sgd::RecordConfiguration(config, out), options.reverse.steps,
+                               r.reference_file, r.track, r.loss_groups, r.loss_scale);
+  options.on_iteration = [&](const nlohmann::json& h) {
+    nlohmann::json recorded = h;
+    recorded["simulation"] = simulation;
+    WriteProgress(out, recorded, r.quiet);
+  };
   options.cancelled = cancelled;
   sgd::GradientFitSummary fit;
   sgd::FitWithGradient(options, model, parameters, loss, &fit);
-  const nlohmann::json history = sgd::ToJson(options, parameters, fit);
+  nlohmann::json history = sgd::ToJson(options, parameters, fit);
+  history["simulation"] = simulation;
   WriteResults(out, history, reports::ConvergencePlot(fit.fit));
   Summarise(parameters, fit.fit, history, summary);
   summary->brief = fit.fit.BriefReport() + ", " + std::to_string(fit.total_simulation_equivalents) +
@@ -101,14 +113,17 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   const fs::path out = r.out;
   CreateOutputDirectories(out);
   sgd::Simulator simulator;
+  nlohmann::json simulation;
   if (!r.command.empty()) {
     simulator = sgd::CommandSimulator(r.command, parameters, out / "evaluations");
+    simulation = {{"kind", "command"}, {"command", r.command}};  // owval cannot rerun it
   } else {
     engine::RunOptions run;
     run.duration_s = r.time_s;
     run.log_step = r.log_step;
     run.backend = r.backend;
     simulator = sgd::EngineSimulator(*config, run, parameters);
+    simulation = sgd::EngineSimulationJson(run, sgd::RecordConfiguration(*config, out));
   }
   sgd::FitOptions options;
   options.solver = sgd::ParseSolver(r.solver);
@@ -119,12 +134,14 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   options.on_iteration = [&](const nlohmann::json& history) {
     nlohmann::json h = history;
     h["targets"] = targets_json;
+    h["simulation"] = simulation;
     WriteProgress(out, h, r.quiet);
   };
   options.cancelled = cancelled;
   sgd::FitSummary fit;
   sgd::Fit(options, parameters, sgd::MakeObjective(simulator, r.track, targets), &fit);
-  const nlohmann::json history = sgd::ToJson(options, parameters, fit, targets_json);
+  nlohmann::json history = sgd::ToJson(options, parameters, fit, targets_json);
+  history["simulation"] = simulation;
   WriteResults(out, history, reports::ConvergencePlot(fit));
   Summarise(parameters, fit, history, summary);
   summary->brief = fit.BriefReport();

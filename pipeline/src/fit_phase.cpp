@@ -10,6 +10,7 @@
 #include "owval/engine/solver.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/finite_difference.hpp"
+#include "owval/sgd/fit_record.hpp"
 #include "owval/sgd/gradcheck.hpp"
 #include "owval/sgd/targets.hpp"
 #include "trajectory_files.hpp"
@@ -105,19 +106,25 @@ std::string RunFit(const FitPhase& f, std::optional<reports::FitEvidence>* fit) 
   const Track& tracking = f.scenario.track;
   const nlohmann::json targets_json = sgd::TargetsToJson(*targets, tracking);
   const fs::path history = f.dir / "fit" / "history.json";
+  CreateOutputDirectories(f.dir / "fit");
+  // What the evaluations simulate, with the configuration beside the history: the checklist
+  // reruns the best iterate from this record (docs/fit_history.md).
+  const nlohmann::json simulation = sgd::EngineSimulationJson(
+      RunOptionsFor(f), sgd::RecordConfiguration(f.config, f.dir / "fit"));
   sgd::FitOptions options;
   options.solver = evidence.solver;
   options.on_iteration = [&](const nlohmann::json& h) {
-    nlohmann::json with_targets = h;
-    with_targets["targets"] = targets_json;
-    WriteFileAtomically(history, with_targets.dump(2) + "\n");
+    nlohmann::json recorded = h;
+    recorded["targets"] = targets_json;
+    recorded["simulation"] = simulation;
+    WriteFileAtomically(history, recorded.dump(2) + "\n");
   };
   sgd::Fit(options, evidence.parameters,
            sgd::MakeObjective(sgd::EngineSimulator(f.config, RunOptionsFor(f), evidence.parameters),
                               tracking, *targets),
            &evidence.summary);
-  const nlohmann::json j =
-      sgd::ToJson(options, evidence.parameters, evidence.summary, targets_json);
+  nlohmann::json j = sgd::ToJson(options, evidence.parameters, evidence.summary, targets_json);
+  j["simulation"] = simulation;
   WriteFileAtomically(history, j.dump(2) + "\n");
   WriteFileAtomically(f.dir / "fit" / "convergence.svg",
                       reports::ConvergencePlot(evidence.summary));

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "owval/engine/constants.hpp"
+#include "owval/sgd/fit_record.hpp"
 
 namespace owval::sgd {
 namespace {
@@ -39,17 +40,14 @@ TrackedSeries RunTrackedSeries(const engine::SiberneticConfig& config,
 
 Simulator EngineSimulator(engine::SiberneticConfig config, engine::RunOptions base,
                           std::vector<Parameter> parameters) {
-  base.record_fields = false;  // fits read positions only
-  base.threads = 1;            // finite-difference points already run concurrently
-  base.on_step = nullptr;
-  for (const Parameter& p : parameters)
+  std::vector<std::string> names;
+  for (const Parameter& p : parameters) {
     engine::SetConstant(&base.constants, p.name, p.start);  // validate names now
-  return [config = std::move(config), base, parameters](const std::vector<double>& values,
-                                                        const Track& track) {
-    engine::RunOptions options = base;
-    for (std::size_t i = 0; i < parameters.size(); ++i)
-      engine::SetConstant(&options.constants, parameters[i].name, values[i]);
-    return RunTrackedSeries(config, options, track);
+    names.push_back(p.name);
+  }
+  return [config = std::move(config), base, names](const std::vector<double>& values,
+                                                   const Track& track) {
+    return RunTrackedSeries(config, EvaluationRunOptions(base, names, values), track);
   };
 }
 

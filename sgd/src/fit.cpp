@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/sgd/fit_record.hpp"
 
 namespace owval::sgd {
 namespace {
@@ -357,7 +358,7 @@ nlohmann::json ToJson(const FitOptions& o, const std::vector<Parameter>& paramet
                           {"step", it.step},
                           {"evaluations", it.evaluations},
                           {"wall_s", it.wall_s}});
-  return {{"schema", "owval.fit.history/1"},
+  return {{"schema", kFitHistorySchema},
           {"solver", SolverName(o.solver)},
           {"loss_threshold", o.loss_threshold},
           {"parameters", params},

@@ -285,6 +285,20 @@ void FitWithGradient(const GradientFitOptions& o, const engine::DifferentiableXp
   fit.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+std::vector<double> GradientFitResiduals(const engine::DifferentiableXpbd& model,
+                                         const std::vector<Parameter>& parameters,
+                                         const std::vector<double>& values,
+                                         const std::vector<engine::LossTerm>& loss,
+                                         std::size_t steps) {
+  GradientFitOptions options;
+  options.reverse.steps = steps;
+  GradientFitSummary unused;
+  const Function f(model, parameters, loss, options, &unused);  // its parameter mapping
+  std::vector<double> r;
+  model.Loss(f.Theta(values), loss, steps, &r);
+  return r;
+}
+
 nlohmann::json ToJson(const GradientFitOptions& o, const std::vector<Parameter>& parameters,
                       const GradientFitSummary& s) {
   FitOptions fit;

@@ -70,7 +70,7 @@ TEST(Fit, HistoryJsonFollowsTheDocumentedSchema) {
   Fit(options, parameters, SpringResiduals, &summary);
   const nlohmann::json h = ToJson(options, parameters, summary);
   // Required keys and types, as docs/fit_history.md lists them.
-  EXPECT_EQ(h.at("schema"), "owval.fit.history/1");
+  EXPECT_EQ(h.at("schema"), "owval.fit.history/2");
   EXPECT_TRUE(h.at("solver").is_string());
   EXPECT_TRUE(h.at("loss_threshold").is_number());
   EXPECT_TRUE(h.at("parameters").is_array());

@@ -37,6 +37,9 @@ struct ChecklistOptions {
   // scenario: item 10 reconciles with its tolerances and needs its gated quantities and track,
   // so prediction.json cannot loosen or drop what it is judged on.
   std::optional<predict::Prediction> scenario_prediction;
+  // Item 6: the fit's best loss must be below this, whatever the history's own loss_threshold
+  // says (a pull request cannot loosen its fit's convergence either). DD001's default.
+  double fit_loss_threshold = 1e-4;
   // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
   // committed no later than the first trajectory. Empty: the order is reported as not checked.
   std::string git_range;

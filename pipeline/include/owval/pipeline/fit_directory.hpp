@@ -49,6 +49,9 @@ struct FitRequest {
   std::size_t checkpoint_every = 10, window = 0;  // reverse pass: stored states, TBPTT window
   double clip_norm = 0;                           // per-step state-gradient norm clip (0: off)
   bool quiet = false;                             // no progress line per iteration
+  // analytic, model-fd: the file `reference` was opened from, recorded in history.json with its
+  // hash so that the PR checklist can rerun the loss at the best iterate (required there).
+  std::string reference_file;
 };
 
 struct FitDirectorySummary {
@@ -58,6 +61,9 @@ struct FitDirectorySummary {
   bool converged = false;
 };
 
+// history.json records what was simulated ("simulation", docs/fit_history.md) and the
+// configuration is written beside it (out/configuration.txt), so that the best iterate can be
+// rerun (owval checklist, item 6).
 // `config`: the simulation (not read by fd fits with a command); `reference`: the analytic and
 // model-fd fits' trajectory (required there), read frame by frame up to the fitted time: the
 // loss keeps the tracked coordinate or the group centroids of each frame, never the frames.

@@ -58,6 +58,14 @@ void FitWithGradient(const GradientFitOptions& options, const engine::Differenti
                      const std::vector<Parameter>& parameters,
                      const std::vector<engine::LossTerm>& loss, GradientFitSummary* summary);
 
+// The loss's terms at `values` (the parameters' own units), as FitWithGradient records an
+// iteration's residuals (Σ r² = its loss): what the PR checklist reruns at the best iterate.
+std::vector<double> GradientFitResiduals(const engine::DifferentiableXpbd& model,
+                                         const std::vector<Parameter>& parameters,
+                                         const std::vector<double>& values,
+                                         const std::vector<engine::LossTerm>& loss,
+                                         std::size_t steps);
+
 nlohmann::json ToJson(const GradientFitOptions& options, const std::vector<Parameter>& parameters,
                       const GradientFitSummary& summary);
 

@@ -1,0 +1,136 @@
+// `owval fit` records what it simulated (history.json's "simulation", the configuration beside
+// it), and the PR checklist's item 6 reruns the best iterate from that record: a real fit
+// passes, the same history with its best parameters, its targets or its configuration changed
+// afterwards fails (docs/fit_history.md, docs/checklist.md).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/base/json_file.hpp"
+#include "owval/ci/checklist.hpp"
+#include "owval/compare/signal_metrics.hpp"
+#include "owval/pipeline/fit_directory.hpp"
+#include "owval/scenarios/scenario.hpp"
+#include "owval/sgd/fit_record.hpp"
+#include "owval/testing/scratch_directory.hpp"
+#include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/tracked_series.hpp"
+
+namespace owval::pipeline {
+namespace {
+namespace fs = std::filesystem;
+
+ci::ChecklistItem ItemSix(const fs::path& dir) {
+  for (const ci::ChecklistItem& i : ci::RunChecklist(dir).items)
+    if (i.number == 6) return i;
+  throw std::runtime_error("no item 6");
+}
+
+std::string Exact(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+// one_sprig's stiffness fitted by finite differences to the period of its bundled Sibernetic
+// run (the directory's reference.txt), 5 ms a simulation (about 7 periods) to stay cheap.
+fs::path FittedDirectory(const std::string& name) {
+  const fs::path dir = owval::testing::TestScratch(name);
+  const fs::path reference =
+      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  fs::copy_file(reference, dir / "reference.txt");
+  const auto frames = OpenFrameSource(dir / "reference.txt");
+  const TrackedSeries series = ReadTrackedSeries(*frames, Track{});
+  const double period = *compare::MeasureSignal(series.time_s, series.value).period_s;
+  const engine::SiberneticConfig config = scenarios::ResolveConfig("one_sprig", OWVAL_SOURCE_DIR);
+  FitRequest r;
+  r.parameters = {"elasticity_coefficient=1.62e8:log"};
+  r.targets = {"period=" + Exact(period) + ":scale=" + Exact(period)};
+  r.time_s = 0.005;
+  r.out = (dir / "fit").string();
+  r.quiet = true;
+  FitDirectorySummary summary;
+  FitIntoDirectory(r, &config, nullptr, {}, &summary);
+  EXPECT_TRUE(summary.converged) << summary.brief;
+  return dir;
+}
+
+void Edit(const fs::path& file, const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json j = ReadJsonFile(file);
+  edit(j);
+  std::ofstream(file) << j.dump(2);
+}
+
+TEST(FitRerun, TheHistoryRecordsWhatWasSimulated) {
+  const fs::path dir = FittedDirectory("fit_record");
+  const nlohmann::json h = ReadJsonFile(dir / "fit/history.json");
+  EXPECT_EQ(h["schema"], "owval.fit.history/2");
+  const nlohmann::json& s = h.at("simulation");
+  EXPECT_EQ(s.at("kind"), "engine");
+  EXPECT_EQ(s.at("backend"), "pcisph");
+  EXPECT_EQ(s.at("duration_s").get<double>(), 0.005);
+  EXPECT_EQ(s.at("log_step").get<int>(), 1);
+  EXPECT_EQ(s.at("integrator"), "euler");
+  EXPECT_EQ(s.at("muscles"), "auto");
+  EXPECT_FALSE(s.at("apply_physical_parameters").get<bool>());
+  EXPECT_TRUE(s.at("constants").empty()) << s.dump();
+  EXPECT_EQ(s.at("configuration").at("file"), "configuration.txt");
+  const std::string bytes = ReadWholeFile(dir / "fit/configuration.txt");
+  EXPECT_EQ(s.at("configuration").at("fnv1a64"), sgd::Fnv1a64Hex(bytes));
+}
+
+TEST(FitRerun, ARealFitPassesItemSixByItsRerun) {
+  const fs::path dir = FittedDirectory("fit_rerun_real");
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_TRUE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("rerun at the best parameters (pcisph, 0.005 s"), std::string::npos)
+      << item.detail;
+}
+
+TEST(FitRerun, EditedBestParametersFail) {
+  const fs::path dir = FittedDirectory("fit_rerun_parameters");
+  Edit(dir / "fit/history.json", [](nlohmann::json& h) {
+    for (auto& it : h["iterations"])
+      if (it["parameters"] == h["final"]["parameters"])
+        it["parameters"]["elasticity_coefficient"] =
+            it["parameters"]["elasticity_coefficient"].get<double>() * 1.001;
+    h["final"]["parameters"]["elasticity_coefficient"] =
+        h["final"]["parameters"]["elasticity_coefficient"].get<double>() * 1.001;
+  });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("FAILS: the rerun does not reproduce"), std::string::npos)
+      << item.detail;
+}
+
+TEST(FitRerun, MovedTargetsFail) {
+  const fs::path dir = FittedDirectory("fit_rerun_targets");
+  Edit(dir / "fit/history.json", [](nlohmann::json& h) {
+    h["targets"][0]["value"] = h["targets"][0]["value"].get<double>() * 1.01;
+  });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("targets do not match the directory's reference: target period"),
+            std::string::npos)
+      << item.detail;
+}
+
+TEST(FitRerun, AnEditedConfigurationIsNotVerified) {
+  const fs::path dir = FittedDirectory("fit_rerun_configuration");
+  std::string text = ReadWholeFile(dir / "fit/configuration.txt");
+  text.insert(text.find("[position]"), "[physical parameters]\nelasticityCoefficient: 1\n");
+  std::ofstream(dir / "fit/configuration.txt") << text;
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("not verified: configuration.txt is not the configuration the fit "
+                             "recorded"),
+            std::string::npos)
+      << item.detail;
+}
+
+}  // namespace
+}  // namespace owval::pipeline
