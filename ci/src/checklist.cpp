@@ -395,17 +395,25 @@ std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
   return "";
 }
 
-// The fit's configuration against the directory's (configuration.txt, when it holds one): the
-// particles, velocities, connections and box must be the same numbers.
-std::string ConfigurationAgainstDirectory(const fs::path& dir) {
-  const fs::path mine = dir / "configuration.txt", fitted = dir / "fit" / "configuration.txt";
-  if (!fs::is_regular_file(mine) || !fs::is_regular_file(fitted)) return "";
-  const engine::SiberneticConfig a = engine::ReadSiberneticConfig(mine),
-                                 b = engine::ReadSiberneticConfig(fitted);
-  const bool same = a.position == b.position && a.velocity == b.velocity &&
-                    a.connection == b.connection && a.membranes == b.membranes &&
-                    std::memcmp(&a.box, &b.box, sizeof a.box) == 0;
-  return same ? "" : "the fit's configuration.txt is not the directory's configuration.txt";
+bool SameConfiguration(const engine::SiberneticConfig& a, const engine::SiberneticConfig& b) {
+  return a.position == b.position && a.velocity == b.velocity && a.connection == b.connection &&
+         a.membranes == b.membranes && a.particle_mem_index == b.particle_mem_index &&
+         std::memcmp(&a.box, &b.box, sizeof a.box) == 0;
+}
+
+// The fit's configuration against the caller's scenario's and the directory's
+// (configuration.txt, when it holds one): the box, particles, velocities, connections and
+// membranes must be the same numbers. A missing fit/configuration.txt is left to the rerun.
+std::string ConfigurationAgainstExpected(const Evidence& e) {
+  const fs::path fitted = e.dir / "fit" / "configuration.txt", mine = e.dir / "configuration.txt";
+  if (!fs::is_regular_file(fitted)) return "";
+  const engine::SiberneticConfig fit = engine::ReadSiberneticConfig(fitted);
+  if (e.options.scenario_configuration &&
+      !SameConfiguration(fit, *e.options.scenario_configuration))
+    return "the fit's configuration.txt is not the scenario's configuration";
+  if (fs::is_regular_file(mine) && !SameConfiguration(fit, engine::ReadSiberneticConfig(mine)))
+    return "the fit's configuration.txt is not the directory's configuration.txt";
+  return "";
 }
 
 // Residuals that agree: the engine is deterministic on one thread and the rerun goes through
@@ -434,7 +442,7 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
     const std::string moved = TargetsAgainstReference(e, targets, &reference);
     if (!moved.empty()) return moved;
   }
-  const std::string configuration = ConfigurationAgainstDirectory(e.dir);
+  const std::string configuration = ConfigurationAgainstExpected(e);
   if (!configuration.empty()) return configuration;
   Progress progress("checklist: rerunning the fit's best parameters", 0, QuietMode());
   sgd::FitRerunOptions options;

@@ -25,6 +25,7 @@ ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
     options.caller_reference = reference.file;
     options.caller_reference_source = r.scenario + "'s " + reference.source;
     options.scenario_prediction = MakeScenarioPrediction(r.scenario, r.data_dir);
+    options.scenario_configuration = scenarios::ResolveConfig(r.scenario, r.data_dir);
   } else if (!r.reference.empty()) {
     options.caller_reference = r.reference;
     options.caller_reference_source = r.reference;

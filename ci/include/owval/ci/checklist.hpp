@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "owval/compare/parity.hpp"
+#include "owval/engine/config.hpp"
 #include "owval/predict/prediction.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/trajectory.hpp"
@@ -37,6 +38,9 @@ struct ChecklistOptions {
   // scenario: item 10 reconciles with its tolerances and needs its gated quantities and track,
   // so prediction.json cannot loosen or drop what it is judged on.
   std::optional<predict::Prediction> scenario_prediction;
+  // The named scenario's configuration: item 6 holds the fit's recorded configuration
+  // (fit/configuration.txt) to it, so a fit of another system cannot stand for the scenario's.
+  std::optional<engine::SiberneticConfig> scenario_configuration;
   // Item 6: the fit's best loss must be below this, whatever the history's own loss_threshold
   // says (a pull request cannot loosen its fit's convergence either). DD001's default.
   double fit_loss_threshold = 1e-4;
