@@ -384,7 +384,9 @@ std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
                                            : metric == "equilibrium" ? std::optional(m.equilibrium)
                                                                      : std::nullopt;
     if (!measured) return "not verified: target " + metric + " cannot be measured on the reference";
-    if (!SameNumber(value, *measured))
+    // 1e-4 relative: a target typed to 5 significant digits is the reference's; what moving it
+    // that far can change is 1e-4 of a residual that converging allows up to 1e-2 of.
+    if (!(std::abs(value - *measured) <= 1e-4 * std::abs(*measured)))
       return "targets do not match the directory's reference: target " + metric + " is " +
              FormatNumber(value, 6) + ", the reference's " + track.Describe() + " measures " +
              FormatNumber(*measured, 6);

@@ -46,6 +46,22 @@ void Summarise(const std::vector<sgd::Parameter>& parameters, const sgd::FitSumm
     summary->values.emplace_back(parameters[i].name, fit.final_values[i]);
 }
 
+// history.json's "simulation", made (and the configuration written beside the history) when the
+// first history is written: a fit refused on its first evaluation leaves no configuration.txt.
+class SimulationRecord {
+ public:
+  explicit SimulationRecord(std::function<nlohmann::json()> make) : make_(std::move(make)) {}
+  nlohmann::json With(nlohmann::json history) {
+    if (made_.is_null()) made_ = make_();
+    history["simulation"] = made_;
+    return history;
+  }
+
+ private:
+  std::function<nlohmann::json()> make_;
+  nlohmann::json made_;
+};
+
 std::vector<engine::LossTerm> LossOf(const FitRequest& r, FrameSource& reference,
                                      std::size_t steps) {
   if (r.loss_groups.empty()) return sgd::TrackLoss(reference, r.track, steps, r.loss_scale);
@@ -85,19 +101,17 @@ void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
   if (r.reference_file.empty())
     throw InputError("fit --gradient " + r.gradient +
                      ": the reference's file is required (recorded for the rerun)");
-  const nlohmann::json simulation =
-      sgd::ModelSimulationJson(sgd::RecordConfiguration(config, out), options.reverse.steps,
-                               r.reference_file, r.track, r.loss_groups, r.loss_scale);
+  SimulationRecord simulation([&] {
+    return sgd::ModelSimulationJson(sgd::RecordConfiguration(config, out), options.reverse.steps,
+                                    r.reference_file, r.track, r.loss_groups, r.loss_scale);
+  });
   options.on_iteration = [&](const nlohmann::json& h) {
-    nlohmann::json recorded = h;
-    recorded["simulation"] = simulation;
-    WriteProgress(out, recorded, r.quiet);
+    WriteProgress(out, simulation.With(h), r.quiet);
   };
   options.cancelled = cancelled;
   sgd::GradientFitSummary fit;
   sgd::FitWithGradient(options, model, parameters, loss, &fit);
-  nlohmann::json history = sgd::ToJson(options, parameters, fit);
-  history["simulation"] = simulation;
+  const nlohmann::json history = simulation.With(sgd::ToJson(options, parameters, fit));
   WriteResults(out, history, reports::ConvergencePlot(fit.fit));
   Summarise(parameters, fit.fit, history, summary);
   summary->brief = fit.fit.BriefReport() + ", " + std::to_string(fit.total_simulation_equivalents) +
@@ -113,18 +127,18 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   const fs::path out = r.out;
   CreateOutputDirectories(out);
   sgd::Simulator simulator;
-  nlohmann::json simulation;
-  if (!r.command.empty()) {
+  engine::RunOptions run;
+  run.duration_s = r.time_s;
+  run.log_step = r.log_step;
+  run.backend = r.backend;
+  SimulationRecord simulation([&]() -> nlohmann::json {
+    if (!r.command.empty()) return {{"kind", "command"}, {"command", r.command}};  // not rerun
+    return sgd::EngineSimulationJson(run, sgd::RecordConfiguration(*config, out));
+  });
+  if (!r.command.empty())
     simulator = sgd::CommandSimulator(r.command, parameters, out / "evaluations");
-    simulation = {{"kind", "command"}, {"command", r.command}};  // owval cannot rerun it
-  } else {
-    engine::RunOptions run;
-    run.duration_s = r.time_s;
-    run.log_step = r.log_step;
-    run.backend = r.backend;
+  else
     simulator = sgd::EngineSimulator(*config, run, parameters);
-    simulation = sgd::EngineSimulationJson(run, sgd::RecordConfiguration(*config, out));
-  }
   sgd::FitOptions options;
   options.solver = sgd::ParseSolver(r.solver);
   options.loss_threshold = r.threshold;
@@ -134,14 +148,13 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   options.on_iteration = [&](const nlohmann::json& history) {
     nlohmann::json h = history;
     h["targets"] = targets_json;
-    h["simulation"] = simulation;
-    WriteProgress(out, h, r.quiet);
+    WriteProgress(out, simulation.With(h), r.quiet);
   };
   options.cancelled = cancelled;
   sgd::FitSummary fit;
   sgd::Fit(options, parameters, sgd::MakeObjective(simulator, r.track, targets), &fit);
-  nlohmann::json history = sgd::ToJson(options, parameters, fit, targets_json);
-  history["simulation"] = simulation;
+  const nlohmann::json history =
+      simulation.With(sgd::ToJson(options, parameters, fit, targets_json));
   WriteResults(out, history, reports::ConvergencePlot(fit));
   Summarise(parameters, fit, history, summary);
   summary->brief = fit.BriefReport();

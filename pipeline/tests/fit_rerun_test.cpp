@@ -132,5 +132,22 @@ TEST(FitRerun, AnEditedConfigurationIsNotVerified) {
       << item.detail;
 }
 
+// A fit of one_sprig cannot stand for another scenario's: the caller's scenario configuration is
+// what the fit must have run.
+TEST(FitRerun, AFitOfAnotherConfigurationThanTheScenariosFails) {
+  const fs::path dir = FittedDirectory("fit_rerun_scenario");
+  ci::ChecklistOptions options;
+  options.scenario_configuration = scenarios::ResolveConfig("hanging_chain", OWVAL_SOURCE_DIR);
+  for (const ci::ChecklistItem& item : ci::RunChecklist(dir, options).items) {
+    if (item.number != 6) continue;
+    EXPECT_FALSE(item.pass) << item.detail;
+    EXPECT_NE(item.detail.find("FAILS: the fit's configuration.txt is not the scenario's"),
+              std::string::npos)
+        << item.detail;
+  }
+  options.scenario_configuration = scenarios::ResolveConfig("one_sprig", OWVAL_SOURCE_DIR);
+  EXPECT_TRUE(ci::RunChecklist(dir, options).items[5].pass);
+}
+
 }  // namespace
 }  // namespace owval::pipeline
