@@ -341,6 +341,26 @@ const nlohmann::json& BestIteration(const nlohmann::json& h) {
   return *best;
 }
 
+// The history's targets against the caller's scenario's manifest ("fit.targets"): the same
+// metrics in the same order with the same weights. "" when they agree or no scenario is named.
+std::string TargetsAgainstScenario(const Evidence& e, const nlohmann::json& targets) {
+  const nlohmann::json& expected = e.options.scenario_fit_targets;
+  if (!expected.is_array()) return "";
+  if (expected.size() != targets.size())
+    return std::to_string(targets.size()) + " targets, the manifest names " +
+           std::to_string(expected.size());
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const std::string metric = expected[i].value("metric", std::string());
+    const double weight = expected[i].value("weight", 1.0);
+    if (targets[i].value("metric", std::string()) != metric ||
+        !SameNumber(NumberOr(targets[i], "weight"), weight))
+      return "target " + std::to_string(i + 1) + " is " + targets[i].value("metric", "?") +
+             " weighted " + FormatNumber(NumberOr(targets[i], "weight"), 6) + ", the manifest's " +
+             metric + " weighted " + FormatNumber(weight, 6);
+  }
+  return "";
+}
+
 // The targets' values against the directory's reference, measured as the pipeline's fit phase
 // measures them (the tracked series' zero-crossing period, half-amplitude, equilibrium): a
 // history whose targets were moved to what its parameters produce fails here. rms targets
@@ -349,6 +369,8 @@ const nlohmann::json& BestIteration(const nlohmann::json& h) {
 std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
                                     std::shared_ptr<const TrackedSeries>* reference_series) {
   if (!targets.is_array() || targets.empty()) return "not verified: the history lists no target";
+  if (const std::string differs = TargetsAgainstScenario(e, targets); !differs.empty())
+    return "targets are not the scenario's: " + differs;
   if (!e.reference)
     return "not verified: the directory's reference trajectory, which the targets are measured "
            "on, is missing or unreadable";

@@ -353,6 +353,18 @@ TEST_F(Checklist, Item6FailsWhenTheTargetsWereMoved) {
       << detail;
 }
 
+// Weighted down, a target's residual shrinks until a bad fit converges; the scenario's manifest
+// says what the weights are.
+TEST_F(Checklist, Item6FailsWhenATargetIsWeightedOtherThanTheScenarioSays) {
+  const fs::path d = Copy("item6_weights");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) { h["targets"][1]["weight"] = 1e-6; });
+  const std::string detail = FailedItem6(Judge(d, 1, "--scenario one_sprig"));
+  EXPECT_NE(
+      detail.find("targets are not the scenario's: target 2 is half_amplitude weighted 1e-06"),
+      std::string::npos)
+      << detail;
+}
+
 TEST_F(Checklist, Item6FailsAsNotVerifiedWithoutTheSimulationRecord) {
   const fs::path d = Copy("item6_no_simulation");
   EditJson(d / "fit/history.json", [](nlohmann::json& h) { h.erase("simulation"); });

@@ -26,6 +26,9 @@ ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
     options.caller_reference_source = r.scenario + "'s " + reference.source;
     options.scenario_prediction = MakeScenarioPrediction(r.scenario, r.data_dir);
     options.scenario_configuration = scenarios::ResolveConfig(r.scenario, r.data_dir);
+    const nlohmann::json& manifest = scenarios::LoadScenario(r.scenario, r.data_dir).manifest;
+    if (manifest.contains("fit") && manifest["fit"].is_object())
+      options.scenario_fit_targets = manifest["fit"].value("targets", nlohmann::json::array());
   } else if (!r.reference.empty()) {
     options.caller_reference = r.reference;
     options.caller_reference_source = r.reference;
