@@ -455,6 +455,25 @@ bool SameResiduals(const nlohmann::json& recorded, const std::vector<double>& re
   return true;
 }
 
+// A gradient fit's loss compares the model with a trajectory: it must be the directory's
+// reference file, byte for byte (its recorded FNV-1a 64), else a fit against a trajectory of
+// the forger's making would rerun as recorded.
+std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::json& h) {
+  if (!h.contains("simulation") || !h["simulation"].is_object() ||
+      h["simulation"].value("kind", "") != "xpbd_model")
+    return "";
+  const fs::path mine = FirstExisting(e.dir, {"reference.h5", "reference.txt"});
+  if (mine.empty())
+    return "not verified: the directory holds no reference to hold the fit's loss reference to";
+  const nlohmann::json none;
+  const nlohmann::json& loss = h["simulation"].contains("loss") ? h["simulation"]["loss"] : none;
+  const nlohmann::json& recorded =
+      loss.is_object() && loss.contains("reference") ? loss["reference"] : none;
+  if (!recorded.is_object() || recorded.value("fnv1a64", "") != sgd::FileFnv1a64Hex(mine))
+    return "the fit's loss reference is not the directory's " + mine.filename().string();
+  return "";
+}
+
 // The history's best iterate rerun once with its recorded simulation; "" when the rerun's
 // residuals and loss are the history's, else why not (docs/checklist.md, item 6).
 std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
@@ -465,6 +484,8 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   if (engine_fit) {
     const std::string moved = TargetsAgainstReference(e, targets, &reference);
     if (!moved.empty()) return moved;
+  } else if (const std::string other = LossReferenceAgainstDirectory(e, h); !other.empty()) {
+    return other;
   }
   const std::string configuration = ConfigurationAgainstExpected(e);
   if (!configuration.empty()) return configuration;

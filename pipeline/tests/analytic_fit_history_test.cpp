@@ -34,8 +34,10 @@ ci::ChecklistItem ItemSix(const fs::path& dir) {
 fs::path AnalyticFitDirectory() {
   const fs::path dir = owval::testing::TestScratch("analytic_fit");
   const engine::SiberneticConfig config = scenarios::ResolveConfig("one_sprig", OWVAL_SOURCE_DIR);
-  const fs::path reference_file =
-      fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt";
+  // The loss's reference is the directory's: item 6 holds the one the fit recorded to it.
+  const fs::path reference_file = dir / "reference.txt";
+  fs::copy_file(fs::path(OWVAL_SOURCE_DIR) / "reference_trajectories/one_sprig/position_buffer.txt",
+                reference_file);
   const auto reference = OpenFrameSource(reference_file);
   FitRequest r;
   r.gradient = "analytic";
@@ -65,6 +67,16 @@ TEST(AnalyticFitHistory, RecordsResidualsWhoseSquaresSumToEachLoss) {
   const ci::ChecklistItem item = ItemSix(dir);
   EXPECT_TRUE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("rerun at the best parameters (the XPBD model"), std::string::npos)
+      << item.detail;
+}
+
+TEST(AnalyticFitHistory, ALossAgainstAnotherTrajectoryThanTheDirectorysReferenceFails) {
+  const fs::path dir = AnalyticFitDirectory();
+  std::ofstream(dir / "reference.txt", std::ios::app) << "\n";
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass);
+  EXPECT_NE(item.detail.find("the fit's loss reference is not the directory's reference.txt"),
+            std::string::npos)
       << item.detail;
 }
 
