@@ -14,12 +14,14 @@
 #include "owval/base/progress.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/config.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/sgd/fit_record.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/tracked_series.hpp"
+#include "worm_gates.hpp"
 
 namespace owval::ci {
 namespace fs = std::filesystem;
@@ -156,8 +158,23 @@ void CheckReference(Evidence& e, ChecklistItem* item) {
           ? "; the caller's reference (" + e.options.caller_reference_source + ")"
           : "; NOT the caller's reference (" + e.options.caller_reference_source + "): " + why;
 }
+// A worm candidate's side files (WCON, midline log, Zarr store: what other tools read) must
+// describe it, as in `owval ci quick-test`: a frozen worm beside the reference's WCON was ready.
 void CheckCandidate(Evidence& e, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(e.dir, {"candidate.h5", "candidate.txt"}), e.candidate, item);
+  const fs::path file = FirstExisting(e.dir, {"candidate.h5", "candidate.txt"});
+  CheckTrajectory(file, e.candidate, item);
+  if (!kinematics::IsWorm(e.candidate->header())) return;
+  const std::vector<GateResult> side_files = internal::WormSideFileGates(e.dir, file);
+  std::size_t agree = 0;
+  for (const GateResult& g : side_files) {
+    if (g.pass) {
+      ++agree;
+      continue;
+    }
+    item->pass = false;
+    item->detail += "; FAILS " + g.name + ": " + g.detail;
+  }
+  if (agree > 0) item->detail += "; " + std::to_string(agree) + " worm side file(s) describe it";
 }
 
 // The video's decoded frame count against the runs it claims to show: `owval render sxs` draws

@@ -99,6 +99,15 @@ GateResult WconReadable(const fs::path& dir) {
 
 std::vector<GateResult> WormQuickTestGates(const fs::path& dir, const fs::path& candidate) {
   std::vector<GateResult> gates{WconReadable(dir)};
+  for (const GateResult& g : WormSideFileGates(dir, candidate)) gates.push_back(g);
+  return gates;
+}
+
+std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& candidate) {
+  std::vector<GateResult> gates;
+  if (Wcons(dir).empty() && Entries(dir, ".zarr").empty() &&
+      !fs::exists(dir / "worm_motion_log.txt") && !fs::exists(dir / "worm_motion_log.txt.gz"))
+    return gates;  // nothing to hold to the candidate: skip reading its skeletons
   std::optional<kinematics::SkeletonSeries> skeletons;
   std::unique_ptr<FrameSource> frames;
   try {

@@ -20,6 +20,10 @@ namespace owval::ci::internal {
 
 // `candidate`: the directory's candidate trajectory (empty when it has none: the side files are
 // then unchecked and their gates fail).
+// The side files' gates alone (none when the directory holds no side file): the PR checklist's
+// item 3 holds a worm candidate's side files to it without requiring a WCON.
+std::vector<GateResult> WormSideFileGates(const std::filesystem::path& directory,
+                                          const std::filesystem::path& candidate);
 std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory,
                                            const std::filesystem::path& candidate);
 // The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by

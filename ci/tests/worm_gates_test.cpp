@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "owval/ci/checklist.hpp"
 #include "owval/ci/gates.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
@@ -123,6 +124,32 @@ TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
   const GateReport own = QuickTest(dir);
   EXPECT_TRUE(Find(own, "trajectory.zarr describes the candidate")->pass);
   EXPECT_TRUE(own.pass()) << own.ToText();
+  fs::remove_all(dir);
+}
+
+// The PR checklist holds a worm candidate's side files to it as quick-test does (item 3, which
+// makes the directory unreviewable): a frozen worm beside the reference's WCON was a readable
+// candidate. Without side files, or with its own, item 3 passes on the trajectory alone.
+TEST(WormGates, ChecklistItemThreeFailsSideFilesThatDescribeAnotherRun) {
+  if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
+  const Trajectory run = ReadWorm();
+  const Trajectory reference = Edited(run, 20, false, false);
+  const Trajectory frozen = Edited(run, 20, true, false);
+  const fs::path dir = owval::testing::TestScratch("worm_checklist");
+  WriteHdf5(reference, dir / "reference.h5");
+  WriteHdf5(frozen, dir / "candidate.h5");
+  const auto item_three = [&] { return RunChecklist(dir).items.at(2); };
+  const ChecklistItem bare = item_three();
+  EXPECT_TRUE(bare.pass) << bare.detail;
+  WriteWcon(kinematics::TrackFromTrajectory(reference), dir / "worm.wcon");
+  const ChecklistItem copied = item_three();
+  EXPECT_FALSE(copied.pass);
+  EXPECT_NE(copied.detail.find("FAILS worm.wcon describes the candidate"), std::string::npos)
+      << copied.detail;
+  WriteWcon(kinematics::TrackFromTrajectory(frozen), dir / "worm.wcon");
+  const ChecklistItem own = item_three();
+  EXPECT_TRUE(own.pass) << own.detail;
+  EXPECT_NE(own.detail.find("1 worm side file(s) describe it"), std::string::npos) << own.detail;
   fs::remove_all(dir);
 }
 
