@@ -97,14 +97,25 @@ Trajectory Edited(const Trajectory& run, std::size_t frames, bool frozen, bool r
 // A worm that does not move (frame 0 repeated) beside the WCON, midline log and Zarr store of the
 // run it copies: quick-test passed it (the WCON was readable); the side files now have to describe
 // the candidate's particles. The first 20 frames keep the test short.
+// The run's first 20 frames as reference.h5 and frame 0 repeated 20 times as candidate.h5, in a
+// new scratch directory `name`.
+struct FrozenWormDirectory {
+  explicit FrozenWormDirectory(const char* name)
+      : reference(Edited(ReadWorm(), 20, false, false)),
+        frozen(Edited(reference, 20, true, false)),
+        dir(owval::testing::TestScratch(name)) {
+    WriteHdf5(reference, dir / "reference.h5");
+    WriteHdf5(frozen, dir / "candidate.h5");
+  }
+  const Trajectory reference, frozen;
+  const fs::path dir;
+};
+
 TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
   if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
-  const Trajectory run = ReadWorm();
-  const Trajectory reference = Edited(run, 20, false, false);
-  const Trajectory frozen = Edited(run, 20, true, false);
-  const fs::path dir = owval::testing::TestScratch("worm_side");
-  WriteHdf5(reference, dir / "reference.h5");
-  WriteHdf5(frozen, dir / "candidate.h5");
+  const FrozenWormDirectory worm("worm_side");
+  const Trajectory &reference = worm.reference, &frozen = worm.frozen;
+  const fs::path& dir = worm.dir;
   WriteWcon(kinematics::TrackFromTrajectory(reference), dir / "worm.wcon");
   kinematics::WriteWormMotionLog(reference, dir / "worm_motion_log.txt");
   WriteOmeZarr(reference, dir / "trajectory.zarr");
@@ -132,12 +143,9 @@ TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
 // candidate. Without side files, or with its own, item 3 passes on the trajectory alone.
 TEST(WormGates, ChecklistItemThreeFailsSideFilesThatDescribeAnotherRun) {
   if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
-  const Trajectory run = ReadWorm();
-  const Trajectory reference = Edited(run, 20, false, false);
-  const Trajectory frozen = Edited(run, 20, true, false);
-  const fs::path dir = owval::testing::TestScratch("worm_checklist");
-  WriteHdf5(reference, dir / "reference.h5");
-  WriteHdf5(frozen, dir / "candidate.h5");
+  const FrozenWormDirectory worm("worm_checklist");
+  const Trajectory &reference = worm.reference, &frozen = worm.frozen;
+  const fs::path& dir = worm.dir;
   const auto item_three = [&] { return RunChecklist(dir).items.at(2); };
   const ChecklistItem bare = item_three();
   EXPECT_TRUE(bare.pass) << bare.detail;

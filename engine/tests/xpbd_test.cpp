@@ -168,18 +168,28 @@ TEST(XpbdSolver, SetSubstepsReplaceTheDerivedCount) {
   EXPECT_EQ(SubstepsOf(liquid, k), 4);
 }
 
-TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount) {
-  // Two liquid particles 1.5 cu apart, nothing else: one projection from rest.
+// Two liquid particles 1.5 cu apart at rest, nothing else.
+SiberneticConfig LiquidPair() {
   SiberneticConfig c;
   c.source = "pair";
   c.box = {0, 100, 0, 100, 0, 100};
   c.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
   c.velocity.assign(2, {0, 0, 0, 0});
+  return c;
+}
+
+// One density projection per step (rest density 1000 kg/m³), no other force.
+PhysicsConstants OneDensityProjection() {
   PhysicsConstants k = Quiet();
   k.xpbd.rest_density = 1000;
   k.xpbd.substeps = 1;        // one projection
   k.xpbd.density_passes = 1;  // in the split scheme's one correction per step
-  Xpbd<double> solver(c, k, 1);
+  return k;
+}
+
+TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount) {
+  const PhysicsConstants k = OneDensityProjection();
+  Xpbd<double> solver(LiquidPair(), k, 1);
   solver.Step();
   solver.Step();
   const double h = float(k.h_cu), s = float(k.simulation_scale), r = 1.5;
@@ -199,19 +209,11 @@ TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount
 // Two liquid particles 1.5 cu apart, nothing else, one density projection from rest (as above),
 // with [MM13]'s s_corr at strength `k`; returns particle 0's x after it.
 double PairXAfterOneProjection(double k_tensile, int exponent = 4, double dq_h = 0.2) {
-  SiberneticConfig c;
-  c.source = "pair";
-  c.box = {0, 100, 0, 100, 0, 100};
-  c.position = {{50, 50, 50, 1.1f}, {51.5f, 50, 50, 1.1f}};
-  c.velocity.assign(2, {0, 0, 0, 0});
-  PhysicsConstants k = Quiet();
-  k.xpbd.rest_density = 1000;
-  k.xpbd.substeps = 1;
-  k.xpbd.density_passes = 1;
+  PhysicsConstants k = OneDensityProjection();
   SetConstant(&k, "xpbd_tensile_correction", k_tensile);
   SetConstant(&k, "xpbd_tensile_exponent", exponent);
   SetConstant(&k, "xpbd_tensile_distance_h", dq_h);
-  Xpbd<double> solver(c, k, 1);
+  Xpbd<double> solver(LiquidPair(), k, 1);
   solver.Step();
   solver.Step();
   EXPECT_NEAR(solver.exact_positions()[0][0] - 50, 51.5 - solver.exact_positions()[1][0], 1e-12)
