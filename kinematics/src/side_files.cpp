@@ -167,21 +167,24 @@ WormTrack ReadWormMotionLog(const std::filesystem::path& path) {
   WormTrack track;
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // a blank line
     std::istringstream fields(line);
     double t_s = 0;
     std::string label;
     std::vector<double> block[3];
-    fields >> t_s;
-    for (int b = 0; b < 3 && fields; ++b) {
-      fields >> label;
-      for (int k = 0; k < kMidlineBins && fields; ++k) {
+    // Every field is checked: a blank or cut line has no bins, which the loop below would index.
+    const auto malformed = [&] {
+      return InputError(path.string(), number,
+                        "expected t, then X:, Y:, Z: each with 99 bin means (mm)");
+    };
+    if (!(fields >> t_s) || !std::isfinite(t_s)) throw malformed();
+    for (int b = 0; b < 3; ++b) {
+      if (!(fields >> label) || label != std::string(1, char('X' + b)) + ":") throw malformed();
+      for (int k = 0; k < kMidlineBins; ++k) {
         double mean_mm = 0;
-        fields >> mean_mm;
+        if (!(fields >> mean_mm)) throw malformed();
         block[b].push_back(mean_mm);
       }
-      if (label != std::string(1, char('X' + b)) + ":" || !fields)
-        throw InputError(path.string(), number,
-                         "expected t, then X:, Y:, Z: each with 99 bin means (mm)");
     }
     track.time_s.push_back(t_s);
     track.x_mm.emplace_back();

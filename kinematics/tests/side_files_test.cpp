@@ -6,8 +6,13 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
+#include "owval/base/errors.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
+#include "owval/testing/scratch_directory.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::kinematics {
@@ -82,6 +87,48 @@ TEST(SideFiles, EditedTracksDisagreeWithTheRun) {
   t.x_mm.pop_back();
   t.y_mm.pop_back();
   EXPECT_EQ(CompareWithTrajectory(t, run).detail, "199 time points, the trajectory 200 frames");
+}
+
+// A midline log line: t, then X:, Y:, Z: with 99 bin means each (Sibernetic's layout).
+std::string LogLine(double t_s, double x_mm) {
+  std::ostringstream line;
+  line << t_s;
+  for (const char* label : {"X:", "Y:", "Z:"}) {
+    line << '\t' << label;
+    for (int k = 0; k < kMidlineBins; ++k) line << '\t' << x_mm + 0.01 * k;
+  }
+  return line.str();
+}
+
+// The log as a hostile or careless writer leaves it: a blank line is skipped, and a cut line
+// or a line that is not a log line is bad input naming its line (it was read as a frame with
+// no bins, and the bins were then indexed).
+TEST(SideFiles, MidlineLogReaderNamesTheLineItCannotRead) {
+  const fs::path dir = owval::testing::TestScratch("midline_log");
+  const auto read = [&](const std::string& text) {
+    std::ofstream(dir / "worm_motion_log.txt") << text;
+    return ReadWormMotionLog(dir / "worm_motion_log.txt");
+  };
+  const std::string first = LogLine(0, 0.1), second = LogLine(0.003, 0.2);
+  const WormTrack track = read(first + "\n\n" + second + "\n");
+  ASSERT_EQ(track.time_s.size(), 2u);
+  EXPECT_EQ(track.x_mm[1].size(), std::size_t(kMidlineBins));
+  EXPECT_FLOAT_EQ(track.x_mm[1][0], 0.2f);
+  const auto error = [&](const std::string& text) {
+    try {
+      read(text);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string expected = "expected t, then X:, Y:, Z: each with 99 bin means (mm)";
+  EXPECT_NE(
+      error(first + "\n" + second.substr(0, second.size() / 2) + "\n").find(":2: " + expected),
+      std::string::npos);
+  EXPECT_NE(error(first + "\nnot a log line\n").find(":2: " + expected), std::string::npos);
+  EXPECT_NE(error("X:\t1\n").find(":1: " + expected), std::string::npos);
+  fs::remove_all(dir);
 }
 
 }  // namespace
