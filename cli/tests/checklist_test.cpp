@@ -365,6 +365,21 @@ TEST_F(Checklist, Item6FailsWhenATargetIsWeightedOtherThanTheScenarioSays) {
       << detail;
 }
 
+// The same with the caller's reference and manifest instead of a scenario's name: the manifest
+// says what the weights are (it passed before).
+TEST_F(Checklist, Item6HoldsTheTargetsToTheCallersManifest) {
+  const fs::path d = Copy("item6_manifest_weights");
+  const std::string manifest =
+      " --manifest " + (fs::path(OWVAL_SOURCE_DIR) / "scenarios/manifests/one_sprig.json").string();
+  EXPECT_EQ(Judge(d, 0, manifest)["verdict"], "ready");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) { h["targets"][1]["weight"] = 1e-6; });
+  const std::string detail = FailedItem6(Judge(d, 1, manifest));
+  EXPECT_NE(
+      detail.find("targets are not the scenario's: target 2 is half_amplitude weighted 1e-06"),
+      std::string::npos)
+      << detail;
+}
+
 TEST_F(Checklist, Item6FailsAsNotVerifiedWithoutTheSimulationRecord) {
   const fs::path d = Copy("item6_no_simulation");
   EditJson(d / "fit/history.json", [](nlohmann::json& h) { h.erase("simulation"); });

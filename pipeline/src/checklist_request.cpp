@@ -1,6 +1,7 @@
 #include "owval/pipeline/checklist_request.hpp"
 
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/json_file.hpp"
 #include "owval/pipeline/pipeline.hpp"
 #include "owval/scenarios/scenario.hpp"
 
@@ -32,6 +33,14 @@ ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
   } else if (!r.reference.empty()) {
     options.caller_reference = r.reference;
     options.caller_reference_source = r.reference;
+  }
+  // The caller's manifest fixes the fit's targets as a named scenario's does (it wins, as its
+  // gates do): with --reference and --manifest, a target weighted down until a bad fit
+  // converged passed item 6.
+  if (!r.manifest.empty()) {
+    const nlohmann::json manifest = ReadJsonFile(r.manifest);
+    if (manifest.is_object() && manifest.contains("fit") && manifest["fit"].is_object())
+      options.scenario_fit_targets = manifest["fit"].value("targets", nlohmann::json::array());
   }
   const ci::ChecklistReport report = ci::RunChecklist(r.directory, options);
   if (!r.markdown.empty()) WriteFileAtomically(r.markdown, report.ToMarkdown());

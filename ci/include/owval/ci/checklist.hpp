@@ -41,9 +41,10 @@ struct ChecklistOptions {
   // The named scenario's configuration: item 6 holds the fit's recorded configuration
   // (fit/configuration.txt) to it, so a fit of another system cannot stand for the scenario's.
   std::optional<engine::SiberneticConfig> scenario_configuration;
-  // The named scenario's manifest "fit.targets" ({metric, weight} objects): item 6 holds the
-  // history's targets to their metrics and weights, so a target cannot be weighted down until a
-  // bad fit converges. Empty (null): not checked (no scenario named).
+  // The named scenario's (or the caller's --manifest's) "fit.targets" ({metric, weight}
+  // objects): item 6 holds the history's targets to their metrics and weights, so a target
+  // cannot be weighted down until a bad fit converges. Empty (null): not checked (neither
+  // named, or the manifest has no fit).
   nlohmann::json scenario_fit_targets;
   // Item 6: the fit's best loss must be below this, whatever the history's own loss_threshold
   // says (a pull request cannot loosen its fit's convergence either). DD001's default.
