@@ -491,6 +491,19 @@ std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::jso
   return "";
 }
 
+// The targets are measured on the directory's reference, so the fit simulates at most its time
+// span (and one frame interval of rounding): a history claiming a longer run is another fit,
+// and rerunning it would take as long as the history says.
+std::string DurationAgainstReference(const Evidence& e, const nlohmann::json& simulation) {
+  const std::vector<double>& t = e.reference->header().time_s;
+  const double span = t.empty() ? 0 : t.back(),
+               frame = t.size() > 1 ? (t.back() - t.front()) / double(t.size() - 1) : 0;
+  const double duration = NumberOr(simulation, "duration_s");
+  if (duration <= span + frame) return "";
+  return "not verified: the fit simulated " + FormatNumber(duration, 6) +
+         " s, longer than the directory's reference (" + FormatNumber(span, 6) + " s)";
+}
+
 // The history's best iterate rerun once with its recorded simulation; "" when the rerun's
 // residuals and loss are the history's, else why not (docs/checklist.md, item 6).
 std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
@@ -501,6 +514,8 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   if (engine_fit) {
     const std::string moved = TargetsAgainstReference(e, targets, &reference);
     if (!moved.empty()) return moved;
+    const std::string longer = DurationAgainstReference(e, h["simulation"]);
+    if (!longer.empty()) return longer;
   } else if (const std::string other = LossReferenceAgainstDirectory(e, h); !other.empty()) {
     return other;
   }

@@ -380,6 +380,19 @@ TEST_F(Checklist, Item6HoldsTheTargetsToTheCallersManifest) {
       << detail;
 }
 
+// A history claiming a run longer than the reference its targets were measured on is not
+// rerun (it would take as long as it claims).
+TEST_F(Checklist, Item6DoesNotRerunAFitLongerThanTheReference) {
+  const fs::path d = Copy("item6_longer");
+  EditJson(d / "fit/history.json",
+           [](nlohmann::json& h) { h["simulation"]["duration_s"] = 1000.0; });
+  const std::string detail = FailedItem6(Judge(d, 1, "--scenario one_sprig"));
+  EXPECT_NE(detail.find("not verified: the fit simulated 1000 s, longer than the directory's "
+                        "reference"),
+            std::string::npos)
+      << detail;
+}
+
 TEST_F(Checklist, Item6FailsAsNotVerifiedWithoutTheSimulationRecord) {
   const fs::path d = Copy("item6_no_simulation");
   EditJson(d / "fit/history.json", [](nlohmann::json& h) { h.erase("simulation"); });
