@@ -349,15 +349,6 @@ std::string HistoryContradiction(const nlohmann::json& h, std::size_t* unverifie
   return "";
 }
 
-// The best iteration: the one whose loss final.loss names (HistoryContradiction has checked that
-// one exists).
-const nlohmann::json& BestIteration(const nlohmann::json& h) {
-  const nlohmann::json* best = &h["iterations"][0];
-  for (const auto& it : h["iterations"])
-    if (NumberOr(it, "loss") < NumberOr(*best, "loss")) best = &it;
-  return *best;
-}
-
 // The history's targets against the caller's scenario's manifest ("fit.targets"): the same
 // metrics in the same order with the same weights. "" when they agree or no scenario is named.
 std::string TargetsAgainstScenario(const Evidence& e, const nlohmann::json& targets) {
@@ -530,7 +521,7 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   const sgd::FitRerun rerun = sgd::RerunBestIterate(h, e.dir / "fit", options);
   progress.Finish();
   if (!rerun.not_verified.empty()) return "not verified: " + rerun.not_verified;
-  const nlohmann::json& best = BestIteration(h);
+  const nlohmann::json& best = rerun.best_iteration;
   const double claimed = NumberOr(best, "loss");
   *rerun_detail = "rerun at the best parameters (" + rerun.simulated + "): loss " +
                   FormatNumber(rerun.loss, 6) + ", history says " + FormatNumber(claimed, 6);

@@ -191,8 +191,8 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
   const engine::SiberneticConfig config = RecordedConfiguration(simulation, fit_dir);
   engine::RunOptions base = RecordedRunOptions(simulation);
   std::vector<double> values;
-  const std::vector<Parameter> parameters =
-      FittedParameters(history, BestIteration(history), &values);
+  const nlohmann::json& best = BestIteration(history);
+  const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
   Track track;
   const std::vector<Target> targets = RecordedTargets(history, options, &track);
   std::vector<std::string> names;
@@ -200,6 +200,7 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
   engine::RunOptions run = EvaluationRunOptions(base, names, values);
   run.on_step = options.on_step;  // the fit's evaluations run concurrently, without one
   FitRerun r;
+  r.best_iteration = best;
   r.residuals = ScaledResiduals(RunTrackedSeries(config, run, track), track, targets);
   for (double v : r.residuals) r.loss += v * v;
   r.simulated = run.backend + ", " + FormatNumber(run.duration_s) + " s, log step " +
@@ -234,10 +235,11 @@ FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simu
       groups.empty() ? TrackLoss(*frames, track, std::size_t(steps), scale)
                      : GroupCentroidLoss(*frames, groups, std::size_t(steps), scale);
   std::vector<double> values;
-  const std::vector<Parameter> parameters =
-      FittedParameters(history, BestIteration(history), &values);
+  const nlohmann::json& best = BestIteration(history);
+  const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
   const engine::DifferentiableXpbd model(config, engine::PhysicsConstants{});
   FitRerun r;
+  r.best_iteration = best;
   r.residuals = GradientFitResiduals(model, parameters, values, terms, std::size_t(steps));
   for (double v : r.residuals) r.loss += v * v;
   r.simulated = "the XPBD model, " + std::to_string(std::size_t(steps)) + " steps, " +
@@ -328,9 +330,9 @@ FitRerun RerunBestIterate(const nlohmann::json& history, const fs::path& fit_dir
                       "' cannot be rerun by owval (an external command's runs are not "
                       "reproducible here)"};
   } catch (const NotVerified& e) {
-    return {e.why, {}, 0, ""};
+    return {e.why, {}, 0, "", {}};
   } catch (const std::exception& e) {  // InputError, SimulationError: the record does not run
-    return {std::string("the recorded simulation does not run: ") + e.what(), {}, 0, ""};
+    return {std::string("the recorded simulation does not run: ") + e.what(), {}, 0, "", {}};
   }
 }
 

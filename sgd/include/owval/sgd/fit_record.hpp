@@ -66,6 +66,9 @@ struct FitRerun {
   std::vector<double> residuals;  // at the best iterate, as the fit scores them
   double loss = 0;                // Σ residuals²
   std::string simulated;          // what was run, in words, for the report
+  // The history's best iteration as recorded (the one rerun): its "loss" and "residuals" are
+  // what the rerun must give back.
+  nlohmann::json best_iteration;
 };
 
 struct FitRerunOptions {
