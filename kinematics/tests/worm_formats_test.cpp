@@ -269,5 +269,25 @@ TEST(OmeZarr, OwvalsReaderReadsBackEveryValueAndNamesAStoreOfAnotherRun) {
   fs::remove_all(store);
 }
 
+// A store whose .zarray claims a chunk of 1e15 frames is refused by the memory budget (bad
+// input naming the chunk file), not allocated.
+TEST(OmeZarr, OwvalsReaderHoldsAClaimedChunkToTheMemoryBudget) {
+  if (!Worm()) GTEST_SKIP() << "needs the worm reference";
+  const fs::path store = Temp("huge_chunk.zarr");
+  WriteOmeZarr(*Worm(), store);
+  const fs::path meta = store / "body/positions/.zarray";
+  nlohmann::json m = nlohmann::json::parse(std::ifstream(meta));
+  m["chunks"][0] = 1000000000000000.0;
+  std::ofstream(meta) << m.dump();
+  OmeZarrReader zarr(store);
+  try {
+    zarr.FrameMicrometres(0);
+    ADD_FAILURE() << "a 1e15-frame chunk was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("chunk needs"), std::string::npos) << e.what();
+  }
+  fs::remove_all(store);
+}
+
 }  // namespace
 }  // namespace owval::kinematics

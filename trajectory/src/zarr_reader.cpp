@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
 namespace owval {
@@ -65,6 +66,9 @@ ArrayMeta ReadMeta(const fs::path& array, const char* dtype, std::size_t rank) {
 template <typename T>
 std::vector<T> ReadChunk(const fs::path& file, const std::string& compressor, std::size_t count,
                          double fill_value) {
+  // count comes from the store's own .zarray (chunk shape): held to the memory budget before
+  // it is allocated, as every reader's sizes are.
+  CheckAllocation(SaturatingProduct(count, sizeof(T)), file.string(), "chunk");
   std::vector<T> values(count, static_cast<T>(fill_value));
   if (!fs::exists(file)) return values;
   const std::string data = ReadBytes(file);
@@ -84,6 +88,7 @@ std::vector<T> ReadChunk(const fs::path& file, const std::string& compressor, st
 template <typename T>
 std::vector<T> Read1d(const fs::path& array, const char* dtype) {
   const ArrayMeta m = ReadMeta(array, dtype, 1);
+  CheckAllocation(SaturatingProduct(m.shape[0], sizeof(T)), (array / ".zarray").string(), "shape");
   std::vector<T> values;
   for (std::size_t c = 0; c * m.chunks[0] < m.shape[0]; ++c) {
     std::vector<T> chunk =
@@ -116,7 +121,7 @@ const float* OmeZarrReader::FrameMicrometres(std::size_t frame) {
   const std::size_t chunk = frame / chunk_frames_, n = particle_count() * 3;
   if (chunk != loaded_chunk_) {
     chunk_ = ReadChunk<float>(positions_ / (std::to_string(chunk) + ".0.0"), compressor_,
-                              chunk_frames_ * n, fill_value_);
+                              SaturatingProduct(chunk_frames_, n), fill_value_);
     loaded_chunk_ = chunk;
   }
   return chunk_.data() + (frame % chunk_frames_) * n;
