@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/file.h>
 
+#include <cmath>
 #include <fstream>
 #include <functional>
 
@@ -377,6 +378,31 @@ TEST_F(Checklist, Item6HoldsTheTargetsToTheCallersManifest) {
   EXPECT_NE(
       detail.find("targets are not the scenario's: target 2 is half_amplitude weighted 1e-06"),
       std::string::npos)
+      << detail;
+}
+
+// Without a scenario nothing names the weights: a history that weights its worst target down
+// (period 1e-6, its residuals scaled to match, stopped at iteration 1 whose loss was 1.9e-3)
+// reruns as recorded with a loss of 1.0e-7 and was ready. Judged with no weight below 1, its
+// loss is 1.9e-3 again.
+TEST_F(Checklist, Item6JudgesTheLossWithNoWeightBelowOne) {
+  const fs::path d = Copy("item6_light_weight");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    h["iterations"].erase(2);
+    const double factor = std::sqrt(1e-6 / h["targets"][0]["weight"].get<double>());
+    h["targets"][0]["weight"] = 1e-6;
+    for (auto& it : h["iterations"]) {
+      it["residuals"][0] = it["residuals"][0].get<double>() * factor;
+      double loss = 0;
+      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
+      it["loss"] = loss;
+    }
+    h["final"] = {{"loss", h["iterations"][1]["loss"]},
+                  {"parameters", h["iterations"][1]["parameters"]}};
+  });
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("rerun at the best parameters"), std::string::npos) << detail;
+  EXPECT_NE(detail.find("FAILS: the best loss with no weight below 1 is 0.0019"), std::string::npos)
       << detail;
 }
 
