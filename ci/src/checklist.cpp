@@ -14,6 +14,7 @@
 #include "owval/base/progress.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/config.hpp"
+#include "owval/engine/constants.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/predict/predict.hpp"
 #include "owval/sgd/fit_record.hpp"
@@ -463,13 +464,15 @@ bool SameResiduals(const nlohmann::json& recorded, const std::vector<double>& re
   return true;
 }
 
+bool IsModelFit(const nlohmann::json& h) {
+  return h.contains("simulation") && h["simulation"].is_object() &&
+         h["simulation"].value("kind", "") == "xpbd_model";
+}
+
 // A gradient fit's loss compares the model with a trajectory: it must be the directory's
 // reference file, byte for byte (its recorded FNV-1a 64), else a fit against a trajectory of
 // the forger's making would rerun as recorded.
 std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::json& h) {
-  if (!h.contains("simulation") || !h["simulation"].is_object() ||
-      h["simulation"].value("kind", "") != "xpbd_model")
-    return "";
   const fs::path mine = FirstExisting(e.dir, {"reference.h5", "reference.txt"});
   if (mine.empty())
     return "not verified: the directory holds no reference to hold the fit's loss reference to";
@@ -479,20 +482,73 @@ std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::jso
       loss.is_object() && loss.contains("reference") ? loss["reference"] : none;
   if (!recorded.is_object() || recorded.value("fnv1a64", "") != sgd::FileFnv1a64Hex(mine))
     return "the fit's loss reference is not the directory's " + mine.filename().string();
+  if (!e.reference)
+    return "not verified: the directory's " + mine.filename().string() + " cannot be read";
   return "";
 }
 
-// The targets are measured on the directory's reference, so the fit simulates at most its time
-// span (and one frame interval of rounding): a history claiming a longer run is another fit,
-// and rerunning it would take as long as the history says.
-std::string DurationAgainstReference(const Evidence& e, const nlohmann::json& simulation) {
+// The targets (a gradient fit's loss) are measured on the directory's reference, so the fit
+// simulates at most its time span (and one frame interval of rounding): a history claiming a
+// longer run is another fit, and rerunning it would take as long as the history says. "" when
+// `duration_s` is within it or not a number (the rerun says so).
+std::string LongerThanReference(const Evidence& e, double duration_s) {
   const std::vector<double>& t = e.reference->header().time_s;
   const double span = t.empty() ? 0 : t.back(),
                frame = t.size() > 1 ? (t.back() - t.front()) / double(t.size() - 1) : 0;
-  const double duration = NumberOr(simulation, "duration_s");
-  if (duration <= span + frame) return "";
-  return "not verified: the fit simulated " + FormatNumber(duration, 6) +
+  if (!(duration_s > span + frame)) return "";
+  return "not verified: the fit simulated " + FormatNumber(duration_s, 6) +
          " s, longer than the directory's reference (" + FormatNumber(span, 6) + " s)";
+}
+
+// A gradient fit's run: its steps at the model's time step (the default constants', as
+// DifferentiableXpbd is built by the fit and the rerun).
+std::string ModelStepsAgainstReference(const Evidence& e, const nlohmann::json& simulation) {
+  const double steps = NumberOr(simulation, "steps");
+  const std::string longer = LongerThanReference(e, steps * engine::PhysicsConstants{}.time_step_s);
+  if (longer.empty()) return "";
+  return longer + " (" + FormatNumber(steps, 6) + " steps of " +
+         FormatNumber(engine::PhysicsConstants{}.time_step_s, 6) + " s)";
+}
+
+// A gradient fit's loss scale at most the scale the checklist's own frame gates measure the same
+// quantity by (docs/checklist.md, item 6): the tracked coordinate's range over the reference
+// (`frames`: "of the reference range"), or, for group centroids, the box's largest side
+// (`frames.group_centroids`: "of the box"). A larger scale shrinks every residual, and a bad
+// fit converges.
+std::string LossScaleAgainstReference(Evidence& e, const nlohmann::json& loss) {
+  const double scale = NumberOr(loss, "scale");
+  const bool groups =
+      loss.contains("groups") && loss["groups"].is_array() && !loss["groups"].empty();
+  double bound = 0;
+  std::string what;
+  if (groups) {
+    const Box& box = e.reference->header().box;
+    bound = std::max({box.extent(0), box.extent(1), box.extent(2)});
+    what = "the reference's box's largest side";
+  } else {
+    if (!loss.contains("track")) return "not verified: the fit's loss names no track";
+    const Track track = Track::FromJson(loss["track"], "fit/history.json simulation.loss");
+    const TrackedSeries series = ReadTrackedSeries(*e.reference, track);
+    const auto [lo, hi] = std::minmax_element(series.value.begin(), series.value.end());
+    bound = series.value.empty() ? 0 : *hi - *lo;
+    what = "the reference's " + track.Describe() + " range";
+  }
+  // |scale|: the loss divides by its square, so -1000 shrinks it as 1000 does.
+  if (std::abs(scale) <= std::max(bound, 1e-300) * (1 + 1e-9)) return "";
+  return "the loss's scale " + FormatNumber(scale, 6) + " cu is looser than " + what + " (" +
+         FormatNumber(bound, 6) + " cu)";
+}
+
+// The gradient fit's record against the directory: its loss reference is the directory's, its
+// run no longer than that reference, its loss scale no looser than the frame gates'.
+std::string ModelFitAgainstReference(Evidence& e, const nlohmann::json& h) {
+  if (const std::string other = LossReferenceAgainstDirectory(e, h); !other.empty()) return other;
+  const nlohmann::json& simulation = h["simulation"];
+  if (const std::string longer = ModelStepsAgainstReference(e, simulation); !longer.empty())
+    return longer;
+  if (!simulation.contains("loss") || !simulation["loss"].is_object())
+    return "not verified: the fit's simulation records no loss";
+  return LossScaleAgainstReference(e, simulation["loss"]);
 }
 
 // The rerun's best loss judged with no target weighted below 1 (docs/checklist.md, item 6):
@@ -524,16 +580,17 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   if (engine_fit) {
     const std::string moved = TargetsAgainstReference(e, targets, &reference);
     if (!moved.empty()) return moved;
-    const std::string longer = DurationAgainstReference(e, h["simulation"]);
+    const std::string longer = LongerThanReference(e, NumberOr(h["simulation"], "duration_s"));
     if (!longer.empty()) return longer;
-  } else if (const std::string other = LossReferenceAgainstDirectory(e, h); !other.empty()) {
-    return other;
+  } else if (IsModelFit(h)) {
+    if (const std::string other = ModelFitAgainstReference(e, h); !other.empty()) return other;
   }
   const std::string configuration = ConfigurationAgainstExpected(e);
   if (!configuration.empty()) return configuration;
   Progress progress("checklist: rerunning the fit's best parameters", 0, QuietMode());
   sgd::FitRerunOptions options;
   options.rms_reference = reference;
+  options.loss_reference = e.reference.get();  // held to the record's hash above
   options.on_step = [&](std::size_t done, std::size_t total) {
     progress.Update(done, std::to_string(done) + "/" + std::to_string(total) + " steps");
   };

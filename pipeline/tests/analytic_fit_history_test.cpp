@@ -3,9 +3,11 @@
 // "converged claimed, not verified"; a history edited afterwards still fails.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "owval/base/json_file.hpp"
 #include "owval/ci/checklist.hpp"
@@ -89,6 +91,68 @@ TEST(AnalyticFitHistory, AnEditedLossStillFails) {
   const ci::ChecklistItem item = ItemSix(dir);
   EXPECT_FALSE(item.pass);
   EXPECT_NE(item.detail.find("CONTRADICTED"), std::string::npos) << item.detail;
+}
+
+void EditHistory(const fs::path& dir, const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json h = ReadJsonFile(dir / "fit/history.json");
+  edit(h);
+  std::ofstream(dir / "fit/history.json") << h.dump(2);
+}
+
+// A loss scale 1000 times the default (1 cu) shrinks every residual a thousandfold: the same fit
+// rescaled (its residuals divided, its losses recomputed) reruns as recorded with a loss of
+// 6.3e-7, below DD001's 1e-4, and item 6 passed with the caller's default threshold. Particle 0
+// y spans 3.39 cu in the reference: no scale looser than that is accepted.
+TEST(AnalyticFitHistory, ALossScaleLooserThanTheReferencesRangeFails) {
+  const fs::path dir = AnalyticFitDirectory();
+  EditHistory(dir, [](nlohmann::json& h) {
+    h["simulation"]["loss"]["scale"] = 1000.0;
+    double best = INFINITY;
+    for (auto& it : h["iterations"]) {
+      double loss = 0;
+      for (auto& r : it["residuals"]) {
+        r = r.get<double>() / 1000;
+        loss += r.get<double>() * r.get<double>();
+      }
+      it["loss"] = loss, best = std::min(best, loss);
+    }
+    h["final"]["loss"] = best;  // the same iteration: every loss divided alike
+  });
+  ci::ChecklistItem item;
+  for (const ci::ChecklistItem& i : ci::RunChecklist(dir).items)  // DD001's threshold, 1e-4
+    if (i.number == 6) item = i;
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("FAILS: the loss's scale 1000 cu is looser than the reference's "
+                             "particle 0 y range (3.388 cu)"),
+            std::string::npos)
+      << item.detail;
+}
+
+// The model's run is bounded by the reference its loss is measured on (one_sprig's: 0.05 s, plus
+// a frame): 1e9 steps claimed would make the checklist simulate for days; it is not rerun.
+TEST(AnalyticFitHistory, AModelRunLongerThanTheReferenceIsNotRerun) {
+  const fs::path dir = AnalyticFitDirectory();
+  EditHistory(dir, [](nlohmann::json& h) { h["simulation"]["steps"] = 1e9; });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass);
+  EXPECT_NE(item.detail.find("; not verified: the fit simulated 20000 s, longer than the "
+                             "directory's reference"),
+            std::string::npos)
+      << item.detail;
+}
+
+// The loss is measured on the directory's reference (held to the recorded hash), not on the path
+// the history names: a fit made on another machine names a path that is not here, and a path
+// the evidence names is never read.
+TEST(AnalyticFitHistory, TheRecordedReferencePathIsNotRead) {
+  const fs::path dir = AnalyticFitDirectory();
+  EditHistory(dir, [](nlohmann::json& h) {
+    h["simulation"]["loss"]["reference"]["file"] = "/elsewhere/fitter/reference.txt";
+  });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_TRUE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("loss against the directory's reference"), std::string::npos)
+      << item.detail;
 }
 
 }  // namespace

@@ -210,19 +210,14 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
 }
 
 FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simulation,
-                       const fs::path& fit_dir) {
+                       const fs::path& fit_dir, const FitRerunOptions& options) {
   const engine::SiberneticConfig config = RecordedConfiguration(simulation, fit_dir);
   const double steps = NumberMember(simulation, "steps", "simulation");
   if (!(steps >= 1 && steps == std::floor(steps) && steps < 1e12))
     throw NotVerified{"simulation.steps is not a whole number of steps"};
   const nlohmann::json& loss = Member(simulation, "loss", "simulation");
-  const nlohmann::json& reference = Member(loss, "reference", "simulation.loss");
-  const fs::path file = StringMember(reference, "file", "simulation.loss.reference");
-  if (!fs::is_regular_file(file))
-    throw NotVerified{"the loss's reference " + file.string() + " is missing"};
-  const std::string recorded = StringMember(reference, "fnv1a64", "simulation.loss.reference");
-  if (FileFnv1a64Hex(file) != recorded)
-    throw NotVerified{file.string() + " is not the reference the fit recorded (its hash differs)"};
+  if (!options.loss_reference)
+    throw NotVerified{"a gradient fit's loss needs the directory's reference trajectory"};
   const Track track = Track::FromJson(Member(loss, "track", "simulation.loss"), "history.json");
   std::vector<std::string> groups;
   for (const nlohmann::json& g : Member(loss, "groups", "simulation.loss")) {
@@ -230,10 +225,10 @@ FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simu
     groups.push_back(g.get<std::string>());
   }
   const double scale = NumberMember(loss, "scale", "simulation.loss");
-  const std::unique_ptr<FrameSource> frames = OpenFrameSource(file);
+  FrameSource& frames = *options.loss_reference;
   const std::vector<engine::LossTerm> terms =
-      groups.empty() ? TrackLoss(*frames, track, std::size_t(steps), scale)
-                     : GroupCentroidLoss(*frames, groups, std::size_t(steps), scale);
+      groups.empty() ? TrackLoss(frames, track, std::size_t(steps), scale)
+                     : GroupCentroidLoss(frames, groups, std::size_t(steps), scale);
   std::vector<double> values;
   const nlohmann::json& best = BestIteration(history);
   const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
@@ -243,8 +238,8 @@ FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simu
   r.residuals = GradientFitResiduals(model, parameters, values, terms, std::size_t(steps));
   for (double v : r.residuals) r.loss += v * v;
   r.simulated = "the XPBD model, " + std::to_string(std::size_t(steps)) + " steps, " +
-                simulation["configuration"]["file"].get<std::string>() + ", loss against " +
-                file.filename().string();
+                simulation["configuration"]["file"].get<std::string>() +
+                ", loss against the directory's reference";
   return r;
 }
 
@@ -325,7 +320,7 @@ FitRerun RerunBestIterate(const nlohmann::json& history, const fs::path& fit_dir
     const nlohmann::json& simulation = history["simulation"];
     const std::string kind = StringMember(simulation, "kind", "simulation");
     if (kind == "engine") return RerunEngineFit(history, simulation, fit_dir, options);
-    if (kind == "xpbd_model") return RerunModelFit(history, simulation, fit_dir);
+    if (kind == "xpbd_model") return RerunModelFit(history, simulation, fit_dir, options);
     throw NotVerified{"simulation.kind '" + kind +
                       "' cannot be rerun by owval (an external command's runs are not "
                       "reproducible here)"};

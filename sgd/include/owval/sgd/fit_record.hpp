@@ -21,6 +21,7 @@
 
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/trajectory/frame_source.hpp"
 #include "owval/trajectory/track.hpp"
 #include "owval/trajectory/tracked_series.hpp"
 
@@ -75,6 +76,10 @@ struct FitRerunOptions {
   // The tracked series rms targets are measured against: the reviewed directory's reference,
   // never the path the history names. Null: an rms target cannot be rerun (not verified).
   std::shared_ptr<const TrackedSeries> rms_reference;
+  // The trajectory a gradient fit's ("xpbd_model") loss is measured against: the reviewed
+  // directory's reference, which the caller has held to the record's FNV-1a 64 (the checklist
+  // hashes it once), never the path the history names. Null: such a fit is not verified.
+  FrameSource* loss_reference = nullptr;
   // Called with (steps done, total steps) during the engine run; may be empty.
   std::function<void(std::size_t, std::size_t)> on_step;
 };
