@@ -398,6 +398,10 @@ std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
     // The pipeline's scales (|value|; rms: the reference's range) at most: a larger one shrinks
     // the residuals, and a bad fit converges.
     const double scale = NumberOr(t, "scale");
+    // Positive, as `owval fit --target` requires: a residual is divided by the scale, not its
+    // square, so -1000 times the value's magnitude passed the bounds below and shrank it as much.
+    if (!(scale > 0))
+      return "target " + metric + "'s scale " + FormatNumber(scale, 6) + " is not positive";
     if (metric == "rms") {
       if (value != 0)
         return "targets do not match the directory's reference: target rms aims at " +

@@ -406,6 +406,28 @@ TEST_F(Checklist, Item6JudgesTheLossWithNoWeightBelowOne) {
       << detail;
 }
 
+// A residual is divided by its target's scale: -1000 times the period's (one_sprig's fit stopped
+// at iteration 1, loss 1.9e-3, residuals divided to match) passed "no larger than the value's
+// magnitude" and the rerun at 4.1e-7 was ready, with the scenario named too.
+TEST_F(Checklist, Item6FailsATargetWithANegativeScale) {
+  const fs::path d = Copy("item6_negative_scale");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    h["iterations"].erase(2);
+    h["targets"][0]["scale"] = -1000 * h["targets"][0]["scale"].get<double>();
+    for (auto& it : h["iterations"]) {
+      it["residuals"][0] = it["residuals"][0].get<double>() / -1000;
+      double loss = 0;
+      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
+      it["loss"] = loss;
+    }
+    h["final"] = {{"loss", h["iterations"][1]["loss"]},
+                  {"parameters", h["iterations"][1]["parameters"]}};
+  });
+  const std::string detail = FailedItem6(Judge(d, 1, "--scenario one_sprig"));
+  EXPECT_NE(detail.find("FAILS: target period's scale -0.72"), std::string::npos) << detail;
+  EXPECT_NE(detail.find("is not positive"), std::string::npos) << detail;
+}
+
 // A history claiming a run longer than the reference its targets were measured on is not
 // rerun (it would take as long as it claims).
 TEST_F(Checklist, Item6DoesNotRerunAFitLongerThanTheReference) {
