@@ -94,6 +94,25 @@ class Checklist : public ::testing::Test {
     edit(j);
     Write(file, j.dump(2));
   }
+
+  // The ready fit stopped at iteration 1 (loss 1.9e-3, above 1e-4), its first target (period)
+  // edited by `edit`, which returns the factor that edit multiplies the target's residuals by; the
+  // residuals, every loss and the final loss made to match, as a forger would write them.
+  static void ForgeFirstTargetAtIterationOne(const fs::path& d,
+                                             const std::function<double(nlohmann::json&)>& edit) {
+    EditJson(d / "fit/history.json", [&](nlohmann::json& h) {
+      h["iterations"].erase(2);
+      const double factor = edit(h["targets"][0]);
+      for (auto& it : h["iterations"]) {
+        it["residuals"][0] = it["residuals"][0].get<double>() * factor;
+        double loss = 0;
+        for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
+        it["loss"] = loss;
+      }
+      h["final"] = {{"loss", h["iterations"][1]["loss"]},
+                    {"parameters", h["iterations"][1]["parameters"]}};
+    });
+  }
 };
 
 bool ItemPasses(const nlohmann::json& report, int item) {
@@ -381,24 +400,14 @@ TEST_F(Checklist, Item6HoldsTheTargetsToTheCallersManifest) {
       << detail;
 }
 
-// Without a scenario nothing names the weights: a history that weights its worst target down
-// (period 1e-6, its residuals scaled to match, stopped at iteration 1 whose loss was 1.9e-3)
-// reruns as recorded with a loss of 1.0e-7 and was ready. Judged with no weight below 1, its
-// loss is 1.9e-3 again.
+// Without a scenario nothing names the weights: the period weighted 1e-6 reruns as recorded
+// with a loss of 1.0e-7 and was ready. Judged with no weight below 1, its loss is 1.9e-3 again.
 TEST_F(Checklist, Item6JudgesTheLossWithNoWeightBelowOne) {
   const fs::path d = Copy("item6_light_weight");
-  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
-    h["iterations"].erase(2);
-    const double factor = std::sqrt(1e-6 / h["targets"][0]["weight"].get<double>());
-    h["targets"][0]["weight"] = 1e-6;
-    for (auto& it : h["iterations"]) {
-      it["residuals"][0] = it["residuals"][0].get<double>() * factor;
-      double loss = 0;
-      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
-      it["loss"] = loss;
-    }
-    h["final"] = {{"loss", h["iterations"][1]["loss"]},
-                  {"parameters", h["iterations"][1]["parameters"]}};
+  ForgeFirstTargetAtIterationOne(d, [](nlohmann::json& period) {
+    const double factor = std::sqrt(1e-6 / period["weight"].get<double>());
+    period["weight"] = 1e-6;
+    return factor;
   });
   const std::string detail = FailedItem6(Judge(d, 1));
   EXPECT_NE(detail.find("rerun at the best parameters"), std::string::npos) << detail;
@@ -406,22 +415,13 @@ TEST_F(Checklist, Item6JudgesTheLossWithNoWeightBelowOne) {
       << detail;
 }
 
-// A residual is divided by its target's scale: -1000 times the period's (one_sprig's fit stopped
-// at iteration 1, loss 1.9e-3, residuals divided to match) passed "no larger than the value's
-// magnitude" and the rerun at 4.1e-7 was ready, with the scenario named too.
+// A residual is divided by its target's scale: -1000 times the period's passed "no larger than
+// the value's magnitude" and the rerun at 1.0e-7 was ready, with the scenario named too.
 TEST_F(Checklist, Item6FailsATargetWithANegativeScale) {
   const fs::path d = Copy("item6_negative_scale");
-  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
-    h["iterations"].erase(2);
-    h["targets"][0]["scale"] = -1000 * h["targets"][0]["scale"].get<double>();
-    for (auto& it : h["iterations"]) {
-      it["residuals"][0] = it["residuals"][0].get<double>() / -1000;
-      double loss = 0;
-      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
-      it["loss"] = loss;
-    }
-    h["final"] = {{"loss", h["iterations"][1]["loss"]},
-                  {"parameters", h["iterations"][1]["parameters"]}};
+  ForgeFirstTargetAtIterationOne(d, [](nlohmann::json& period) {
+    period["scale"] = -1000 * period["scale"].get<double>();
+    return -1e-3;
   });
   const std::string detail = FailedItem6(Judge(d, 1, "--scenario one_sprig"));
   EXPECT_NE(detail.find("FAILS: target period's scale -0.72"), std::string::npos) << detail;
