@@ -166,6 +166,107 @@ TEST(Wcon, ReaderRefusesBrokenFilesNamingTheField) {
   fs::remove(file);
 }
 
+// Every time point WconTimePoints gives, as a track (what ReadWcon gives of the same file).
+WormTrack ReadTimePoints(const fs::path& file) {
+  WconTimePoints points(file);
+  WormTrack t;
+  WconTimePoint p;
+  while (points.Next(&p)) {
+    t.time_s.push_back(p.time_s);
+    t.x_mm.push_back(p.x_mm);
+    t.y_mm.push_back(p.y_mm);
+    if (points.has_centroid()) {
+      t.cx_mm.push_back(p.cx_mm);
+      t.cy_mm.push_back(p.cy_mm);
+    }
+  }
+  EXPECT_EQ(t.time_s.size(), points.size());
+  return t;
+}
+
+void ExpectSameTimePoints(const WormTrack& a, const WormTrack& b) {
+  EXPECT_EQ(a.time_s, b.time_s);
+  EXPECT_EQ(a.x_mm, b.x_mm);
+  EXPECT_EQ(a.y_mm, b.y_mm);
+  EXPECT_EQ(a.cx_mm, b.cx_mm);
+  EXPECT_EQ(a.cy_mm, b.cy_mm);
+}
+
+// The WCON read time point by time point (SAX, arrays spooled: the side-file gates' reader) gives
+// ReadWcon's values, whatever the order of a record's keys, and refuses what it refuses.
+TEST(Wcon, TimePointsReaderGivesReadWconsValuesAndRefusals) {
+  const fs::path file = Temp("time_points.wcon");
+  if (Worm()) {  // owval's own WCON of the 0.6 s run
+    WriteWcon(TrackFromTrajectory(*Worm()), file);
+    ExpectSameTimePoints(ReadTimePoints(file), ReadWcon(file));
+  }
+  // Keys in another order (x, cx before t), two records of the id, another id between them,
+  // units converted, origins applied, a single point given as a number, unknown keys ignored.
+  std::ofstream(file)
+      << "{\"data\": [{\"x\": [[1000, 3000], [2000, 1000]], \"cy\": [1, 2], \"cx\": [5, 6], "
+         "\"y\": [[1, 2], [2, 3]], \"id\": \"7\", \"t\": [0, 500], \"ox\": [100, 100], "
+         "\"@X\": {\"t\": [9]}}, {\"id\": \"8\", \"t\": [0], \"x\": [[1]], \"y\": [[1]]}, "
+         "{\"id\": \"7\", \"t\": [600], \"x\": [4000], \"y\": [5], \"cx\": [7], \"cy\": [8]}], "
+         "\"units\": {\"t\": \"ms\", \"x\": \"um\", \"y\": \"mm\", \"cx\": \"um\", \"cy\": "
+         "\"mm\"}}";
+  const WormTrack foreign = ReadTimePoints(file);
+  ExpectSameTimePoints(foreign, ReadWcon(file));
+  ASSERT_EQ(foreign.time_s.size(), 3u);
+  EXPECT_FLOAT_EQ(foreign.x_mm[0][1], 3.1f);
+  EXPECT_DOUBLE_EQ(foreign.cx_mm[1], 0.106);
+  EXPECT_EQ(foreign.x_mm[2].size(), 1u);
+  auto refusal = [&](const std::string& text) -> std::string {
+    std::ofstream(file) << text;
+    try {
+      ReadTimePoints(file);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string units = "{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"mm\"}, ";
+  EXPECT_NE(refusal("{\"data\": []}").find("units"), std::string::npos);
+  EXPECT_NE(refusal("{\"units\": {\"t\": \"s\", \"x\": \"mm\", \"y\": \"furlong\"}, \"data\": "
+                    "[{\"id\": \"1\", \"t\": [0], \"x\": [[1]], \"y\": [[1]]}]}")
+                .find("units.y: unsupported unit"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": \"1\", \"t\": [0, 1], \"x\": [[1, 2], [1]], "
+                            "\"y\": [[1, 2], [1, 2]]}}")
+                .find("data[0].x/y[1]: x and y must be equal in length"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": \"1\", \"t\": [1, 0], \"x\": [[1], [1]], "
+                            "\"y\": [[1], [1]]}}")
+                .find("data: t: time point 1"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": \"1\", \"t\": [0, null], \"x\": [[1], [1]], "
+                            "\"y\": [[1], [1]]}}")
+                .find("data[0].t: expected numbers"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": \"1\", \"t\": [0, 1], \"x\": [[1]], "
+                            "\"y\": [[1], [1]]}}")
+                .find("data[0].x/y: expected one array per time point"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": \"1\", \"t\": [0], \"x\": [[1]], \"y\": [[1]], "
+                            "\"cx\": [0]}}")
+                .find("data[0].cx/cy: must come in pairs"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": {\"id\": 1, \"t\": [0], \"x\": [[1]], \"y\": [[1]]}}")
+                .find("data[0].id: expected a string"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": [{\"t\": [0], \"x\": [[1]], \"y\": [[1]]}]}")
+                .find("data[0]: expected a record with id, t, x and y"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": [{\"id\": \"1\", \"t\": [0], \"x\": [[1e300]], "
+                            "\"y\": [[1]]}]}")
+                .find("out of range"),
+            std::string::npos);
+  EXPECT_NE(refusal(units + "\"data\": [{\"id\": \"1\", \"t\": [1e400], \"x\": [[1]], "
+                            "\"y\": [[1]]}]}"),
+            "accepted");
+  EXPECT_NE(refusal("{not json").find("not JSON at byte"), std::string::npos);
+  fs::remove(file);
+}
+
 TEST(Wcon, ATrajectoryWithoutAWormIsRefusedNamingTheFile) {
   const fs::path sprig = owval::testing::kBundledOneSprig;
   try {

@@ -9,6 +9,7 @@
 #include "owval/base/format.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/trajectory/worm_formats.hpp"
+#include "wcon_units.hpp"
 
 namespace owval {
 namespace {
@@ -163,10 +164,8 @@ void WconWriter::Commit() {
   out.Commit();
 }
 
-namespace {
-
 // Factor to SI-based owval units (s for time, mm for lengths); 0 when unknown.
-double TimeFactor(const std::string& u) {
+double WconTimeFactor(const std::string& u) {
   static const std::map<std::string, double> f = {{"s", 1},
                                                   {"sec", 1},
                                                   {"second", 1},
@@ -184,7 +183,7 @@ double TimeFactor(const std::string& u) {
   return it == f.end() ? 0 : it->second;
 }
 
-double LengthFactor(const std::string& u) {
+double WconLengthFactor(const std::string& u) {
   static const std::map<std::string, double> f = {{"mm", 1},
                                                   {"millimetre", 1},
                                                   {"millimeter", 1},
@@ -209,6 +208,8 @@ double LengthFactor(const std::string& u) {
   return it == f.end() ? 0 : it->second;
 }
 
+namespace {
+
 struct WconReader {
   std::string name;
   double t_factor = 1, x_factor = 1, y_factor = 1, cx_factor = 1, cy_factor = 1;
@@ -219,7 +220,7 @@ struct WconReader {
     if (!units.contains(key) || !units[key].is_string())
       Fail(std::string("units.") + key + ": expected a unit string");
     const std::string u = units[key].get<std::string>();
-    const double f = length ? LengthFactor(u) : TimeFactor(u);
+    const double f = length ? WconLengthFactor(u) : WconTimeFactor(u);
     if (f == 0) Fail(std::string("units.") + key + ": unsupported unit \"" + u + "\"");
     return f;
   }

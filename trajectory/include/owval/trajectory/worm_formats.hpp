@@ -68,6 +68,38 @@ class WconWriter {
 // InputError naming the file and field on anything a WCON reader must refuse.
 WormTrack ReadWcon(const std::filesystem::path& path);
 
+// One time point of a WCON track: t in s, the skeleton and centroid in mm.
+struct WconTimePoint {
+  double time_s = 0;
+  std::vector<float> x_mm, y_mm;  // head first, equal lengths
+  double cx_mm = 0, cy_mm = 0;    // when the track has a centroid (WconTimePoints::has_centroid)
+};
+
+// ReadWcon time point by time point, the same values (x, y as floats; units and ox/oy applied):
+// memory one time point, never the track. The file is parsed once with nlohmann::json's SAX
+// interface (json::sax_parse), keeping only the units and one small entry per record; the
+// first id's per-time arrays (t, cx, cy, ox, oy, x, y) go to anonymous temporary files as binary
+// doubles, since a WCON puts every time's x before the first y (and a record's keys come in
+// any order), and are read back in step. InputError naming the file and field on what ReadWcon
+// refuses (a record without id, t, x or y; non-numbers; sizes that differ; unknown units); a
+// time that is not finite and increasing is refused by Next().
+class WconTimePoints {
+ public:
+  explicit WconTimePoints(const std::filesystem::path& path);
+  ~WconTimePoints();
+  WconTimePoints(const WconTimePoints&) = delete;
+  WconTimePoints& operator=(const WconTimePoints&) = delete;
+  std::size_t size() const;
+  bool has_centroid() const;
+  // The next time point into `point`; false after the last.
+  bool Next(WconTimePoint* point);
+
+  struct Parsed;
+
+ private:
+  std::unique_ptr<Parsed> parsed_;
+};
+
 struct ZarrWriteOptions {
   std::size_t frames_per_chunk = 16;           // chunk along time; one chunk holds every particle
   double simulation_scale_m = 7.39999905e-06;  // metres per configuration unit
