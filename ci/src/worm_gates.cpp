@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <memory>
-#include <optional>
 
+#include "owval/base/errors.hpp"
 #include "owval/kinematics/baseline.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/side_files.hpp"
@@ -45,16 +45,19 @@ GateResult ZarrGate(const fs::path& store, FrameSource* candidate) {
   return g;
 }
 
-GateResult SideFileGate(const fs::path& file, const kinematics::SkeletonSeries* candidate) {
+// The file against the candidate read frame by frame in step with it (memory: one frame and
+// one time point, whatever the run's length).
+GateResult SideFileGate(const fs::path& file, FrameSource* candidate) {
   GateResult g{file.filename().string() + " describes the candidate", false, ""};
   try {
     if (!candidate) {
       g.detail = "no readable candidate trajectory to check it against";
       return g;
     }
-    const WormTrack track =
-        file.extension() == ".wcon" ? ReadWcon(file) : kinematics::ReadWormMotionLog(file);
-    const kinematics::TrackAgreement a = kinematics::CompareWithTrajectory(track, *candidate);
+    const kinematics::TrackAgreement a =
+        file.extension() == ".wcon"
+            ? kinematics::CompareWconWithTrajectory(file, *candidate)
+            : kinematics::CompareWormMotionLogWithTrajectory(file, *candidate);
     g.pass = a.agrees;
     g.detail = a.detail;
   } catch (const std::exception& error) {
@@ -64,16 +67,13 @@ GateResult SideFileGate(const fs::path& file, const kinematics::SkeletonSeries* 
 }
 
 // Each .wcon, worm_motion_log.txt[.gz] and .zarr store in the directory against the candidate.
-std::vector<GateResult> SideFileGates(const fs::path& dir,
-                                      const kinematics::SkeletonSeries* candidate,
-                                      FrameSource* candidate_frames) {
+std::vector<GateResult> SideFileGates(const fs::path& dir, FrameSource* candidate) {
   std::vector<GateResult> gates;
   std::vector<fs::path> files = Wcons(dir);
   for (const char* log : {"worm_motion_log.txt", "worm_motion_log.txt.gz"})
     if (fs::exists(dir / log)) files.push_back(dir / log);
   for (const fs::path& f : files) gates.push_back(SideFileGate(f, candidate));
-  for (const fs::path& store : Entries(dir, ".zarr"))
-    gates.push_back(ZarrGate(store, candidate_frames));
+  for (const fs::path& store : Entries(dir, ".zarr")) gates.push_back(ZarrGate(store, candidate));
   return gates;
 }
 
@@ -85,10 +85,15 @@ GateResult WconReadable(const fs::path& dir) {
     return g;
   }
   try {
-    const WormTrack t = ReadWcon(wcons.front());
+    // Read through time point by time point (memory: one), refusing what ReadWcon refuses.
+    WconTimePoints points(wcons.front());
+    WconTimePoint first, point;
+    if (!points.Next(&first)) throw InputError(wcons.front().string(), 0, "data: no time point");
+    while (points.Next(&point)) {
+    }
     g.pass = true;
-    g.detail = wcons.front().filename().string() + ": " + std::to_string(t.time_s.size()) +
-               " time points, " + std::to_string(t.x_mm.front().size()) + " midline points";
+    g.detail = wcons.front().filename().string() + ": " + std::to_string(points.size()) +
+               " time points, " + std::to_string(first.x_mm.size()) + " midline points";
   } catch (const std::exception& error) {
     g.detail = error.what();
   }
@@ -107,30 +112,25 @@ std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& c
   std::vector<GateResult> gates;
   if (Wcons(dir).empty() && Entries(dir, ".zarr").empty() &&
       !fs::exists(dir / "worm_motion_log.txt") && !fs::exists(dir / "worm_motion_log.txt.gz"))
-    return gates;  // nothing to hold to the candidate: skip reading its skeletons
-  std::optional<kinematics::SkeletonSeries> skeletons;
+    return gates;  // nothing to hold to the candidate: skip opening it
   std::unique_ptr<FrameSource> frames;
   try {
     if (!candidate.empty()) {
       TextReadOptions quiet;
       quiet.quiet = true;
       frames = OpenFrameSource(candidate, quiet);
-      skeletons = kinematics::SkeletonsFromFrames(*frames);
     }
   } catch (const std::exception&) {
     // The candidate's own gate says why it cannot be read; its side files stay unchecked.
   }
-  for (const GateResult& g :
-       SideFileGates(dir, skeletons ? &*skeletons : nullptr, skeletons ? frames.get() : nullptr))
-    gates.push_back(g);
-  return gates;
+  return SideFileGates(dir, frames.get());
 }
 
 std::vector<GateResult> WormValidateGates(const fs::path& dir,
                                           const kinematics::SkeletonSeries* reference,
                                           const kinematics::SkeletonSeries& candidate,
                                           FrameSource& candidate_frames) {
-  std::vector<GateResult> gates = SideFileGates(dir, &candidate, &candidate_frames);
+  std::vector<GateResult> gates = SideFileGates(dir, &candidate_frames);
   const kinematics::Report cand = kinematics::Analyse(candidate);
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});

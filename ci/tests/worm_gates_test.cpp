@@ -138,6 +138,36 @@ TEST(WormGates, QuickTestFailsSideFilesThatDescribeAnotherRun) {
   fs::remove_all(dir);
 }
 
+// A WCON whose skeleton is the candidate's but whose centroid (cx, cy) is another run's: the
+// centroid was not compared and the WCON passed. Its own WCON, written by owval, still passes.
+TEST(WormGates, QuickTestFailsAWconWhoseCentroidIsAnotherRuns) {
+  if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
+  const FrozenWormDirectory worm("worm_centroid");
+  const Trajectory &reference = worm.reference, &frozen = worm.frozen;
+  const fs::path& dir = worm.dir;
+  WormTrack track = kinematics::TrackFromTrajectory(frozen);
+  const WormTrack moving = kinematics::TrackFromTrajectory(reference);
+  track.cx_mm = moving.cx_mm;  // the points right, the centroid the moving run's
+  track.cy_mm = moving.cy_mm;
+  WriteWcon(track, dir / "worm.wcon");
+  const GateReport wrong = QuickTest(dir);
+  EXPECT_FALSE(wrong.pass());
+  const GateResult* gate = Find(wrong, "worm.wcon describes the candidate");
+  ASSERT_TRUE(gate);
+  EXPECT_FALSE(gate->pass);
+  EXPECT_EQ(gate->detail.rfind("20 time points; 19 disagree with the trajectory's skeleton and "
+                               "centroid; worst ",
+                               0),
+            0u)
+      << gate->detail;
+  EXPECT_NE(gate->detail.find(", centroid ("), std::string::npos) << gate->detail;
+  EXPECT_EQ(gate->detail.find('\n'), std::string::npos);
+  WriteWcon(kinematics::TrackFromTrajectory(frozen), dir / "worm.wcon");
+  const GateReport own = QuickTest(dir);
+  EXPECT_TRUE(own.pass()) << own.ToText();
+  fs::remove_all(dir);
+}
+
 // The PR checklist holds a worm candidate's side files to it as quick-test does (item 3, which
 // makes the directory unreviewable): a frozen worm beside the reference's WCON was a readable
 // candidate. Without side files, or with its own, item 3 passes on the trajectory alone.

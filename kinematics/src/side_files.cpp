@@ -1,6 +1,7 @@
 #include "owval/kinematics/side_files.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -9,6 +10,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/worm_track.hpp"
 
 namespace owval::kinematics {
 namespace {
@@ -34,73 +36,214 @@ std::string Format(const char* format, double a, double b = 0, double c = 0, dou
   return buffer;
 }
 
-// The first disagreement in sizes or times, or "" when they agree.
-std::string SizeOrTimeMismatch(const WormTrack& track, const SkeletonSeries& traj) {
-  if (track.time_s.size() != traj.time_s.size())
-    return std::to_string(track.time_s.size()) + " time points, the trajectory " +
-           std::to_string(traj.time_s.size()) + " frames";
-  const double allowed_s = kTimeTolerance * MeanInterval_s(traj.time_s);
-  for (std::size_t i = 0; i < traj.time_s.size(); ++i) {
-    if (std::abs(track.time_s[i] - traj.time_s[i]) > allowed_s)
-      return "time point " + std::to_string(i) +
-             Format(" at t %.9g s, the trajectory's frame at %.9g s", track.time_s[i],
-                    traj.time_s[i]);
-    if (track.x_mm[i].size() != traj.skeletons[i].size())
-      return "time point " + std::to_string(i) + ": " + std::to_string(track.x_mm[i].size()) +
-             " skeleton points, the trajectory " + std::to_string(traj.skeletons[i].size());
-  }
-  return "";
+TrackAgreement CountMismatch(std::size_t points, std::size_t frames) {
+  TrackAgreement a;
+  a.worst_fraction_of_allowance = INFINITY;
+  a.detail =
+      std::to_string(points) + " time points, the trajectory " + std::to_string(frames) + " frames";
+  return a;
 }
 
-// The file's text; gzopen reads plain files as they are (Sibernetic's logs are kept .gz).
-std::string ReadMaybeGzipped(const std::filesystem::path& path) {
-  gzFile file = gzopen(path.c_str(), "rb");
-  if (!file) throw InputError(path.string(), 0, "cannot open");
-  std::string text;
-  char buffer[1 << 16];
-  int n = 0;
-  while ((n = gzread(file, buffer, sizeof buffer)) > 0) text.append(buffer, std::size_t(n));
-  const bool failed = n < 0;
-  gzclose(file);
-  if (failed) throw InputError(path.string(), 0, "corrupt gzip data");
-  return text;
+// A side file's time points held to the trajectory's frames of the same index, one at a time
+// (memory: one frame and one time point).
+class Lockstep {
+ public:
+  explicit Lockstep(FrameSource& trajectory)
+      : traj_(trajectory),
+        elastic_(GroupIndices(trajectory.header(), "elastic")),
+        allowed_s_(kTimeTolerance * MeanInterval_s(trajectory.header().time_s)) {
+    if (!IsWorm(trajectory.header())) throw InputError(kNotAWorm);
+  }
+
+  // The file's next time point; `centroid`: whether it has cx, cy.
+  void Add(const WconTimePoint& point, bool centroid) {
+    const std::size_t i = points_++;
+    if (i >= traj_.frame_count() || !mismatch_.empty()) return;  // counted, not compared
+    const double frame_s = traj_.header().time_s[i];
+    if (std::abs(point.time_s - frame_s) > allowed_s_) {
+      mismatch_ = "time point " + std::to_string(i) +
+                  Format(" at t %.9g s, the trajectory's frame at %.9g s", point.time_s, frame_s);
+      return;
+    }
+    const FrameRef frame = traj_.Frame(i);
+    const TrackPoint expected = TrackPointAt(frame.trajectory, frame.frame, elastic_);
+    if (point.x_mm.size() != expected.x_mm.size()) {
+      mismatch_ = "time point " + std::to_string(i) + ": " + std::to_string(point.x_mm.size()) +
+                  " skeleton points, the trajectory " + std::to_string(expected.x_mm.size());
+      return;
+    }
+    centroid_ = centroid;
+    CompareTimePoint(point, expected, centroid);
+  }
+
+  TrackAgreement Result() const {
+    if (points_ != traj_.frame_count()) return CountMismatch(points_, traj_.frame_count());
+    TrackAgreement a;
+    if (!mismatch_.empty()) {
+      a.worst_fraction_of_allowance = INFINITY;
+      a.detail = mismatch_;
+      return a;
+    }
+    a.agrees = failing_ == 0;
+    a.worst_fraction_of_allowance = worst_;
+    a.detail = std::to_string(points_) + " time points; " + std::to_string(failing_) +
+               " disagree with the trajectory's skeleton" + (centroid_ ? " and centroid" : "") +
+               Format("; worst %.3g of its allowance", worst_) + worst_where_;
+    return a;
+  }
+
+ private:
+  // Every skeleton point's and the centroid's distance to the trajectory's, in allowances.
+  void CompareTimePoint(const WconTimePoint& got, const TrackPoint& expected, bool centroid) {
+    bool failing = false;
+    const auto add = [&](double fraction, const auto& where) {
+      failing = failing || !(fraction <= 1);
+      if (fraction > worst_ || std::isnan(fraction)) {
+        worst_ = std::isnan(fraction) ? INFINITY : fraction;
+        worst_where_ = Format(" at t %.6g s, ", expected.time_s) + where();
+      }
+    };
+    for (std::size_t k = 0; k < got.x_mm.size(); ++k) {
+      const double x = got.x_mm[k], y = got.y_mm[k];
+      const double ex = expected.x_mm[k], ey = expected.y_mm[k];
+      add(std::max(std::abs(x - ex) / Allowance_mm(ex), std::abs(y - ey) / Allowance_mm(ey)), [&] {
+        return "point " + std::to_string(k) +
+               Format(": (%.7g, %.7g) mm, the trajectory (%.7g, %.7g) mm", x, y, ex, ey);
+      });
+    }
+    if (centroid) {
+      const double ex = expected.cx_mm, ey = expected.cy_mm;
+      add(std::max(std::abs(got.cx_mm - ex) / Allowance_mm(ex),
+                   std::abs(got.cy_mm - ey) / Allowance_mm(ey)),
+          [&] {
+            return Format("centroid (%.9g, %.9g) mm, the trajectory (%.9g, %.9g) mm", got.cx_mm,
+                          got.cy_mm, ex, ey);
+          });
+    }
+    if (worst_where_.empty()) worst_where_ = Format(" at t %.6g s", expected.time_s);
+    failing_ += failing;
+  }
+
+  FrameSource& traj_;
+  std::vector<std::size_t> elastic_;
+  double allowed_s_;
+  std::size_t points_ = 0, failing_ = 0;
+  bool centroid_ = false;
+  std::string mismatch_;  // the first time or point count that differs
+  double worst_ = 0;
+  std::string worst_where_;  // the worst value's time and values
+};
+
+// One line of worm_motion_log.txt into `point` (time, non-empty bins' X: and Y: means); false
+// for a blank line. InputError naming the file and line on a malformed line.
+bool ParseLogLine(const std::string& line, std::size_t number, const std::filesystem::path& path,
+                  WconTimePoint* point) {
+  if (line.find_first_not_of(" \t\r\n") == std::string::npos) return false;  // a blank line
+  std::istringstream fields(line);
+  std::string label;
+  std::array<std::array<double, kMidlineBins>, 3> block{};
+  // Every field is checked: a blank or cut line has no bins, which the loop below would index.
+  const auto malformed = [&] {
+    return InputError(path.string(), number,
+                      "expected t, then X:, Y:, Z: each with 99 bin means (mm)");
+  };
+  if (!(fields >> point->time_s) || !std::isfinite(point->time_s)) throw malformed();
+  for (int b = 0; b < 3; ++b) {
+    if (!(fields >> label) || label != std::string(1, char('X' + b)) + ":") throw malformed();
+    for (int k = 0; k < kMidlineBins; ++k)
+      if (!(fields >> block[b][k])) throw malformed();
+  }
+  point->x_mm.clear();
+  point->y_mm.clear();
+  for (int k = 0; k < kMidlineBins; ++k) {
+    if (block[0][k] == 0 && block[1][k] == 0 && block[2][k] == 0) continue;  // empty bin
+    point->x_mm.push_back(static_cast<float>(block[0][k]));                  // mean z
+    point->y_mm.push_back(static_cast<float>(block[1][k]));                  // mean x
+  }
+  return true;
 }
+
+// worm_motion_log.txt[.gz] a line at a time; gzopen reads plain files as they are (Sibernetic's
+// logs are kept .gz).
+class MotionLogLines {
+ public:
+  explicit MotionLogLines(std::filesystem::path path)
+      : path_(std::move(path)), file_(gzopen(path_.c_str(), "rb")) {
+    if (!file_) throw InputError(path_.string(), 0, "cannot open");
+  }
+  ~MotionLogLines() { gzclose(file_); }
+  MotionLogLines(const MotionLogLines&) = delete;
+  MotionLogLines& operator=(const MotionLogLines&) = delete;
+
+  // The next non-blank line's time point; false at the end of the file.
+  bool Next(WconTimePoint* point) {
+    while (ReadLine())
+      if (ParseLogLine(line_, number_, path_, point)) return true;
+    return false;
+  }
+
+ private:
+  bool ReadLine() {
+    line_.clear();
+    char buffer[1 << 14];
+    while (gzgets(file_, buffer, sizeof buffer)) {
+      line_ += buffer;
+      if (line_.back() == '\n') break;
+    }
+    int error = Z_OK;
+    gzerror(file_, &error);
+    if (error != Z_OK && error != Z_STREAM_END)
+      throw InputError(path_.string(), number_ + 1, "corrupt gzip data");
+    if (line_.empty()) return false;
+    ++number_;
+    return true;
+  }
+
+  std::filesystem::path path_;
+  gzFile file_;
+  std::string line_;
+  std::size_t number_ = 0;
+};
 
 }  // namespace
 
-TrackAgreement CompareWithTrajectory(const WormTrack& track, const SkeletonSeries& traj) {
-  TrackAgreement a;
-  const std::string mismatch = SizeOrTimeMismatch(track, traj);
-  if (!mismatch.empty()) {
-    a.worst_fraction_of_allowance = INFINITY;
-    a.detail = mismatch;
-    return a;
+TrackAgreement CompareWithTrajectory(const WormTrack& track, FrameSource& trajectory) {
+  const bool centroid = !track.cx_mm.empty();
+  if (centroid &&
+      (track.cx_mm.size() != track.time_s.size() || track.cy_mm.size() != track.time_s.size()))
+    throw InputError("track: cx and cy need one value per time point");
+  Lockstep lockstep(trajectory);
+  WconTimePoint point;
+  for (std::size_t i = 0; i < track.time_s.size(); ++i) {
+    point.time_s = track.time_s[i];
+    point.x_mm = track.x_mm.at(i);
+    point.y_mm = track.y_mm.at(i);
+    point.cx_mm = centroid ? track.cx_mm[i] : 0;
+    point.cy_mm = centroid ? track.cy_mm[i] : 0;
+    lockstep.Add(point, centroid);
   }
-  std::size_t worst_time = 0, worst_point = 0, failing_times = 0;
-  for (std::size_t i = 0; i < traj.time_s.size(); ++i) {
-    bool failing = false;
-    for (std::size_t k = 0; k < traj.skeletons[i].size(); ++k) {
-      const Point2& p = traj.skeletons[i][k];
-      const double fraction = std::max(std::abs(track.x_mm[i][k] - p[0]) / Allowance_mm(p[0]),
-                                       std::abs(track.y_mm[i][k] - p[1]) / Allowance_mm(p[1]));
-      failing = failing || !(fraction <= 1);
-      if (fraction > a.worst_fraction_of_allowance || std::isnan(fraction)) {
-        a.worst_fraction_of_allowance = std::isnan(fraction) ? INFINITY : fraction;
-        worst_time = i, worst_point = k;
-      }
-    }
-    failing_times += failing;
-  }
-  a.agrees = failing_times == 0;
-  const std::size_t i = worst_time, k = worst_point;
-  a.detail = std::to_string(traj.time_s.size()) + " time points; " + std::to_string(failing_times) +
-             " disagree with the trajectory's skeleton; worst" +
-             Format(" %.3g of its allowance", a.worst_fraction_of_allowance);
-  if (!traj.time_s.empty() && !traj.skeletons[i].empty())
-    a.detail += Format(" at t %.6g s, point ", traj.time_s[i]) + std::to_string(k) +
-                Format(": (%.7g, %.7g) mm, the trajectory (%.7g, %.7g) mm", track.x_mm[i][k],
-                       track.y_mm[i][k], traj.skeletons[i][k][0], traj.skeletons[i][k][1]);
-  return a;
+  return lockstep.Result();
+}
+
+TrackAgreement CompareWconWithTrajectory(const std::filesystem::path& wcon,
+                                         FrameSource& trajectory) {
+  WconTimePoints points(wcon);
+  Lockstep lockstep(trajectory);
+  // Known before any frame is read: the count decides, as it does for the log at its end.
+  if (points.size() != trajectory.frame_count())
+    return CountMismatch(points.size(), trajectory.frame_count());
+  WconTimePoint point;
+  while (points.Next(&point)) lockstep.Add(point, points.has_centroid());
+  return lockstep.Result();
+}
+
+TrackAgreement CompareWormMotionLogWithTrajectory(const std::filesystem::path& log,
+                                                  FrameSource& trajectory) {
+  MotionLogLines lines(log);
+  Lockstep lockstep(trajectory);
+  WconTimePoint point;
+  while (lines.Next(&point)) lockstep.Add(point, false);
+  return lockstep.Result();
 }
 
 namespace {
@@ -163,37 +306,13 @@ TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& traj) {
 }
 
 WormTrack ReadWormMotionLog(const std::filesystem::path& path) {
-  std::istringstream in(ReadMaybeGzipped(path));
+  MotionLogLines lines(path);
   WormTrack track;
-  std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // a blank line
-    std::istringstream fields(line);
-    double t_s = 0;
-    std::string label;
-    std::vector<double> block[3];
-    // Every field is checked: a blank or cut line has no bins, which the loop below would index.
-    const auto malformed = [&] {
-      return InputError(path.string(), number,
-                        "expected t, then X:, Y:, Z: each with 99 bin means (mm)");
-    };
-    if (!(fields >> t_s) || !std::isfinite(t_s)) throw malformed();
-    for (int b = 0; b < 3; ++b) {
-      if (!(fields >> label) || label != std::string(1, char('X' + b)) + ":") throw malformed();
-      for (int k = 0; k < kMidlineBins; ++k) {
-        double mean_mm = 0;
-        if (!(fields >> mean_mm)) throw malformed();
-        block[b].push_back(mean_mm);
-      }
-    }
-    track.time_s.push_back(t_s);
-    track.x_mm.emplace_back();
-    track.y_mm.emplace_back();
-    for (int k = 0; k < kMidlineBins; ++k) {
-      if (block[0][k] == 0 && block[1][k] == 0 && block[2][k] == 0) continue;  // empty bin
-      track.x_mm.back().push_back(static_cast<float>(block[0][k]));            // mean z
-      track.y_mm.back().push_back(static_cast<float>(block[1][k]));            // mean x
-    }
+  WconTimePoint point;
+  while (lines.Next(&point)) {
+    track.time_s.push_back(point.time_s);
+    track.x_mm.push_back(point.x_mm);
+    track.y_mm.push_back(point.y_mm);
   }
   return track;
 }

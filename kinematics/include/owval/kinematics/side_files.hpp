@@ -11,9 +11,17 @@
 //  - every point's x and y within 1e-5 of the coordinate's magnitude (a midline from
 //    full-precision floats against one from 6-significant-digit prints: 5e-6 each, as the
 //    initial_state gate allows) plus 1e-3 cu = 7.4e-6 mm (the tolerance by which the caller's
-//    reference is the directory's), in mm.
+//    reference is the directory's), in mm;
+//  - a WCON's centroid (cx, cy, when it has one) within the same allowance of the trajectory's:
+//    the mean of the elastic particles in the body plane (cx = simulation z, cy = simulation x,
+//    in mm), as TrackPointAt computes it for WconWriter. A centroid written from another run or
+//    in µm labelled mm is as wrong as a skeleton would be.
+// Memory is bounded by the particles, never by the run's length: the trajectory is read frame by
+// frame and each frame's skeleton and centroid compared with the side file's time point of the
+// same index, then dropped; the midline log is read line by line and the WCON time point by time
+// point (WconTimePoints).
 // Measured on Sibernetic's 0.6 s worm run (docs/worm.md, "Side files"): its own worm_motion_log
-// against its 6-digit position_buffer, worst 0.36 of the allowance.
+// against its 6-digit position_buffer, worst 0.113 of the allowance.
 #include <filesystem>
 #include <string>
 
@@ -29,8 +37,15 @@ struct TrackAgreement {
   std::string detail;                      // one line: what was compared, or the first mismatch
 };
 
-// `trajectory`: the skeletons recomputed from the trajectory's particles (SkeletonsFromFrames).
-TrackAgreement CompareWithTrajectory(const WormTrack& track, const SkeletonSeries& trajectory);
+// A track in memory (an edited one, a test's) against the trajectory read frame by frame.
+TrackAgreement CompareWithTrajectory(const WormTrack& track, FrameSource& trajectory);
+// A WCON file, read time point by time point (WconTimePoints), against the trajectory.
+TrackAgreement CompareWconWithTrajectory(const std::filesystem::path& wcon,
+                                         FrameSource& trajectory);
+// worm_motion_log.txt[.gz], read line by line as ReadWormMotionLog reads it, against the
+// trajectory (the log has no centroid).
+TrackAgreement CompareWormMotionLogWithTrajectory(const std::filesystem::path& log,
+                                                  FrameSource& trajectory);
 
 // An OME-Zarr store (body/positions in µm) against the trajectory it was converted from: the same
 // frame count, times (1% of the mean interval), type codes (1e-5 relative, as particle_types) and
