@@ -268,6 +268,20 @@ std::string StoreHeaderMismatch(const OmeZarrReader& store, FrameSource& traj) {
   return "";
 }
 
+// A trajectory's configuration units are Sibernetic's (kSiberneticSimulationScale m each): a
+// store saying its micrometres were converted at another scale shows the viewer a worm of
+// another size, so it is refused rather than compared at a scale assumed. 1e-6 relative: the
+// scale printed as a double against Sibernetic's float.
+void CheckStoreScale(const OmeZarrReader& store) {
+  const double sibernetic_m = static_cast<double>(kSiberneticSimulationScale);
+  const double recorded_m = store.simulation_scale_m();
+  if (recorded_m != 0 && std::abs(recorded_m / sibernetic_m - 1) > 1e-6)
+    throw InputError((store.path() / ".zattrs").string(), 0,
+                     Format("@owval.simulation_scale_m: %.9g m per configuration unit, but the "
+                            "trajectory's are Sibernetic's %.9g m",
+                            recorded_m, sibernetic_m));
+}
+
 }  // namespace
 
 TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& traj) {
@@ -277,6 +291,7 @@ TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& traj) {
     a.worst_fraction_of_allowance = INFINITY;
     return a;
   }
+  CheckStoreScale(store);
   const double to_um = static_cast<double>(kSiberneticSimulationScale) * 1e6;
   std::size_t failing_frames = 0, worst_frame = 0, worst_value = 0;
   for (std::size_t f = 0; f < traj.frame_count(); ++f) {

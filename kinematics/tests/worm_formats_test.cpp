@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/kinematics.hpp"
@@ -367,6 +368,55 @@ TEST(OmeZarr, OwvalsReaderReadsBackEveryValueAndNamesAStoreOfAnotherRun) {
   const TrackAgreement a = CompareWithTrajectory(other, *frames);
   EXPECT_FALSE(a.agrees);
   EXPECT_EQ(a.detail.rfind("200 frames; 200 disagree", 0), 0u) << a.detail;
+  fs::remove_all(store);
+}
+
+// The store says its positions' unit and the scale they were converted at; the reader applies
+// the unit and the comparison refuses another scale, rather than assuming Sibernetic's µm.
+TEST(OmeZarr, OwvalsReaderAppliesTheStoresUnitAndRefusesAnotherScale) {
+  if (!Worm()) GTEST_SKIP() << "needs the worm reference";
+  Trajectory t = *Worm();
+  t.time_s.resize(20);  // 20 frames keep it short
+  t.positions.resize(20 * t.particle_count() * 3);
+  const auto frames = MemoryFrameSource(t);
+  const fs::path store = Temp("scaled.zarr");
+  WriteOmeZarr(t, store);
+  const fs::path units = store / "body/positions/.zattrs";
+  const auto label = [&](const std::string& unit) {
+    std::ofstream(units) << "{\"units\": " << unit << "}";
+  };
+  const auto error = [&](const std::function<void()>& f) -> std::string {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  label("\"mm\"");  // µm values labelled mm: read as mm, they are 1000 times the worm
+  OmeZarrReader mm(store);
+  const float to_um = static_cast<float>(ZarrWriteOptions{}.simulation_scale_m * 1e6);
+  EXPECT_FLOAT_EQ(mm.FrameMicrometres(3)[5], t.position(3, 0)[5] * to_um * 1000);
+  const TrackAgreement labelled_mm = CompareWithTrajectory(mm, *frames);
+  EXPECT_FALSE(labelled_mm.agrees);
+  EXPECT_GT(labelled_mm.worst_fraction_of_allowance, 100) << labelled_mm.detail;
+  label("\"um\"");
+  OmeZarrReader um(store);
+  EXPECT_TRUE(CompareWithTrajectory(um, *frames).agrees);
+  label("\"furlong\"");
+  EXPECT_NE(
+      error([&] { OmeZarrReader{store}; }).find(units.string() + ": units: expected a length"),
+      std::string::npos);
+  fs::remove_all(store);
+  ZarrWriteOptions ten_micrometres;
+  ten_micrometres.simulation_scale_m = 1e-5;
+  WriteOmeZarr(t, store, ten_micrometres);
+  OmeZarrReader scaled(store);
+  EXPECT_EQ(scaled.simulation_scale_m(), 1e-5);
+  EXPECT_EQ(error([&] { CompareWithTrajectory(scaled, *frames); }),
+            (store / ".zattrs").string() +
+                ": @owval.simulation_scale_m: 1e-05 m per configuration unit, but the "
+                "trajectory's are Sibernetic's 7.39999905e-06 m");
   fs::remove_all(store);
 }
 

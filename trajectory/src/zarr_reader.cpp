@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/worm_formats.hpp"
+#include "wcon_units.hpp"
 
 namespace owval {
 namespace fs = std::filesystem;
@@ -99,9 +101,56 @@ std::vector<T> Read1d(const fs::path& array, const char* dtype) {
   return values;
 }
 
+// A .zattrs file's JSON, or an empty object when the file is missing (attributes are optional).
+json ReadAttributes(const fs::path& file) {
+  if (!fs::exists(file)) return json::object();
+  try {
+    json a = json::parse(ReadBytes(file));
+    if (!a.is_object()) throw InputError(file.string(), 0, "expected a JSON object");
+    return a;
+  } catch (const json::exception& e) {
+    throw InputError(file.string(), 0, std::string("not JSON: ") + e.what());
+  }
+}
+
+// The factor from body/positions' "units" attribute to micrometres: the contract's unit when it
+// says none, any length unit a WCON reader knows converted, InputError on anything else.
+double PositionsToMicrometres(const fs::path& positions) {
+  const fs::path file = positions / ".zattrs";
+  const json a = ReadAttributes(file);
+  if (!a.contains("units")) return 1;
+  const std::string unit = a["units"].is_string() ? a["units"].get<std::string>() : "";
+  const double to_mm = WconLengthFactor(unit);
+  if (to_mm == 0)
+    throw InputError(
+        file.string(), 0,
+        "units: expected a length unit (micrometre, um, mm, m ...), got " + a["units"].dump());
+  return to_mm * 1e3;
+}
+
+// The root's "@owval".simulation_scale_m (metres per configuration unit the positions were
+// converted with), 0 when the store does not say. InputError when it is not a positive number.
+double RecordedSimulationScale_m(const fs::path& store) {
+  const fs::path file = store / ".zattrs";
+  const json a = ReadAttributes(file);
+  if (!a.contains("@owval") || !a["@owval"].is_object() ||
+      !a["@owval"].contains("simulation_scale_m"))
+    return 0;
+  const json& scale = a["@owval"]["simulation_scale_m"];
+  if (!scale.is_number() || !(scale.get<double>() > 0) || !std::isfinite(scale.get<double>()))
+    throw InputError(
+        file.string(), 0,
+        "@owval.simulation_scale_m: expected metres per configuration unit, got " + scale.dump());
+  return scale.get<double>();
+}
+
 }  // namespace
 
-OmeZarrReader::OmeZarrReader(const fs::path& store) : positions_(store / "body/positions") {
+OmeZarrReader::OmeZarrReader(const fs::path& store)
+    : path_(store),
+      positions_(store / "body/positions"),
+      to_micrometres_(PositionsToMicrometres(positions_)),
+      simulation_scale_m_(RecordedSimulationScale_m(store)) {
   time_s_ = Read1d<double>(store / "body/time", "<f8");
   type_ = Read1d<float>(store / "body/types", "<f4");
   const ArrayMeta m = ReadMeta(positions_, "<f4", 3);
@@ -122,6 +171,8 @@ const float* OmeZarrReader::FrameMicrometres(std::size_t frame) {
   if (chunk != loaded_chunk_) {
     chunk_ = ReadChunk<float>(positions_ / (std::to_string(chunk) + ".0.0"), compressor_,
                               SaturatingProduct(chunk_frames_, n), fill_value_);
+    if (to_micrometres_ != 1)  // a store in another length unit, converted once per chunk
+      for (float& v : chunk_) v = static_cast<float>(v * to_micrometres_);
     loaded_chunk_ = chunk;
   }
   return chunk_.data() + (frame % chunk_frames_) * n;

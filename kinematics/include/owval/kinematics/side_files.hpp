@@ -50,7 +50,9 @@ TrackAgreement CompareWormMotionLogWithTrajectory(const std::filesystem::path& l
 // An OME-Zarr store (body/positions in µm) against the trajectory it was converted from: the same
 // frame count, times (1% of the mean interval), type codes (1e-5 relative, as particle_types) and
 // every coordinate within 1e-5 of its magnitude plus 1e-3 cu (at Sibernetic's float scale,
-// 7.39999905e-3 µm). The trajectory is read frame by frame.
+// 7.39999905e-3 µm). The trajectory is read frame by frame. A store recording another
+// simulation_scale_m than Sibernetic's is refused (InputError naming its .zattrs): its µm are not
+// the trajectory's; positions in another length unit are converted by the reader.
 TrackAgreement CompareWithTrajectory(OmeZarrReader& store, FrameSource& trajectory);
 
 // worm_motion_log.txt as a track: per line, time (s) and the non-empty bins' (X:, Y:) means

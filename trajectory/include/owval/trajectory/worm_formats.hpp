@@ -136,10 +136,17 @@ class OmeZarrWriter {
 // body/positions (T, N, 3) "<f4" in micrometres chunked along time only, body/time (T,) "<f8" s,
 // body/types (N,) "<f4"; C order, compressor zlib or none, no filters. What owval writes, and
 // what another writer of the same contract writes. InputError naming the file on anything else
-// (a chunk that is missing is the fill value, as zarr reads it).
+// (a chunk that is missing is the fill value, as zarr reads it). The positions' unit is what
+// body/positions/.zattrs "units" says (owval writes "micrometre"; a store in mm or m is converted,
+// an unknown unit refused naming the file); none said is the contract's micrometres. Memory: one
+// chunk of frames and the store's times and types, never the positions of every frame.
 class OmeZarrReader {
  public:
   explicit OmeZarrReader(const std::filesystem::path& store);
+  const std::filesystem::path& path() const { return path_; }
+  // Metres per configuration unit the store says its positions were converted with (root
+  // .zattrs "@owval".simulation_scale_m, as OmeZarrWriter records it); 0 when it does not say.
+  double simulation_scale_m() const { return simulation_scale_m_; }
   std::size_t frame_count() const { return time_s_.size(); }
   std::size_t particle_count() const { return type_.size(); }
   const std::vector<double>& time_s() const { return time_s_; }
@@ -148,7 +155,8 @@ class OmeZarrReader {
   const float* FrameMicrometres(std::size_t frame);
 
  private:
-  std::filesystem::path positions_;
+  std::filesystem::path path_, positions_;
+  double to_micrometres_ = 1, simulation_scale_m_ = 0;
   std::string compressor_;  // "zlib" or "" (none)
   std::size_t chunk_frames_ = 1, loaded_chunk_ = SIZE_MAX;
   float fill_value_ = 0;
