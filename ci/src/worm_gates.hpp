@@ -27,8 +27,9 @@ std::vector<GateResult> WormSideFileGates(const std::filesystem::path& directory
 std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory,
                                            const std::filesystem::path& candidate);
 // The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by
-// frame); reference: null when the reference is not a worm.
-// candidate_frames: the candidate's trajectory, read again for its .zarr stores.
+// frame), for the kinematics; reference: null when the reference is not a worm.
+// candidate_frames: the candidate's trajectory, read again frame by frame in step with each side
+// file (memory: one frame and one time point, whatever the run's length).
 std::vector<GateResult> WormValidateGates(const std::filesystem::path& directory,
                                           const kinematics::SkeletonSeries* reference,
                                           const kinematics::SkeletonSeries& candidate,
