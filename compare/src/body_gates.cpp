@@ -92,7 +92,7 @@ void BodyGates::ObserveRings(const kinematics::BodyShape& a, const kinematics::B
         std::abs(b.ring_diameter_cu[k] - a.ring_diameter_cu[k]) / a.cross_section_diameter_cu;
     if (!(gap <= ring_.value)) {  // a NaN is kept: it fails
       ring_.value = std::isfinite(gap) ? gap : INFINITY;
-      worst_ring_bin_ = int(k) + 51;
+      worst_ring_bin_ = int(k) + kinematics::kFirstMidlineBin;
       worst_ring_time_s_ = reference_time_s;
       worst_ring_reference_cu_ = a.ring_diameter_cu[k];
       worst_ring_candidate_cu_ = b.ring_diameter_cu[k];

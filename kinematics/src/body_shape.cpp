@@ -20,8 +20,8 @@ double Distance(const Vec3& a, const Vec3& b) {
 std::vector<std::vector<std::size_t>> Rings(const Trajectory& t) {
   std::vector<std::vector<std::size_t>> rings(kMidlineBins);
   for (std::size_t i = 0; i < t.particle_count(); ++i) {
-    const int bin = MidlineBin(t.type[i]);
-    if (bin >= 51 && bin < 51 + kMidlineBins) rings[std::size_t(bin - 51)].push_back(i);
+    if (const int slot = PrintedBinSlot(t.type[i]); slot >= 0)
+      rings[std::size_t(slot)].push_back(i);
   }
   return rings;
 }

@@ -17,8 +17,7 @@ int MidlineBin(float t) {
 bool IsWorm(const Trajectory& trajectory) {
   std::array<bool, kMidlineBins> seen{};
   for (float t : trajectory.type) {
-    const int bin = MidlineBin(t);
-    if (bin >= 51 && bin < 51 + kMidlineBins) seen[bin - 51] = true;
+    if (const int slot = PrintedBinSlot(t); slot >= 0) seen[slot] = true;
   }
   int bins = 0;
   for (bool s : seen) bins += s;
@@ -30,10 +29,9 @@ Midline ComputeMidline(const Trajectory& trajectory, std::size_t frame) {
   // bins outside that range are summed there too but never shown, so they are skipped here.
   std::array<float, kMidlineBins> sx{}, sy{}, sz{}, n{};
   for (std::size_t i = 0; i < trajectory.particle_count(); ++i) {
-    const int bin = MidlineBin(trajectory.type[i]);
-    if (bin < 51 || bin >= 51 + kMidlineBins) continue;
+    const int b = PrintedBinSlot(trajectory.type[i]);
+    if (b < 0) continue;
     const float* p = trajectory.position(frame, i);
-    const int b = bin - 51;
     sx[b] += p[0];
     sy[b] += p[1];
     sz[b] += p[2];

@@ -44,6 +44,15 @@ TEST(Midline, BinsFollowSiberneticsSubTypeCodes) {
   EXPECT_EQ(MidlineBin(1.1f), 0);
 }
 
+TEST(Midline, PrintedSlotsAreBins51To149) {
+  EXPECT_EQ(PrintedBinSlot(2.1050f), 0);   // bin 51
+  EXPECT_EQ(PrintedBinSlot(2.1051f), 1);   // bin 52
+  EXPECT_EQ(PrintedBinSlot(2.1148f), 98);  // bin 149
+  EXPECT_EQ(PrintedBinSlot(2.1149f), -1);  // bin 150: summed by Sibernetic, never printed
+  EXPECT_EQ(PrintedBinSlot(2.1049f), -1);  // bin 50
+  EXPECT_EQ(PrintedBinSlot(1.1f), -1);     // liquid
+}
+
 TEST(Midline, LineLayoutIsSiberneticsWithAxisSwap) {
   Midline m;
   m.x_mm[0] = 1.f;

@@ -21,7 +21,8 @@
 
 namespace owval::kinematics {
 
-constexpr int kMidlineBins = 99;  // Sibernetic's bins 51..149
+constexpr int kFirstMidlineBin = 51;  // Sibernetic prints its bins 51..149 only
+constexpr int kMidlineBins = 99;      // bins 51..149
 // Sibernetic's compile-time float simulationScale (metres per configuration unit) for its
 // constant particle mass 2e-12 kg: 0.0037 * mass^(1/3) / 0.00025^(1/3).
 constexpr float kSiberneticSimulationScale = 7.39999905e-06f;
@@ -35,6 +36,11 @@ struct Midline {
 // Midline bin (1-based, as Sibernetic) of a type code, or 0 when the particle is no midline
 // particle.
 int MidlineBin(float type_code);
+// The printed bin's slot 0..98 of a type code (bin 51 -> 0), or -1 when its bin is not printed.
+inline int PrintedBinSlot(float type_code) {
+  const int slot = MidlineBin(type_code) - kFirstMidlineBin;
+  return slot >= 0 && slot < kMidlineBins ? slot : -1;
+}
 
 // The message of the InputError thrown where a worm is needed and IsWorm is false.
 inline constexpr const char* kNotAWorm =
