@@ -102,6 +102,11 @@ const ConstantInfo kTable[] = {
      "XPBD: 1 keeps a pair of moving particles in the neighbour lists only when each lists the "
      "other (equal and opposite pair terms); 0 Sibernetic's capped lists as searched",
      R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.reciprocal_lists)},
+    {"xpbd_body_push_only", nullptr, "1",
+     "XPBD: 1 in a pair of a liquid and an elastic particle, the elastic particle's density "
+     "multiplier only pushes (an under-dense body does not pull the liquid in, as PCISPH's "
+     "clamped pressure); 0 both directions",
+     R::kSwitch, "xpbd", OWVAL_FIELD(xpbd.body_push_only)},
     {"xpbd_tensile_correction", nullptr, "1",
      "XPBD: k of position-based fluids' artificial pressure s_corr = -k (W(r)/W(dq))^n in the "
      "density correction (Macklin & Mueller 2013 eq. 13; paper 0.1), in units of h^2; 0 off",

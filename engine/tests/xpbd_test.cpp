@@ -428,6 +428,50 @@ int OneSidedPairs(const ParticleState& s) {
   return one_sided;
 }
 
+// An elastic particle (0) and a liquid one (1) 1.5 cu apart, nothing else, one density projection
+// from rest; returns particle 0's x after it, and 1's in `x1`.
+double LiquidBodyPairX(int body_push_only, double* x1) {
+  PhysicsConstants k = OneDensityProjection();
+  SetConstant(&k, "xpbd_body_push_only", body_push_only);
+  SiberneticConfig pair = LiquidPair();
+  pair.position[0][3] = 2.1f;  // elastic rows come first, with 32 connection rows each
+  pair.connection.assign(32, {-1, 0, 0, 0});
+  pair.particle_mem_index.assign(7, -1);
+  Xpbd<double> solver(pair, k, 1);
+  solver.Step();
+  solver.Step();
+  *x1 = solver.exact_positions()[1][0];
+  return solver.exact_positions()[0][0];
+}
+
+TEST(XpbdSolver, BodyPushOnlyDropsAnUnderDenseElasticParticlesPullOnTheLiquid) {
+  // Both constraints are the hand-computed pair's (C < 0, Δλ_0 = Δλ_1 = Δλ > 0). Both
+  // directions: each particle moves (Δλ_0 + Δλ_1)·g toward the other. Push-only body: the
+  // elastic particle's Δλ_0 > 0 counts in neither sum, so each moves Δλ_1·g, half as far, and
+  // the pair stays equal and opposite.
+  const PhysicsConstants k = OneDensityProjection();
+  const double h = float(k.h_cu), s = float(k.simulation_scale), r = 1.5;
+  const double v0 = k.mass_kg / (1000 * s * s * s);
+  const double w = Wpoly6Coefficient(h) * (std::pow(h * h, 3) + std::pow(h * h - r * r, 3));
+  const double g = v0 * SpikyGradientCoefficient(h) * (h - r) * (h - r);
+  const double dlambda = -(v0 * w - 1) / (2 * g * g);
+  ASSERT_GT(dlambda, 0) << "the pair must be under-dense for the test to mean anything";
+  double x1_off = 0, x1_on = 0;
+  const double x0_off = LiquidBodyPairX(0, &x1_off), x0_on = LiquidBodyPairX(1, &x1_on);
+  EXPECT_NEAR(x0_off, 50 - 2 * dlambda * g, 1e-9);
+  EXPECT_NEAR(x0_on, 50 - dlambda * g, 1e-9);
+  EXPECT_NEAR(x1_on, 51.5 + dlambda * g, 1e-9);
+  EXPECT_GT(x0_on - 50, 1e-3) << "a test that can fail: the pull is not rounding";
+  PhysicsConstants defaults;
+  EXPECT_EQ(defaults.xpbd.body_push_only, 0) << "off by default";
+  Xpbd<double> off(AnchoredParticle(0.5f), defaults, 1);
+  EXPECT_EQ(off.parameters().find("body_push_only"), std::string::npos) << "string unchanged";
+  SetConstant(&defaults, "xpbd_body_push_only", 1);
+  Xpbd<double> on(AnchoredParticle(0.5f), defaults, 1);
+  EXPECT_NE(on.parameters().find("body_push_only = 1"), std::string::npos);
+  EXPECT_THROW(SetConstant(&defaults, "xpbd_body_push_only", 2), InputError);
+}
+
 TEST(XpbdSolver, ReciprocalListsLeaveNoOneSidedPair) {
   PhysicsConstants k;
   Xpbd<float> sibernetic_lists(DenseLiquidBlock(), k, 1);

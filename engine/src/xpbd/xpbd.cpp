@@ -500,7 +500,8 @@ template <typename T>
 void Xpbd<T>::ProjectDensity(T dt) {
   const T alpha_tilde = T(density_compliance_) / (dt * dt);
   if constexpr (std::is_same_v<T, float>) {
-    if (bond_lanes_) return ProjectDensityInLanes(alpha_tilde);  // the CPU has the 8 lanes
+    // The lanes do not know the particles' kinds: the push-only body pairs take the scalar loops.
+    if (bond_lanes_ && !parameters_.body_push_only) return ProjectDensityInLanes(alpha_tilde);
   }
   const std::vector<std::int32_t>& moving = state_.moving;
   slot_gradient_.resize(moving.size() * kSlots);
@@ -539,7 +540,7 @@ void Xpbd<T>::ProjectDensity(T dt) {
     Vec3<T> dp{0, 0, 0};
     for (int m = 0; m < kSlots && slots[m].index >= 0; ++m) {
       const std::int32_t j = slots[m].index;
-      const T lambda = density_dlambda_[i] + (moving_[j] ? density_dlambda_[j] : T(0));
+      const T lambda = PairMultiplier(i, j);
       for (int a = 0; a < 3; ++a) dp[a] += lambda * gradient[m][a];
     }
     if (tensile_.on())
@@ -548,6 +549,24 @@ void Xpbd<T>::ProjectDensity(T dt) {
   }
   for (std::int32_t i : moving)
     for (int a = 0; a < 3; ++a) p_[i][a] += dp_[i][a];
+}
+
+// The pair's Δλ_i + Δλ_j in Δp_i = Σ_j (Δλ_i + Δλ_j)·V0∇W (a fixed j counts only i's share).
+// With xpbd_body_push_only, in a pair of a liquid and an elastic particle the elastic one's Δλ
+// counts only when it pushes (≤ 0), in both particles' sums, so the pair stays equal and
+// opposite: demo1's elastic layer is under-dense (78% of its particle-steps, C < 0 from the
+// missing neighbours outside) and its two-sided constraint pulled the liquid into the
+// membranes (docs/xpbd.md, item 10). The liquid's own constraint keeps both directions.
+template <typename T>
+T Xpbd<T>::PairMultiplier(std::int32_t i, std::int32_t j) const {
+  if (!moving_[j]) return density_dlambda_[i];
+  T own = density_dlambda_[i], other = density_dlambda_[j];
+  if (parameters_.body_push_only) {
+    const float type_i = state_.position[i].w, type_j = state_.position[j].w;
+    if (IsLiquid(type_i) && IsElastic(type_j)) other = std::min(other, T(0));
+    if (IsElastic(type_i) && IsLiquid(type_j)) own = std::min(own, T(0));
+  }
+  return own + other;
 }
 
 // Δλ_i from the constraint's sum w = W(0) + Σ_j W and norm2 = Σ_k |∇_k C_i|².
@@ -887,6 +906,7 @@ std::string Xpbd<T>::parameters() const {
   if (tensile_.on())
     s << " (n = " << parameters_.tensile_exponent << ", dq = " << parameters_.tensile_distance_h
       << " h)";
+  if (parameters_.body_push_only) s << ", body_push_only = 1";  // off: the string as before
   s << ", scalar = " << (sizeof(T) == 4 ? "float" : "double");
   return s.str();
 }

@@ -7,8 +7,10 @@
 //   → n substeps of h = dt/n [M19], each:
 //       predict p = x + h·v*/s with v* = v + h·a
 //       → K × {density constraints (both directions; xpbd_tensile_correction adds [MM13]'s
-//              artificial pressure s_corr, eqs. 13-14), bonds (one-sided distance constraints, as
-//              Sibernetic's springs act only on their own row's particle), walls [IAGT10], box}
+//              artificial pressure s_corr, eqs. 13-14; xpbd_body_push_only keeps an elastic
+//              particle's multiplier from pulling its liquid neighbours), bonds (one-sided
+//              distance constraints, as Sibernetic's springs act only on their own row's
+//              particle), walls [IAGT10], box}
 //       → v = (p − x)·s/h, wall contacts' velocity (restitution, friction), floor restitution
 //   → the shared membrane pass (xpbd_membranes = 0, the default), or, with xpbd_membranes = 1,
 //     a membrane constraint in every projection pass instead: each liquid particle near a
@@ -129,6 +131,7 @@ class Xpbd final : public Solver {
   void ProjectDensity(T h);
   void ProjectDensityInLanes(T alpha_tilde);
   void UpdateDensityLambda(std::int32_t i, T w, T norm2, T alpha_tilde);
+  T PairMultiplier(std::int32_t i, std::int32_t j) const;
   T StiffnessOf(const Bond& bond) const;
   void ProjectBonds(T h);
   void BondComplianceOf(T h);

@@ -106,6 +106,8 @@ struct PhysicsConstants {
                                // 1: a liquid–triangle contact constraint in the projection passes
     int reciprocal_lists = 0;  // 1: keep a moving pair in the neighbour lists only when each
                                // particle lists the other (docs/xpbd.md); 0: Sibernetic's lists
+    int body_push_only = 0;    // 1: in a liquid–elastic pair the elastic particle's density
+                               // multiplier only pushes (docs/xpbd.md, item 10); 0: both ways
     // [MM13]'s artificial pressure s_corr = -k (W(r)/W(|dq|))^n in the density correction
     // (docs/xpbd.md): k (added to the pair's multipliers in units of h^2; 0: off), n, |dq|/h.
     double tensile_correction = 0;
