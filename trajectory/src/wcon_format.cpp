@@ -235,16 +235,9 @@ struct WconReader {
     return out;
   }
 
-  // A coordinate in mm as the track stores it (x, y as floats, cx, cy as doubles): 1e308 mm, or
-  // 1e38 m, became infinite and the kinematics printed an infinite body length and NaN speeds.
   template <typename Stored>
   Stored Millimetres(double value_mm, const std::string& field) const {
-    // Compared before the cast: a double beyond a float's range does not convert (undefined).
-    if (!(std::fabs(value_mm) <= double(std::numeric_limits<Stored>::max())))
-      Fail(field + ": " + FormatNumber(value_mm) +
-           " mm is out of range: expected a coordinate below " +
-           FormatNumber(std::numeric_limits<Stored>::max(), 2) + " mm");
-    return static_cast<Stored>(value_mm);
+    return WconMillimetres<Stored>(value_mm, name, field);
   }
 
   // One record's time points appended to the track.

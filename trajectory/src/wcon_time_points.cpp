@@ -246,14 +246,9 @@ struct WconTimePoints::Parsed : json::json_sax_t {
     for (Spool& s : spools) s.Rewind();
   }
 
-  // A coordinate in mm as ReadWcon stores it (x, y floats, cx, cy doubles), range-checked.
   template <typename Stored>
   Stored Millimetres(double value_mm, const std::string& field) const {
-    if (!(std::fabs(value_mm) <= double(std::numeric_limits<Stored>::max())))
-      Fail(field + ": " + FormatNumber(value_mm) +
-           " mm is out of range: expected a coordinate below " +
-           FormatNumber(std::numeric_limits<Stored>::max(), 2) + " mm");
-    return static_cast<Stored>(value_mm);
+    return WconMillimetres<Stored>(value_mm, name, field);
   }
 
   std::vector<double> Row(Array a) {
