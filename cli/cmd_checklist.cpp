@@ -52,6 +52,17 @@ void SetUp(CLI::App& app) {
       ->check(GivenName());
   cmd->add_option("--git-range", r.git_range,
                   "BASE..HEAD: check that prediction.json was committed before the trajectories");
+  cmd->add_option("--fit-backend", r.fit_backend,
+                  "Item 6: rerun a fit of a named backend through this entry of YOUR registry "
+                  "(--backends), never the command the history records")
+      ->check(GivenName());
+  cmd->add_option("--backends", r.backends_file,
+                  "Backends file of --fit-backend (else ./owval-backends.json, else "
+                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md")
+      ->check(GivenName());
+  cmd->add_option("--fit-rerun-tolerance", r.fit_rerun_tolerance,
+                  "Item 6: relative tolerance of the rerun's residuals and loss (default 1e-9)")
+      ->check(Positive());
   AddMarkdownOut(cmd, &r.markdown, "the comment");
   AddJsonFlag(cmd, &args->json, "the checklist");
   cmd->callback([args] { RunChecklistCommand(*args); });

@@ -65,6 +65,14 @@ void SetUp(CLI::App& app) {
       ->check(CLI::IsMember({"lm", "dogleg", "gd", "lbfgs", "adam"}));
   cmd->add_option("--command", a->request.command,
                   "External simulator: {param} placeholders, {out} dir, {out_file}");
+  cmd->add_option("--fit-backend", a->request.fit_backend,
+                  "Fit this named command backend instead (--backends; each parameter as "
+                  "{set:NAME}): owval checklist --fit-backend can rerun it, a --command fit not")
+      ->check(GivenName());
+  cmd->add_option("--backends", a->request.backends_file,
+                  "Backends file of --fit-backend (else ./owval-backends.json, else "
+                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md")
+      ->check(GivenName());
   cmd->add_option("--threshold", a->request.threshold,
                   "Stop when the loss is below this (default 1e-4)")
       ->check(NonNegative());

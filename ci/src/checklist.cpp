@@ -453,19 +453,26 @@ std::string ConfigurationAgainstExpected(const Evidence& e) {
   return "";
 }
 
-// Residuals that agree: the engine is deterministic on one thread and the rerun goes through
-// the fit's own simulator and loss, so the numbers are the same to the last bit; 1e-9 relative
-// (absolute below 1e-12) only absorbs a decimal rendering of the history, which JSON's
-// shortest round-trip form does not even need.
-bool SameResiduals(const nlohmann::json& recorded, const std::vector<double>& rerun) {
+// Residuals that agree within the caller's relative tolerance (absolute 1e-12 near 0). The
+// engine is deterministic on one thread and the rerun goes through the fit's own simulator and
+// loss, so its numbers are the same to the last bit and the default 1e-9 only absorbs a decimal
+// rendering of the history, which JSON's shortest round-trip form does not even need; a port on
+// another substrate need not reproduce its own runs to the last bit (--fit-rerun-tolerance).
+bool SameResiduals(const nlohmann::json& recorded, const std::vector<double>& rerun,
+                   double relative_tolerance) {
   if (!recorded.is_array() || recorded.size() != rerun.size()) return false;
   for (std::size_t i = 0; i < rerun.size(); ++i) {
     const double a = recorded[i].is_number() ? recorded[i].get<double>() : NAN;
     if (!(std::abs(a - rerun[i]) <=
-          std::max(1e-12, 1e-9 * std::max(std::abs(a), std::abs(rerun[i])))))
+          std::max(1e-12, relative_tolerance * std::max(std::abs(a), std::abs(rerun[i])))))
       return false;
   }
   return true;
+}
+
+bool SameLoss(double rerun, double claimed, double relative_tolerance) {
+  return std::abs(rerun - claimed) <=
+         relative_tolerance * std::max({1e-300, std::abs(rerun), std::abs(claimed)});
 }
 
 bool IsModelFit(const nlohmann::json& h) {
@@ -579,8 +586,12 @@ double LossWithWeightsOfAtLeastOne(const nlohmann::json& targets,
 std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
   const nlohmann::json& targets = h.contains("targets") ? h["targets"] : nlohmann::json();
   std::shared_ptr<const TrackedSeries> reference;
-  const bool engine_fit = h.contains("simulation") && h["simulation"].is_object() &&
-                          h["simulation"].value("kind", "") == "engine";
+  const std::string kind = h.contains("simulation") && h["simulation"].is_object()
+                               ? h["simulation"].value("kind", "")
+                               : "";
+  // Runs scored by targets (the engine's, or a named backend's): the targets, run length and
+  // weights are held to the directory's reference and the caller's threshold.
+  const bool engine_fit = kind == "engine" || kind == "backend";
   if (engine_fit) {
     const std::string moved = TargetsAgainstReference(e, targets, &reference);
     if (!moved.empty()) return moved;
@@ -595,6 +606,7 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   sgd::FitRerunOptions options;
   options.rms_reference = reference;
   options.loss_reference = e.reference.get();  // held to the record's hash above
+  if (e.options.fit_backend) options.backend = &*e.options.fit_backend;  // the caller's entry
   options.on_step = [&](std::size_t done, std::size_t total) {
     progress.Update(done, std::to_string(done) + "/" + std::to_string(total) + " steps");
   };
@@ -603,11 +615,13 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   if (!rerun.not_verified.empty()) return "not verified: " + rerun.not_verified;
   const nlohmann::json& best = rerun.best_iteration;
   const double claimed = NumberOr(best, "loss");
+  const double tolerance = e.options.fit_rerun_tolerance;
   *rerun_detail = "rerun at the best parameters (" + rerun.simulated + "): loss " +
-                  FormatNumber(rerun.loss, 6) + ", history says " + FormatNumber(claimed, 6);
-  if (!SameNumber(rerun.loss, claimed) ||
+                  FormatNumber(rerun.loss, 6) + ", history says " + FormatNumber(claimed, 6) +
+                  " (tolerance " + FormatNumber(tolerance, 3) + " relative)";
+  if (!SameLoss(rerun.loss, claimed, tolerance) ||
       !SameResiduals(best.contains("residuals") ? best["residuals"] : nlohmann::json(),
-                     rerun.residuals))
+                     rerun.residuals, tolerance))
     return "the rerun does not reproduce the best iteration's residuals";
   if (!engine_fit) return "";
   std::string raised;

@@ -1,11 +1,35 @@
 #include "owval/pipeline/checklist_request.hpp"
 
+#include <algorithm>
+
+#include "owval/backends/registry.hpp"
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/pipeline/pipeline.hpp"
 #include "owval/scenarios/scenario.hpp"
 
 namespace owval::pipeline {
+namespace {
+
+// The caller's registry entry for item 6's rerun. The registry file must not lie inside the
+// directory under review: its commands would be the pull request's (docs/checklist.md, item 6).
+backends::Backend CallerFitBackend(const ChecklistRequest& r) {
+  const backends::RegistryOptions where = backends::RegistryOptionsFromEnvironment(r.backends_file);
+  const std::filesystem::path file = backends::RegistryFile(where);
+  if (!file.empty()) {
+    const std::filesystem::path dir = std::filesystem::weakly_canonical(r.directory),
+                                registry = std::filesystem::weakly_canonical(file);
+    const auto [d, f] = std::mismatch(dir.begin(), dir.end(), registry.begin(), registry.end());
+    if (d == dir.end())
+      throw InputError(file.string(), 0,
+                       "--fit-backend: the backends file lies inside the directory under review; "
+                       "give the reviewer's own with --backends FILE");
+  }
+  return backends::LoadRegistry(where).Find(r.fit_backend);
+}
+
+}  // namespace
 
 ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
   ci::ChecklistOptions options;
@@ -14,6 +38,8 @@ ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
   options.gates = parity.gates;
   if (!r.scenario.empty() || !r.manifest.empty()) options.track = parity.track;
   options.git_range = r.git_range;
+  options.fit_rerun_tolerance = r.fit_rerun_tolerance;
+  if (!r.fit_backend.empty()) options.fit_backend = CallerFitBackend(r);
   if (!r.markdown.empty()) {
     CheckOutputPath(r.markdown);
     std::vector<std::filesystem::path> inputs = ci::EvidenceFiles(r.directory);

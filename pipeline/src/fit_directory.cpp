@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "owval/backends/registry.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/reports/pipeline_report.hpp"
+#include "owval/sgd/backend_simulator.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/fit_record.hpp"
@@ -118,6 +120,31 @@ void GradientFit(const FitRequest& r, const engine::SiberneticConfig& config,
                    " simulation-equivalents";
 }
 
+// The caller's registry entry named by --fit-backend (InputError: unknown name, no file).
+backends::Backend FitBackendOf(const FitRequest& r) {
+  const backends::Registry registry =
+      backends::LoadRegistry(backends::RegistryOptionsFromEnvironment(r.backends_file));
+  return registry.Find(r.fit_backend);
+}
+
+// A named backend's evaluations read the configuration the history records, written before
+// the first one (and removed again when the fit fails, as the other kinds leave none).
+sgd::Simulator BackendSimulatorRecorded(const FitRequest& r, const engine::SiberneticConfig& config,
+                                        const std::vector<sgd::Parameter>& parameters,
+                                        nlohmann::json* record) {
+  backends::Backend backend = FitBackendOf(r);
+  std::vector<std::string> names;
+  for (const sgd::Parameter& p : parameters) names.push_back(p.name);
+  sgd::CheckFittableBackend(backend, names);
+  sgd::BackendRun run;
+  run.configuration = fs::path(r.out) / sgd::kFitConfigurationFile;
+  run.duration_s = r.time_s;
+  run.time_step_s = engine::PhysicsConstants{}.time_step_s;
+  run.log_step = r.log_step;
+  *record = sgd::BackendSimulationJson(backend, run, sgd::RecordConfiguration(config, r.out));
+  return sgd::BackendSimulator(std::move(backend), run, parameters);
+}
+
 void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* config,
                          const std::function<bool()>& cancelled, FitDirectorySummary* summary) {
   if (r.targets.empty()) throw InputError("fit: at least one --target is required");
@@ -131,12 +158,16 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   run.duration_s = r.time_s;
   run.log_step = r.log_step;
   run.backend = r.backend;
+  nlohmann::json backend_record;
   SimulationRecord simulation([&]() -> nlohmann::json {
     if (!r.command.empty()) return {{"kind", "command"}, {"command", r.command}};  // not rerun
+    if (!r.fit_backend.empty()) return backend_record;
     return sgd::EngineSimulationJson(run, sgd::RecordConfiguration(*config, out));
   });
   if (!r.command.empty())
     simulator = sgd::CommandSimulator(r.command, parameters, out / "evaluations");
+  else if (!r.fit_backend.empty())
+    simulator = BackendSimulatorRecorded(r, *config, parameters, &backend_record);
   else
     simulator = sgd::EngineSimulator(*config, run, parameters);
   sgd::FitOptions options;
@@ -152,7 +183,14 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   };
   options.cancelled = cancelled;
   sgd::FitSummary fit;
-  sgd::Fit(options, parameters, sgd::MakeObjective(simulator, r.track, targets), &fit);
+  try {
+    sgd::Fit(options, parameters, sgd::MakeObjective(simulator, r.track, targets), &fit);
+  } catch (...) {
+    std::error_code ec;  // a fit refused before its first history leaves no configuration
+    if (!r.fit_backend.empty() && !fs::exists(out / "history.json", ec))
+      fs::remove(out / sgd::kFitConfigurationFile, ec);
+    throw;
+  }
   const nlohmann::json history =
       simulation.With(sgd::ToJson(options, parameters, fit, targets_json));
   WriteResults(out, history, reports::ConvergencePlot(fit));
@@ -167,6 +205,10 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
                       FitDirectorySummary* summary) {
   CheckOutputDirectory(request.out);  // before any simulation: "/proc/x", a file, no permission
   MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made
+  if (!request.fit_backend.empty() && !request.command.empty())
+    throw InputError("fit: --fit-backend and --command are two simulators; give one");
+  if (!request.fit_backend.empty() && request.gradient != "fd")
+    throw InputError("fit --gradient " + request.gradient + ": takes no --fit-backend");
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
   } else {

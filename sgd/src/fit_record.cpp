@@ -12,6 +12,7 @@
 #include "owval/base/input_file.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/gradient.hpp"
+#include "owval/sgd/backend_simulator.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
@@ -209,6 +210,49 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
   return r;
 }
 
+// A fit of a named backend, rerun through the caller's entry (options.backend) with the recorded
+// configuration (held to its hash), time span, time step and log step.
+FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& simulation,
+                         const fs::path& fit_dir, const FitRerunOptions& options) {
+  if (!options.backend)
+    throw NotVerified{"a fit of backend '" + simulation.value("name", std::string("?")) +
+                      "' is rerun only through the reviewer's own registry entry "
+                      "(--fit-backend NAME), never the command the history records"};
+  RecordedConfiguration(simulation, fit_dir);  // the file, held to its hash
+  BackendRun run;
+  run.configuration =
+      fit_dir / StringMember(simulation["configuration"], "file", "simulation.configuration");
+  run.duration_s = NumberMember(simulation, "duration_s", "simulation");
+  if (!(run.duration_s > 0)) throw NotVerified{"simulation.duration_s is not positive"};
+  run.time_step_s = NumberMember(simulation, "time_step_s", "simulation");
+  if (run.time_step_s != engine::PhysicsConstants{}.time_step_s)
+    throw NotVerified{"simulation.time_step_s " + FormatNumber(run.time_step_s, 6) +
+                      " is not Sibernetic's " +
+                      FormatNumber(engine::PhysicsConstants{}.time_step_s, 6) + " s"};
+  const double log_step = NumberMember(simulation, "log_step", "simulation");
+  if (!(log_step >= 1 && log_step == std::floor(log_step) && log_step < 1e9))
+    throw NotVerified{"simulation.log_step is not a whole number of steps"};
+  run.log_step = int(log_step);
+  std::vector<double> values;
+  const nlohmann::json& best = BestIteration(history);
+  const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
+  Track track;
+  const std::vector<Target> targets = RecordedTargets(history, options, &track);
+  std::vector<std::string> names;
+  for (const Parameter& p : parameters) names.push_back(p.name);
+  CheckFittableBackend(*options.backend, names);  // InputError: not verified, with the reason
+  FitRerun r;
+  r.best_iteration = best;
+  r.residuals = ScaledResiduals(
+      RunBackendTrackedSeries(*options.backend, run, names, values, track), track, targets);
+  for (double v : r.residuals) r.loss += v * v;
+  r.simulated = "backend " + options.backend->name + " of the caller's " +
+                options.backend->defined_in + ", " + FormatNumber(run.duration_s) +
+                " s, log step " + std::to_string(run.log_step) + ", " +
+                run.configuration.filename().string();
+  return r;
+}
+
 FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simulation,
                        const fs::path& fit_dir, const FitRerunOptions& options) {
   const engine::SiberneticConfig config = RecordedConfiguration(simulation, fit_dir);
@@ -321,9 +365,11 @@ FitRerun RerunBestIterate(const nlohmann::json& history, const fs::path& fit_dir
     const std::string kind = StringMember(simulation, "kind", "simulation");
     if (kind == "engine") return RerunEngineFit(history, simulation, fit_dir, options);
     if (kind == "xpbd_model") return RerunModelFit(history, simulation, fit_dir, options);
+    if (kind == "backend") return RerunBackendFit(history, simulation, fit_dir, options);
     throw NotVerified{"simulation.kind '" + kind +
-                      "' cannot be rerun by owval (an external command's runs are not "
-                      "reproducible here)"};
+                      "' cannot be rerun by owval (an external --command fit records a template of "
+                      "the pull request's choosing; fit a named backend, --fit-backend NAME, "
+                      "to have it rerun through the reviewer's own entry)"};
   } catch (const NotVerified& e) {
     return {e.why, {}, 0, "", {}};
   } catch (const std::exception& e) {  // InputError, SimulationError: the record does not run

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "owval/backends/registry.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/predict/prediction.hpp"
@@ -49,6 +50,15 @@ struct ChecklistOptions {
   // Item 6: the fit's best loss must be below this, whatever the history's own loss_threshold
   // says (a pull request cannot loosen its fit's convergence either). DD001's default.
   double fit_loss_threshold = 1e-4;
+  // Item 6, a fit of a named backend (history kind "backend"): the registry entry the caller
+  // names (--backends FILE --fit-backend NAME) its best iterate is rerun through, never the
+  // command the history records (that would run the pull request's program on the reviewer's
+  // machine). Empty: such a fit is "not verified".
+  std::optional<backends::Backend> fit_backend;
+  // Item 6: the rerun's residuals and loss must equal the best iteration's within this relative
+  // tolerance (1e-12 absolute near 0). The engine reproduces its runs to the last bit; a port on
+  // another substrate may need more, which the caller states (reported in the detail).
+  double fit_rerun_tolerance = 1e-9;
   // "BASE..HEAD": item 1 checks in this range of the git history that prediction.json was
   // committed no later than the first trajectory. Empty: the order is reported as not checked.
   std::string git_range;

@@ -17,6 +17,11 @@ struct ChecklistRequest {
   std::string reference;  // or a trajectory the directory's reference must be
   std::string git_range;  // BASE..HEAD: prediction.json committed before the trajectories
   std::string markdown;   // also write the Markdown comment here ("": no)
+  // Item 6's rerun of a fit of a named backend: the caller's registry entry `fit_backend` of
+  // `backends_file` (else ./owval-backends.json, else the XDG file; never a file inside the
+  // directory under review), and the relative tolerance of the rerun's residuals.
+  std::string backends_file, fit_backend;
+  double fit_rerun_tolerance = 1e-9;
   std::filesystem::path data_dir;
 };
 

@@ -36,8 +36,13 @@ struct FitRequest {
   int log_step = 1;
   std::string solver = "lm";  // fd: lm | dogleg | gd; analytic: lbfgs (also "lm") | adam
   std::string command;        // fd: an external simulator instead of the engine
-  std::string out;            // output directory
-  double threshold = 1e-4;    // stop when the loss is below
+  // fd: a named backend's command instead (docs/fit_history.md, kind "backend"): the registry
+  // entry `fit_backend` of `backends_file` (else ./owval-backends.json, else the XDG file), run
+  // with the configuration, time and log step, each parameter as {set:NAME}. The PR checklist
+  // can rerun such a fit through the reviewer's own entry; a --command fit it cannot.
+  std::string backends_file, fit_backend;
+  std::string out;          // output directory
+  double threshold = 1e-4;  // stop when the loss is below
   int max_iterations = 20;
   double learning_rate = 0.5;
   int patience = 10;  // --solver adam: iterations without a 0.1% better loss before it stops

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "owval/backends/registry.hpp"
 #include "owval/engine/config.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/trajectory/frame_source.hpp"
@@ -80,12 +81,17 @@ struct FitRerunOptions {
   // directory's reference, which the caller has held to the record's FNV-1a 64 (the checklist
   // hashes it once), never the path the history names. Null: such a fit is not verified.
   FrameSource* loss_reference = nullptr;
+  // The registry entry a fit of a named backend ("backend") is rerun through: the caller's own
+  // (owval checklist --fit-backend NAME), never the template the history records. Null: such a
+  // fit is not verified.
+  const backends::Backend* backend = nullptr;
   // Called with (steps done, total steps) during the engine run; may be empty.
   std::function<void(std::size_t, std::size_t)> on_step;
 };
 
 // Reruns `history`'s best iterate (final.parameters) once with its recorded simulation, through
-// the fit's own simulator and loss (EngineSimulator's run options and ScaledResiduals, or the
+// the fit's own simulator and loss (EngineSimulator's run options and ScaledResiduals, the
+// caller's backend entry with the recorded configuration and run and ScaledResiduals, or the
 // gradient fit's model loss). `fit_dir` holds history.json and the configuration file.
 FitRerun RerunBestIterate(const nlohmann::json& history, const std::filesystem::path& fit_dir,
                           const FitRerunOptions& options);
