@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/file.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -577,6 +578,202 @@ TEST_F(Checklist, AStaleParityFileCannotMakeAFailingCandidateReady) {
   const auto j = Judge(d, 1);  // parity.json from the ready run still says pass
   EXPECT_EQ(j["verdict"], "not ready");
   EXPECT_NE(j["parity_note"].get<std::string>().find("stale"), std::string::npos);
+}
+
+// Item 6 for fits of an external program (docs/checklist.md): `owval fit --fit-backend NAME`
+// runs a registry entry's command, and the checklist reruns its best iterate only through the
+// entry the caller names. The program here is owval itself, run as a process through the
+// registry ({set:elasticity_coefficient}), as a port's would be: "mine" as fitted, "other" the
+// same with gravity 9.0 m/s^2 instead of 9.8 (a program whose output differs).
+class BackendFit : public Checklist {
+ protected:
+  // The caller's registry: both entries, in the test's own folder (never inside the directory
+  // under review).
+  static fs::path Registry(const fs::path& dir) {
+    const std::string run = std::string(OWVAL_EXE) +
+                            " --quiet run {config} --time {time} --log-step {log_step} "
+                            "--no-fields --threads 1 "
+                            "--set elasticity_coefficient={set:elasticity_coefficient}";
+    fs::create_directories(dir);
+    Write(dir / "backends.json",
+          nlohmann::json{{"backends",
+                          {{"mine", {{"command", run + " --out {out}"}}},
+                           {"other", {{"command", run + " --set gravity_y=-9.0 --out {out}"}}}}}}
+              .dump(2));
+    return dir / "backends.json";
+  }
+
+  // The ready directory's fit made again through "mine": one_sprig for 0.02 s (within the
+  // reference's 0.05 s), the ready fit's targets, made once per build under a file lock as
+  // Ready() is (its own lock: flock would wait on the one Ready() holds).
+  static fs::path Fitted() {
+    const fs::path ready = Ready();
+    const auto stamp = fs::last_write_time(OWVAL_EXE).time_since_epoch().count();
+    const fs::path cache = fs::path(OWVAL_EXE).parent_path() / "test_cache";
+    const fs::path d = cache / ("checklist_backend_fit_" + std::to_string(stamp));
+    const int lock = ::open((cache / "checklist_backend_fit.lock").c_str(), O_CREAT | O_RDWR, 0600);
+    ::flock(lock, LOCK_EX);
+    if (!fs::exists(d / "complete")) {
+      for (const fs::directory_entry& e : fs::directory_iterator(cache))
+        if (e.path().filename().string().rfind("checklist_backend_fit_", 0) == 0) fs::remove_all(e);
+      std::string targets;
+      const nlohmann::json history = nlohmann::json::parse(Slurp(ready / "fit/history.json"));
+      for (const auto& t : history["targets"])
+        targets += " --target " + t["metric"].get<std::string>() + "=" + t["value"].dump() +
+                   ":scale=" + t["scale"].dump() + ":weight=" + t["weight"].dump();
+      const Result r = Owval("fit " + (ready / "fit/configuration.txt").string() + " --backends " +
+                             Registry(d).string() +
+                             " --fit-backend mine --param elasticity_coefficient=1.62e8:log "
+                             "--time 0.02 -o " +
+                             (d / "fit").string() + targets);
+      EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+      if (r.exit_code == 0) std::ofstream(d / "complete") << "made by checklist_test\n";
+    }
+    ::flock(lock, LOCK_UN);
+    ::close(lock);
+    return d / "fit";
+  }
+
+  // A copy of the ready directory whose fit/ is the backend fit's.
+  fs::path CopyWithBackendFit(const std::string& name) {
+    const fs::path d = Copy(name), fit = Fitted();
+    fs::remove_all(d / "fit");
+    fs::copy(fit, d / "fit", fs::copy_options::recursive);
+    return d;
+  }
+
+  // The checklist on d with the caller's registry (in the test's folder) and FLAGS.
+  static nlohmann::json JudgeWith(const fs::path& d, int expected_exit, const std::string& flags) {
+    return Judge(d, expected_exit,
+                 "--backends " + Registry(Scratch() / "caller").string() + " " + flags);
+  }
+
+  static std::string Item6(const nlohmann::json& j) {
+    return j["items"][5]["detail"].get<std::string>();
+  }
+};
+
+TEST_F(BackendFit, TheFitRecordsTheBackendAndConverges) {
+  const nlohmann::json h = nlohmann::json::parse(Slurp(Fitted() / "history.json"));
+  EXPECT_TRUE(h["converged"].get<bool>()) << h["final"].dump();
+  EXPECT_LT(h["final"]["loss"].get<double>(), 1e-4);
+  const nlohmann::json& s = h["simulation"];
+  EXPECT_EQ(s["kind"], "backend");
+  EXPECT_EQ(s["name"], "mine");
+  EXPECT_EQ(s["duration_s"], 0.02);
+  EXPECT_EQ(s["log_step"], 1);
+  EXPECT_EQ(s["time_step_s"], 2e-5);
+  EXPECT_EQ(s["configuration"]["file"], "configuration.txt");
+  EXPECT_TRUE(fs::is_regular_file(Fitted() / "configuration.txt"));
+}
+
+TEST_F(BackendFit, Item6RerunsItThroughTheCallersEntryAndItIsReady) {
+  const fs::path d = CopyWithBackendFit("backend_ready");
+  const auto j = JudgeWith(d, 0, "--fit-backend mine");
+  EXPECT_EQ(j["verdict"], "ready");
+  EXPECT_TRUE(ItemPasses(j, 6)) << Item6(j);
+  EXPECT_NE(Item6(j).find("rerun at the best parameters (backend mine of the caller's"),
+            std::string::npos)
+      << Item6(j);
+  EXPECT_NE(Item6(j).find("(tolerance 1e-09 relative)"), std::string::npos) << Item6(j);
+  EXPECT_NE(Item6(j).find("with no weight below 1"), std::string::npos) << Item6(j);
+}
+
+TEST_F(BackendFit, Item6IsNotVerifiedWithoutTheCallersEntry) {
+  const fs::path d = CopyWithBackendFit("backend_no_entry");
+  const std::string detail = FailedItem6(Judge(d, 1));
+  EXPECT_NE(detail.find("not verified: a fit of backend 'mine' is rerun only through the "
+                        "reviewer's own registry entry"),
+            std::string::npos)
+      << detail;
+}
+
+TEST_F(BackendFit, Item6FailsThroughAProgramWhoseOutputDiffers) {
+  const fs::path d = CopyWithBackendFit("backend_other");
+  const std::string detail = FailedItem6(JudgeWith(d, 1, "--fit-backend other"));
+  EXPECT_NE(detail.find("FAILS: the rerun does not reproduce"), std::string::npos) << detail;
+}
+
+TEST_F(BackendFit, Item6FailsWhenTheBestParametersWereEdited) {
+  const fs::path d = CopyWithBackendFit("backend_parameters");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    nlohmann::json* best = nullptr;
+    for (auto& it : h["iterations"])
+      if (it["parameters"] == h["final"]["parameters"]) best = &it;
+    ASSERT_NE(best, nullptr);
+    const double k = h["final"]["parameters"]["elasticity_coefficient"].get<double>() * 1.01;
+    (*best)["parameters"]["elasticity_coefficient"] = k;
+    h["final"]["parameters"]["elasticity_coefficient"] = k;
+  });
+  const std::string detail = FailedItem6(JudgeWith(d, 1, "--fit-backend mine"));
+  EXPECT_NE(detail.find("FAILS: the rerun does not reproduce"), std::string::npos) << detail;
+}
+
+// One residual moved by 1e-6 and the losses made to agree: self-consistent, and rerun, wrong.
+TEST_F(BackendFit, Item6FailsWhenAResidualWasEdited) {
+  const fs::path d = CopyWithBackendFit("backend_residual");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    for (auto& it : h["iterations"]) {
+      if (it["parameters"] != h["final"]["parameters"]) continue;
+      it["residuals"][0] = it["residuals"][0].get<double>() + 1e-6;
+      double loss = 0;
+      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
+      it["loss"] = loss;
+      h["final"]["loss"] = loss;
+    }
+  });
+  const std::string detail = FailedItem6(JudgeWith(d, 1, "--fit-backend mine"));
+  EXPECT_EQ(detail.find("CONTRADICTED"), std::string::npos) << detail;
+  EXPECT_NE(detail.find("FAILS: the rerun does not reproduce"), std::string::npos) << detail;
+}
+
+TEST_F(BackendFit, Item6IsNotVerifiedWhenTheConfigurationWasSwapped) {
+  const fs::path d = CopyWithBackendFit("backend_configuration");
+  std::ofstream(d / "fit/configuration.txt", std::ios::app) << "\n";
+  const std::string detail = FailedItem6(JudgeWith(d, 1, "--fit-backend mine"));
+  EXPECT_NE(detail.find("not verified: configuration.txt is not the configuration the fit"),
+            std::string::npos)
+      << detail;
+}
+
+TEST_F(BackendFit, ALooserRerunToleranceIsTheCallersAndIsReported) {
+  const fs::path d = CopyWithBackendFit("backend_tolerance");
+  const auto j = JudgeWith(d, 0, "--fit-backend mine --fit-rerun-tolerance 1e-6");
+  EXPECT_TRUE(ItemPasses(j, 6)) << Item6(j);
+  EXPECT_NE(Item6(j).find("(tolerance 1e-06 relative)"), std::string::npos) << Item6(j);
+}
+
+// Bad input: one line, exit 2, no report.
+TEST_F(BackendFit, AnUnknownEntryOrAMissingOrReviewedRegistryIsBadInput) {
+  const fs::path d = CopyWithBackendFit("backend_bad_input");
+  const std::string reference = " --reference " + (Ready() / "reference.h5").string();
+  const fs::path registry = Registry(Scratch() / "caller");
+  for (const std::string& flags :
+       {"--backends " + registry.string() + " --fit-backend nosuch",
+        "--backends " + (Scratch() / "missing.json").string() + " --fit-backend mine",
+        "--backends " + (d / "fit/backends.json").string() + " --fit-backend mine"}) {
+    if (flags.find(d.string()) != std::string::npos)
+      fs::copy_file(registry, d / "fit/backends.json");
+    const Result r = Owval("checklist " + d.string() + reference + " --json " + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.out << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
+TEST_F(BackendFit, TheFitRefusesAnEntryItCannotFitAndLeavesNothing) {
+  const fs::path registry = Registry(Scratch() / "caller"), out = Scratch() / "refused";
+  const std::string config = (Ready() / "fit/configuration.txt").string();
+  for (const std::string& flags :
+       {std::string(" --fit-backend nosuch --param elasticity_coefficient=1.62e8:log"),
+        std::string(" --fit-backend owval --param elasticity_coefficient=1.62e8:log"),
+        std::string(" --fit-backend mine --param gravity_y=-9.8")}) {
+    const Result r = Owval("fit " + config + " --backends " + registry.string() + flags +
+                           " --target period=7.246e-4 -o " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.out << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << flags;
+  }
 }
 
 }  // namespace
