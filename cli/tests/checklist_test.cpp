@@ -736,6 +736,20 @@ TEST_F(BackendFit, Item6IsNotVerifiedWhenTheConfigurationWasSwapped) {
       << detail;
 }
 
+// Its targets are measured on the directory's 0.05 s reference: a claimed 1000 s is another fit,
+// and rerunning it would run the caller's program for as long; refused before any run.
+TEST_F(BackendFit, Item6DoesNotRerunARunLongerThanTheReference) {
+  const fs::path d = CopyWithBackendFit("backend_longer");
+  EditJson(d / "fit/history.json",
+           [](nlohmann::json& h) { h["simulation"]["duration_s"] = 1000.0; });
+  const std::string detail = FailedItem6(JudgeWith(d, 1, "--fit-backend mine"));
+  EXPECT_NE(detail.find("not verified: the fit simulated 1000 s, longer than the directory's "
+                        "reference"),
+            std::string::npos)
+      << detail;
+  EXPECT_EQ(detail.find("rerun at the best parameters"), std::string::npos) << detail;
+}
+
 TEST_F(BackendFit, ALooserRerunToleranceIsTheCallersAndIsReported) {
   const fs::path d = CopyWithBackendFit("backend_tolerance");
   const auto j = JudgeWith(d, 0, "--fit-backend mine --fit-rerun-tolerance 1e-6");
