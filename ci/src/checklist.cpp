@@ -623,7 +623,13 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
       !SameResiduals(best.contains("residuals") ? best["residuals"] : nlohmann::json(),
                      rerun.residuals, tolerance))
     return "the rerun does not reproduce the best iteration's residuals";
-  if (!engine_fit) return "";
+  // The rerun's own loss is judged too: the tolerance is the caller's to loosen, never a way
+  // for a claimed loss the rerun does not reach to pass.
+  if (!engine_fit) {
+    if (rerun.loss < e.options.fit_loss_threshold) return "";
+    return "the rerun's loss " + FormatNumber(rerun.loss, 6) +
+           " is not below the caller's threshold " + FormatNumber(e.options.fit_loss_threshold, 6);
+  }
   std::string raised;
   const double judged = LossWithWeightsOfAtLeastOne(targets, rerun.residuals, &raised);
   *rerun_detail += "; with no weight below 1" +

@@ -22,9 +22,11 @@ namespace fs = std::filesystem;
 
 // Judged with the fit's own loose threshold as the caller's by default (DD001's, 1e-4, is not
 // reached in two iterations of 30 steps).
-ci::ChecklistItem ItemSix(const fs::path& dir, double callers_threshold = 1e3) {
+ci::ChecklistItem ItemSix(const fs::path& dir, double callers_threshold = 1e3,
+                          double rerun_tolerance = 1e-9) {
   ci::ChecklistOptions options;
   options.fit_loss_threshold = callers_threshold;
+  options.fit_rerun_tolerance = rerun_tolerance;
   for (const ci::ChecklistItem& i : ci::RunChecklist(dir, options).items)
     if (i.number == 6) return i;
   throw std::runtime_error("no item 6");
@@ -97,6 +99,27 @@ void EditHistory(const fs::path& dir, const std::function<void(nlohmann::json&)>
   nlohmann::json h = ReadJsonFile(dir / "fit/history.json");
   edit(h);
   std::ofstream(dir / "fit/history.json") << h.dump(2);
+}
+
+// The caller may loosen the rerun's tolerance (a port that does not reproduce its own runs to
+// the last bit), but the rerun's own loss must still be below the caller's threshold: a history
+// scaled down a thousandfold in every residual (its losses recomputed to agree) claimed a loss
+// below it, and with a tolerance of 1e12 the rerun "reproduced" it and item 6 passed.
+TEST(AnalyticFitHistory, ALooseRerunToleranceDoesNotPassALossTheRerunDoesNotReach) {
+  const fs::path dir = AnalyticFitDirectory();
+  const double loss = ReadJsonFile(dir / "fit/history.json")["final"]["loss"].get<double>();
+  ASSERT_GT(loss, 0);
+  EditHistory(dir, [](nlohmann::json& h) {
+    for (auto& it : h["iterations"]) {
+      for (auto& r : it["residuals"]) r = r.get<double>() * 1e-3;
+      it["loss"] = it["loss"].get<double>() * 1e-6;
+    }
+    h["final"]["loss"] = h["final"]["loss"].get<double>() * 1e-6;
+  });
+  const ci::ChecklistItem item = ItemSix(dir, loss * 1e-3, 1e12);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("is not below the caller's threshold"), std::string::npos)
+      << item.detail;
 }
 
 // A loss scale 1000 times the default (1 cu) shrinks every residual a thousandfold: the same fit
