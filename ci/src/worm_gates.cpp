@@ -45,17 +45,38 @@ GateResult ZarrGate(const fs::path& store, FrameSource* candidate) {
   return g;
 }
 
+// A .wcon parsed once (quick-test's readability gate and its side-file gate both read it), or
+// what the reader refused.
+struct ParsedWcon {
+  fs::path path;
+  std::unique_ptr<WconReader> reader;
+  std::string error;
+};
+
+ParsedWcon ParseWcon(const fs::path& path) {
+  ParsedWcon wcon{path, nullptr, ""};
+  try {
+    wcon.reader = std::make_unique<WconReader>(path);
+  } catch (const std::exception& error) {
+    wcon.error = error.what();
+  }
+  return wcon;
+}
+
 // The file against the candidate read frame by frame in step with it (memory: one frame and
-// one time point, whatever the run's length).
-GateResult SideFileGate(const fs::path& file, FrameSource* candidate) {
+// one time point, whatever the run's length). `parsed`: the file's reader when quick-test has
+// parsed it already, else null.
+GateResult SideFileGate(const fs::path& file, FrameSource* candidate, ParsedWcon* parsed) {
   GateResult g{file.filename().string() + " describes the candidate", false, ""};
   try {
     if (!candidate) {
       g.detail = "no readable candidate trajectory to check it against";
       return g;
     }
+    if (parsed && !parsed->reader) throw InputError(parsed->error);
     const kinematics::TrackAgreement a =
-        file.extension() == ".wcon"
+        parsed ? kinematics::CompareWconWithTrajectory(*parsed->reader, *candidate)
+        : file.extension() == ".wcon"
             ? kinematics::CompareWconWithTrajectory(file, *candidate)
             : kinematics::CompareWormMotionLogWithTrajectory(file, *candidate);
     g.pass = a.agrees;
@@ -67,32 +88,31 @@ GateResult SideFileGate(const fs::path& file, FrameSource* candidate) {
 }
 
 // Each .wcon, worm_motion_log.txt[.gz] and .zarr store in the directory against the candidate.
-std::vector<GateResult> SideFileGates(const fs::path& dir, FrameSource* candidate) {
+std::vector<GateResult> SideFileGates(const fs::path& dir, FrameSource* candidate,
+                                      ParsedWcon* parsed) {
   std::vector<GateResult> gates;
   std::vector<fs::path> files = Wcons(dir);
   for (const char* log : {"worm_motion_log.txt", "worm_motion_log.txt.gz"})
     if (fs::exists(dir / log)) files.push_back(dir / log);
-  for (const fs::path& f : files) gates.push_back(SideFileGate(f, candidate));
+  for (const fs::path& f : files)
+    gates.push_back(SideFileGate(f, candidate, parsed && parsed->path == f ? parsed : nullptr));
   for (const fs::path& store : Entries(dir, ".zarr")) gates.push_back(ZarrGate(store, candidate));
   return gates;
 }
 
-GateResult WconReadable(const fs::path& dir) {
+// Read through time point by time point (memory: one), refusing what ReadWcon refuses.
+GateResult WconReadable(ParsedWcon& wcon) {
   GateResult g{"worm run wrote a WCON", false, ""};
-  const std::vector<fs::path> wcons = Wcons(dir);
-  if (wcons.empty()) {
-    g.detail = "no .wcon in " + dir.string() + " (DD001's quick test requires one for worm runs)";
-    return g;
-  }
   try {
-    // Read through time point by time point (memory: one), refusing what ReadWcon refuses.
-    WconTimePoints points(wcons.front());
+    if (!wcon.reader) throw InputError(wcon.error);
+    WconReader& points = *wcon.reader;
+    points.Rewind();
     WconTimePoint first, point;
-    if (!points.Next(&first)) throw InputError(wcons.front().string(), 0, "data: no time point");
+    if (!points.Next(&first)) throw InputError(wcon.path.string(), 0, "data: no time point");
     while (points.Next(&point)) {
     }
     g.pass = true;
-    g.detail = wcons.front().filename().string() + ": " + std::to_string(points.size()) +
+    g.detail = wcon.path.filename().string() + ": " + std::to_string(points.size()) +
                " time points, " + std::to_string(first.x_mm.size()) + " midline points";
   } catch (const std::exception& error) {
     g.detail = error.what();
@@ -100,15 +120,10 @@ GateResult WconReadable(const fs::path& dir) {
   return g;
 }
 
-}  // namespace
-
-std::vector<GateResult> WormQuickTestGates(const fs::path& dir, const fs::path& candidate) {
-  std::vector<GateResult> gates{WconReadable(dir)};
-  for (const GateResult& g : WormSideFileGates(dir, candidate)) gates.push_back(g);
-  return gates;
-}
-
-std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& candidate) {
+// The side files' gates, the candidate opened once for them all (none when there is no side
+// file); `parsed`: a .wcon already parsed, or null.
+std::vector<GateResult> SideFileGatesOf(const fs::path& dir, const fs::path& candidate,
+                                        ParsedWcon* parsed) {
   std::vector<GateResult> gates;
   if (Wcons(dir).empty() && Entries(dir, ".zarr").empty() &&
       !fs::exists(dir / "worm_motion_log.txt") && !fs::exists(dir / "worm_motion_log.txt.gz"))
@@ -123,14 +138,36 @@ std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& c
   } catch (const std::exception&) {
     // The candidate's own gate says why it cannot be read; its side files stay unchecked.
   }
-  return SideFileGates(dir, frames.get());
+  return SideFileGates(dir, frames.get(), parsed);
+}
+
+}  // namespace
+
+// The first .wcon is parsed once, for its readability gate and its side-file gate.
+std::vector<GateResult> WormQuickTestGates(const fs::path& dir, const fs::path& candidate) {
+  const std::vector<fs::path> wcons = Wcons(dir);
+  if (wcons.empty()) {
+    std::vector<GateResult> gates{
+        {"worm run wrote a WCON", false,
+         "no .wcon in " + dir.string() + " (DD001's quick test requires one for worm runs)"}};
+    for (const GateResult& g : SideFileGatesOf(dir, candidate, nullptr)) gates.push_back(g);
+    return gates;
+  }
+  ParsedWcon first = ParseWcon(wcons.front());
+  std::vector<GateResult> gates{WconReadable(first)};
+  for (const GateResult& g : SideFileGatesOf(dir, candidate, &first)) gates.push_back(g);
+  return gates;
+}
+
+std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& candidate) {
+  return SideFileGatesOf(dir, candidate, nullptr);
 }
 
 std::vector<GateResult> WormValidateGates(const fs::path& dir,
                                           const kinematics::SkeletonSeries* reference,
                                           const kinematics::SkeletonSeries& candidate,
                                           FrameSource& candidate_frames) {
-  std::vector<GateResult> gates = SideFileGates(dir, &candidate_frames);
+  std::vector<GateResult> gates = SideFileGates(dir, &candidate_frames, nullptr);
   const kinematics::Report cand = kinematics::Analyse(candidate);
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});

@@ -227,11 +227,16 @@ TrackAgreement CompareWithTrajectory(const WormTrack& track, FrameSource& trajec
 
 TrackAgreement CompareWconWithTrajectory(const std::filesystem::path& wcon,
                                          FrameSource& trajectory) {
-  WconTimePoints points(wcon);
+  WconReader points(wcon);
+  return CompareWconWithTrajectory(points, trajectory);
+}
+
+TrackAgreement CompareWconWithTrajectory(WconReader& points, FrameSource& trajectory) {
   Lockstep lockstep(trajectory);
   // Known before any frame is read: the count decides, as it does for the log at its end.
   if (points.size() != trajectory.frame_count())
     return CountMismatch(points.size(), trajectory.frame_count());
+  points.Rewind();
   WconTimePoint point;
   while (points.Next(&point)) lockstep.Add(point, points.has_centroid());
   return lockstep.Result();
@@ -324,11 +329,7 @@ WormTrack ReadWormMotionLog(const std::filesystem::path& path) {
   MotionLogLines lines(path);
   WormTrack track;
   WconTimePoint point;
-  while (lines.Next(&point)) {
-    track.time_s.push_back(point.time_s);
-    track.x_mm.push_back(point.x_mm);
-    track.y_mm.push_back(point.y_mm);
-  }
+  while (lines.Next(&point)) AppendTimePoint(point, false, &track);
   return track;
 }
 

@@ -1,5 +1,7 @@
 #include "owval/trajectory/trajectory.hpp"
 
+#include "frame_times.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -68,15 +70,19 @@ std::string ExactSeconds(double value) {
 
 void CheckFrameTimesIncrease(const std::vector<double>& time_s, const std::string& file,
                              const std::string& where) {
-  for (std::size_t f = 0; f < time_s.size(); ++f) {
-    const std::string frame = "frame " + std::to_string(f) + "'s time " + ExactSeconds(time_s[f]);
-    if (!std::isfinite(time_s[f]))
-      throw InputError(file, 0, where + frame + " is not finite: frame times must be finite");
-    if (f > 0 && !(time_s[f] > time_s[f - 1]))
-      throw InputError(file, 0,
-                       where + frame + " is not after frame " + std::to_string(f - 1) + "'s " +
-                           ExactSeconds(time_s[f - 1]) + ": frame times must increase");
-  }
+  for (std::size_t f = 0; f < time_s.size(); ++f)
+    CheckFrameTimeFollows(f, time_s[f], f > 0 ? time_s[f - 1] : 0, file, where);
+}
+
+void CheckFrameTimeFollows(std::size_t f, double time_s, double previous_s, const std::string& file,
+                           const std::string& where) {
+  const std::string frame = "frame " + std::to_string(f) + "'s time " + ExactSeconds(time_s);
+  if (!std::isfinite(time_s))
+    throw InputError(file, 0, where + frame + " is not finite: frame times must be finite");
+  if (f > 0 && !(time_s > previous_s))
+    throw InputError(file, 0,
+                     where + frame + " is not after frame " + std::to_string(f - 1) + "'s " +
+                         ExactSeconds(previous_s) + ": frame times must increase");
 }
 
 std::vector<std::size_t> GroupIndices(const Trajectory& trajectory, const std::string& group) {

@@ -1,4 +1,5 @@
-// WCON writer and reader (tracker-commons WCON_format.md). See worm_formats.hpp.
+// WCON writer and the whole-track read (tracker-commons WCON_format.md). See worm_formats.hpp;
+// the reader itself is wcon_reader.cpp.
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -7,7 +8,6 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
-#include "owval/base/json_file.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "wcon_units.hpp"
 
@@ -208,123 +208,21 @@ double WconLengthFactor(const std::string& u) {
   return it == f.end() ? 0 : it->second;
 }
 
-namespace {
-
-struct WconReader {
-  std::string name;
-  double t_factor = 1, x_factor = 1, y_factor = 1, cx_factor = 1, cy_factor = 1;
-
-  [[noreturn]] void Fail(const std::string& what) const { throw InputError(name, 0, what); }
-
-  double Unit(const json& units, const char* key, bool length) const {
-    if (!units.contains(key) || !units[key].is_string())
-      Fail(std::string("units.") + key + ": expected a unit string");
-    const std::string u = units[key].get<std::string>();
-    const double f = length ? WconLengthFactor(u) : WconTimeFactor(u);
-    if (f == 0) Fail(std::string("units.") + key + ": unsupported unit \"" + u + "\"");
-    return f;
-  }
-
-  std::vector<double> Numbers(const json& v, const std::string& field) const {
-    if (!v.is_array()) Fail(field + ": expected an array of numbers");
-    std::vector<double> out;
-    for (const json& e : v) {
-      if (!e.is_number()) Fail(field + ": expected numbers (null and non-numbers unsupported)");
-      out.push_back(e.get<double>());
-    }
-    return out;
-  }
-
-  template <typename Stored>
-  Stored Millimetres(double value_mm, const std::string& field) const {
-    return WconMillimetres<Stored>(value_mm, name, field);
-  }
-
-  // One record's time points appended to the track.
-  void Record(const json& r, std::size_t index, WormTrack* t) const {
-    const std::string at = "data[" + std::to_string(index) + "].";
-    const std::vector<double> time = Numbers(r.at("t"), at + "t");
-    if (time.empty()) Fail(at + "t: must not be empty");
-    const json &x = r.at("x"), &y = r.at("y");
-    if (!x.is_array() || !y.is_array() || x.size() != time.size() || y.size() != time.size())
-      Fail(at + "x/y: expected one array per time point");
-    std::vector<double> ox(time.size(), 0), oy(time.size(), 0);
-    if (r.contains("ox")) ox = Numbers(r["ox"], at + "ox");
-    if (r.contains("oy")) oy = Numbers(r["oy"], at + "oy");
-    if (ox.size() != time.size() || oy.size() != time.size()) Fail(at + "ox/oy: one per time");
-    for (std::size_t i = 0; i < time.size(); ++i) {
-      const std::string w = at + "x/y[" + std::to_string(i) + "]";
-      const std::vector<double> xi =
-          x[i].is_array() ? Numbers(x[i], w) : Numbers(json::array({x[i]}), w);
-      const std::vector<double> yi =
-          y[i].is_array() ? Numbers(y[i], w) : Numbers(json::array({y[i]}), w);
-      if (xi.size() != yi.size() || xi.empty()) Fail(w + ": x and y must be equal in length");
-      std::vector<float> fx, fy;
-      for (std::size_t k = 0; k < xi.size(); ++k) {
-        fx.push_back(Millimetres<float>((xi[k] + ox[i]) * x_factor, w));
-        fy.push_back(Millimetres<float>((yi[k] + oy[i]) * y_factor, w));
-      }
-      t->time_s.push_back(time[i] * t_factor);
-      t->x_mm.push_back(std::move(fx));
-      t->y_mm.push_back(std::move(fy));
-    }
-    if (r.contains("cx") != r.contains("cy")) Fail(at + "cx/cy: must come in pairs");
-    if (r.contains("cx")) {
-      const std::vector<double> cx = Numbers(r["cx"], at + "cx"), cy = Numbers(r["cy"], at + "cy");
-      if (cx.size() != time.size() || cy.size() != time.size()) Fail(at + "cx/cy: one per time");
-      for (std::size_t i = 0; i < time.size(); ++i) {
-        const std::string w = at + "cx/cy[" + std::to_string(i) + "]";
-        t->cx_mm.push_back(Millimetres<double>((cx[i] + ox[i]) * cx_factor, w));
-        t->cy_mm.push_back(Millimetres<double>((cy[i] + oy[i]) * cy_factor, w));
-      }
-    }
-  }
-};
-
-}  // namespace
+void AppendTimePoint(const WconTimePoint& point, bool centroid, WormTrack* track) {
+  track->time_s.push_back(point.time_s);
+  track->x_mm.push_back(point.x_mm);
+  track->y_mm.push_back(point.y_mm);
+  if (!centroid) return;
+  track->cx_mm.push_back(point.cx_mm);
+  track->cy_mm.push_back(point.cy_mm);
+}
 
 WormTrack ReadWcon(const std::filesystem::path& path) {
-  WconReader reader{path.string()};
-  // InputError naming the file and line, for a number too large for a double (1e400) too
-  const json doc = ParseJsonText(ReadWholeFile(path), path.string());
-  if (!doc.is_object() || !doc.contains("units") || !doc.contains("data"))
-    reader.Fail("expected a WCON object with \"units\" and \"data\"");
-  const json& units = doc["units"];
-  if (!units.is_object()) reader.Fail("units: expected an object");
-  reader.t_factor = reader.Unit(units, "t", false);
-  reader.x_factor = reader.Unit(units, "x", true);
-  reader.y_factor = reader.Unit(units, "y", true);
-  const json records = doc["data"].is_array() ? doc["data"] : json::array({doc["data"]});
-  WormTrack t;
-  bool first = true;
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    const json& r = records[i];
-    const std::string at = "data[" + std::to_string(i) + "]";
-    if (!r.is_object() || !r.contains("id") || !r.contains("t") || !r.contains("x") ||
-        !r.contains("y"))
-      reader.Fail(at + ": expected a record with id, t, x and y");
-    if (!r["id"].is_string()) reader.Fail(at + ".id: expected a string");
-    if (first) {
-      t.id = r["id"].get<std::string>();
-      if (r.contains("cx")) {
-        reader.cx_factor = reader.Unit(units, "cx", true);
-        reader.cy_factor = reader.Unit(units, "cy", true);
-      }
-      first = false;
-    }
-    if (r["id"].get<std::string>() == t.id) reader.Record(r, i, &t);
-  }
-  if (t.time_s.empty()) reader.Fail("data: no time point");
-  if (doc.contains("metadata") && doc["metadata"].is_object() &&
-      doc["metadata"].contains("software") && doc["metadata"]["software"].is_object()) {
-    const json& sw = doc["metadata"]["software"];
-    if (sw.contains("version") && sw["version"].is_string()) t.software_version = sw["version"];
-    if (sw.contains("settings")) t.software_settings = sw["settings"];
-  }
-  if (doc.contains("@owval")) t.owval = doc["@owval"];
-  // Finite too: a t of 1e308 in hours is infinite in seconds.
-  CheckFrameTimesIncrease(t.time_s, path.string(), "data: t: ");
-  return t;
+  WconReader reader(path);
+  WormTrack track = reader.head();
+  WconTimePoint point;
+  while (reader.Next(&point)) AppendTimePoint(point, reader.has_centroid(), &track);
+  return track;
 }
 
 }  // namespace owval

@@ -1,6 +1,6 @@
 #pragma once
-// The units a WCON reader accepts (tracker-commons WCON_format.md), shared by ReadWcon and
-// WconTimePoints.
+// The units a WCON reader accepts (tracker-commons WCON_format.md), shared by WconReader and the
+// OME-Zarr reader (a store's positions unit).
 #include <cmath>
 #include <limits>
 #include <string>

@@ -140,7 +140,7 @@ TEST(HostileText, RefusesAnInvertedBox) {
 }
 
 // A WCON (or any JSON input) holding 1e400 said "[json.exception.out_of_range.406] number
-// overflow parsing '1e400'" without naming the file.
+// overflow parsing '1e400'" without naming the file; the WCON reader names its line and column.
 TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
   const fs::path path = ScratchFile("overflow.wcon");
   std::ofstream(path) << R"({"units":{"t":"s","x":"mm","y":"mm"},)"
@@ -150,7 +150,7 @@ TEST(HostileWcon, ANumberTooLargeForADoubleNamesTheFile) {
     ADD_FAILURE() << "read 1e400";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              path.string() + ": not valid JSON: number overflow parsing '1e400'");
+              path.string() + ":1:74: not valid JSON: number overflow parsing '1e400'");
   }
 }
 

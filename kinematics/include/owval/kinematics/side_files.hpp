@@ -19,7 +19,7 @@
 // Memory is bounded by the particles, never by the run's length: the trajectory is read frame by
 // frame and each frame's skeleton and centroid compared with the side file's time point of the
 // same index, then dropped; the midline log is read line by line and the WCON time point by time
-// point (WconTimePoints).
+// point (WconReader).
 // Measured on Sibernetic's 0.6 s worm run (docs/worm.md, "Side files"): its own worm_motion_log
 // against its 6-digit position_buffer, worst 0.113 of the allowance.
 #include <filesystem>
@@ -39,9 +39,12 @@ struct TrackAgreement {
 
 // A track in memory (an edited one, a test's) against the trajectory read frame by frame.
 TrackAgreement CompareWithTrajectory(const WormTrack& track, FrameSource& trajectory);
-// A WCON file, read time point by time point (WconTimePoints), against the trajectory.
+// A WCON file, read time point by time point (WconReader), against the trajectory.
 TrackAgreement CompareWconWithTrajectory(const std::filesystem::path& wcon,
                                          FrameSource& trajectory);
+// The same with a WCON already parsed, read from its first time point (quick-test parses the
+// file once for its readability gate and this one).
+TrackAgreement CompareWconWithTrajectory(WconReader& wcon, FrameSource& trajectory);
 // worm_motion_log.txt[.gz], read line by line as ReadWormMotionLog reads it, against the
 // trajectory (the log has no centroid).
 TrackAgreement CompareWormMotionLogWithTrajectory(const std::filesystem::path& log,

@@ -63,42 +63,52 @@ class WconWriter {
   std::FILE* spools_[5] = {};  // t, cx, cy, x, y: their elements as WconText prints them
 };
 
-// Reads the records of the first worm id, in file order (t must increase across them); converts t
-// to s and x, y, cx, cy to mm from the file's units; applies ox/oy origins. Ignores unknown keys.
-// InputError naming the file and field on anything a WCON reader must refuse.
-WormTrack ReadWcon(const std::filesystem::path& path);
-
 // One time point of a WCON track: t in s, the skeleton and centroid in mm.
 struct WconTimePoint {
   double time_s = 0;
   std::vector<float> x_mm, y_mm;  // head first, equal lengths
-  double cx_mm = 0, cy_mm = 0;    // when the track has a centroid (WconTimePoints::has_centroid)
+  double cx_mm = 0, cy_mm = 0;    // when the track has a centroid (WconReader::has_centroid)
 };
 
-// ReadWcon time point by time point, the same values (x, y as floats; units and ox/oy applied):
-// memory one time point, never the track. The file is parsed once with nlohmann::json's SAX
-// interface (json::sax_parse), keeping only the units and one small entry per record; the
-// first id's per-time arrays (t, cx, cy, ox, oy, x, y) go to anonymous temporary files as binary
-// doubles, since a WCON puts every time's x before the first y (and a record's keys come in
-// any order), and are read back in step. InputError naming the file and field on what ReadWcon
-// refuses (a record without id, t, x or y; non-numbers; sizes that differ; unknown units); a
-// time that is not finite and increasing is refused by Next().
-class WconTimePoints {
+// The one WCON reader: the records of the first worm id, in file order, a time point at a time
+// (t must increase across them); t converted to s and x, y, cx, cy to mm from the file's units
+// (x, y as floats), ox/oy origins applied; unknown keys ignored. Memory: one time point and the
+// metadata, never the track. The file is parsed once with nlohmann::json's SAX interface
+// (json::sax_parse), keeping the units, metadata.software's version and settings, "@owval" and
+// one small entry per record; the first id's per-time arrays (t, cx, cy, ox, oy, x, y) go to
+// anonymous temporary files as binary doubles, since a WCON puts every time's x before the first
+// y (and a record's keys come in any order), and are read back in step.
+// InputError naming the file and field on anything a WCON reader must refuse (a record without
+// id, t, x or y; non-numbers; sizes that differ; unknown units; coordinates beyond what the track
+// stores); a time that is not finite and increasing is refused by Next(). JSON that does not
+// parse is refused as FILE:LINE:COLUMN (the byte where the parser stopped, counted while reading).
+class WconReader {
  public:
-  explicit WconTimePoints(const std::filesystem::path& path);
-  ~WconTimePoints();
-  WconTimePoints(const WconTimePoints&) = delete;
-  WconTimePoints& operator=(const WconTimePoints&) = delete;
-  std::size_t size() const;
+  explicit WconReader(const std::filesystem::path& path);
+  ~WconReader();
+  WconReader(const WconReader&) = delete;
+  WconReader& operator=(const WconReader&) = delete;
+  // The track without time points: id, software version and settings, "@owval".
+  const WormTrack& head() const;
+  std::size_t size() const;  // time points of the first id
   bool has_centroid() const;
   // The next time point into `point`; false after the last.
   bool Next(WconTimePoint* point);
+  // Back to the first time point, without parsing the file again.
+  void Rewind();
 
   struct Parsed;
 
  private:
   std::unique_ptr<Parsed> parsed_;
 };
+
+// The point appended to the track's per-time arrays (cx, cy only when `centroid`): every reader
+// that collects time points into a WormTrack (ReadWcon, the midline log's) does it here.
+void AppendTimePoint(const WconTimePoint& point, bool centroid, WormTrack* track);
+
+// The whole track: WconReader's head and every time point (memory: the track).
+WormTrack ReadWcon(const std::filesystem::path& path);
 
 struct ZarrWriteOptions {
   std::size_t frames_per_chunk = 16;           // chunk along time; one chunk holds every particle

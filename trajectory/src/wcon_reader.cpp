@@ -1,12 +1,15 @@
-// WconTimePoints (worm_formats.hpp): a WCON parsed once through nlohmann::json's SAX interface,
-// its per-time arrays spooled to anonymous temporary files and read back a time point at a time.
+// WconReader (worm_formats.hpp): a WCON parsed once through nlohmann::json's SAX interface,
+// its per-time arrays spooled to anonymous temporary files and read back a time point at a time,
+// its metadata kept.
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
+#include <utility>
 
+#include "frame_times.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -58,13 +61,126 @@ struct Record {
   std::size_t count[kArrays] = {};  // elements; for x and y, rows
 };
 
+// The file's bytes for the parser, read 64 KiB at a time. The parser says where it stopped as a
+// byte index; the lines are counted here as the bytes go by, so that index can be said as a line
+// and column without holding the file (the parser reads at most one byte past it).
+class CountedBytes {
+ public:
+  CountedBytes(std::FILE* file, const std::string& name) : file_(file), name_(name) {}
+  bool AtEnd() { return next_ == end_ && !Fill(); }
+  const char& Current() const { return *next_; }
+  void Advance() {
+    ++delivered_;
+    if (*next_ == '\n') newline_at_[++newlines_ % kRecent] = delivered_;
+    ++next_;
+  }
+  // Line (from 1) and column (bytes from 1) of the byte at index `byte` (from 1, as
+  // nlohmann::json::parse_error::byte; the end of the file is the index after its last byte).
+  // Column 0 when the byte lies further back than the newlines remembered.
+  std::pair<std::size_t, std::size_t> LineAndColumn(std::size_t byte) const {
+    std::size_t before = newlines_;  // newlines before `byte`
+    for (std::size_t k = newlines_; k > 0 && k + kRecent > newlines_; --k, --before)
+      if (newline_at_[k % kRecent] < byte) return {before + 1, byte - newline_at_[k % kRecent]};
+    return {before + 1, before == 0 ? byte : 0};
+  }
+
+ private:
+  static constexpr std::size_t kRecent = 4;
+  bool Fill() {
+    const std::size_t n = std::fread(buffer_, 1, sizeof buffer_, file_);
+    if (n == 0 && std::ferror(file_)) throw InputError(name_, 0, "cannot read");
+    next_ = buffer_, end_ = buffer_ + n;
+    return n > 0;
+  }
+  std::FILE* file_;
+  const std::string& name_;
+  char buffer_[1 << 16];
+  const char *next_ = buffer_, *end_ = buffer_;
+  std::size_t delivered_ = 0, newlines_ = 0;
+  std::size_t newline_at_[kRecent] = {};  // the index (from 1) of the last newlines
+};
+
+// CountedBytes as the input iterator json::sax_parse reads; the default one is the end.
+class ByteIterator {
+ public:
+  using iterator_category = std::input_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+  ByteIterator() = default;
+  explicit ByteIterator(CountedBytes* bytes) : bytes_(bytes) {}
+  reference operator*() const { return bytes_->Current(); }
+  ByteIterator& operator++() {
+    bytes_->Advance();
+    return *this;
+  }
+  bool operator==(const ByteIterator& other) const { return AtEnd() == other.AtEnd(); }
+  bool operator!=(const ByteIterator& other) const { return !(*this == other); }
+
+ private:
+  bool AtEnd() const { return !bytes_ || bytes_->AtEnd(); }
+  CountedBytes* bytes_ = nullptr;
+};
+
+// nlohmann's what() without its tag and its own position ("[json.exception.parse_error.101]
+// parse error at line 1, column 2: "): the reader says the position as FILE:LINE:COLUMN.
+std::string JsonReason(const std::string& what) {
+  std::string reason = what;
+  if (reason.rfind("[json.exception.", 0) == 0 && reason.find("] ") != std::string::npos)
+    reason = reason.substr(reason.find("] ") + 2);
+  if (reason.rfind("parse error", 0) == 0 && reason.find(": ") != std::string::npos)
+    reason = reason.substr(reason.find(": ") + 2);
+  return reason;
+}
+
+// A subtree of the document built from its events (metadata.software.settings, "@owval"): a
+// later key of the same name replaces an earlier one, as json::parse does.
+class JsonCapture {
+ public:
+  void Start(json* destination) {
+    destination_ = destination;
+    open_.clear();
+  }
+  void Add(json value, const std::string& key) { Place(key) = std::move(value); }
+  void Open(bool is_object, const std::string& key) {
+    json& container = Place(key);
+    container = is_object ? json::object() : json::array();
+    open_.push_back(&container);
+  }
+  void Close() { open_.pop_back(); }
+
+ private:
+  // Where the next value goes: the destination, or the innermost open container.
+  json& Place(const std::string& key) {
+    if (open_.empty()) return *destination_;
+    json& top = *open_.back();
+    if (top.is_array()) return top.emplace_back();
+    return top[key];
+  }
+  json* destination_ = nullptr;
+  std::vector<json*> open_;  // ancestors only: a container's children are added when it is top
+};
+
 }  // namespace
 
-struct WconTimePoints::Parsed : json::json_sax_t {
+struct WconReader::Parsed : json::json_sax_t {
   explicit Parsed(std::string file) : name(std::move(file)) {}
 
   // Where the parser is: what the innermost open object or array is.
-  enum class Kind { kRoot, kUnits, kData, kRecord, kFlat, kNested, kRow, kSkip };
+  enum class Kind {
+    kRoot,
+    kUnits,
+    kData,
+    kRecord,
+    kFlat,
+    kNested,
+    kRow,
+    kMetadata,
+    kSoftware,  // "metadata" and its "software"
+    kCapture,   // within "@owval" or metadata.software.settings, kept whole
+    kSkip
+  };
   struct Level {
     Kind kind;
     Array array = kT;  // kFlat, kNested, kRow
@@ -77,6 +193,9 @@ struct WconTimePoints::Parsed : json::json_sax_t {
   std::vector<Record> records;
   Spool spools[kArrays];
   std::vector<double> row;  // the x or y row being parsed
+  WormTrack head;           // id, software version and settings, "@owval"
+  JsonCapture capture;
+  CountedBytes* bytes = nullptr;  // while parsing: where a syntax error is
 
   // After parsing: what Next() reads.
   double t_factor = 1, x_factor = 1, y_factor = 1, cx_factor = 1, cy_factor = 1;
@@ -97,9 +216,38 @@ struct WconTimePoints::Parsed : json::json_sax_t {
     Fail("data[" + std::to_string(records.size() - 1) + "]: expected a record with id, t, x and y");
   }
 
-  // A number, a string, a bool or null where the innermost level is.
-  bool Value(std::optional<double> number, const std::string* text) {
+  // metadata.software's version and settings as a document without them has them.
+  void ForgetSoftware() {
+    head.software_version.clear();
+    head.software_settings = json::object();
+  }
+
+  // A value kept with the metadata; false when it is not one.
+  bool Metadata(json* value) {
     const Kind top = Top();
+    if (top == Kind::kCapture) {
+      capture.Add(std::move(*value), last_key);
+    } else if (top == Kind::kRoot && last_key == "@owval") {
+      head.owval = std::move(*value);
+    } else if (top == Kind::kSoftware && last_key == "settings") {
+      head.software_settings = std::move(*value);
+    } else if (top == Kind::kSoftware && last_key == "version") {
+      head.software_version = value->is_string() ? value->get<std::string>() : "";
+    } else if ((top == Kind::kRoot && last_key == "metadata") ||
+               (top == Kind::kMetadata && last_key == "software")) {
+      ForgetSoftware();  // not an object: a later one replaces an earlier, as json::parse does
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  // A number, a string, a bool or null where the innermost level is.
+  bool Value(json value) {
+    const Kind top = Top();
+    const std::optional<double> number =
+        value.is_number() ? std::optional<double>(value.get<double>()) : std::nullopt;
+    const std::string* text = value.is_string() ? &value.get_ref<const std::string&>() : nullptr;
     if (top == Kind::kFlat || top == Kind::kNested || top == Kind::kRow) {
       if (!number) NotANumber();
       const Array a = levels.back().array;
@@ -123,16 +271,18 @@ struct WconTimePoints::Parsed : json::json_sax_t {
     } else if (top == Kind::kRoot && (last_key == "units" || last_key == "data")) {
       Fail(last_key == "units" ? "units: expected an object"
                                : "data: expected a record or an array of records");
+    } else {
+      Metadata(&value);
     }
     return true;
   }
-  bool null() override { return Value(std::nullopt, nullptr); }
-  bool boolean(bool) override { return Value(std::nullopt, nullptr); }
-  bool number_integer(number_integer_t v) override { return Value(double(v), nullptr); }
-  bool number_unsigned(number_unsigned_t v) override { return Value(double(v), nullptr); }
-  bool number_float(number_float_t v, const string_t&) override { return Value(v, nullptr); }
-  bool string(string_t& v) override { return Value(std::nullopt, &v); }
-  bool binary(binary_t&) override { return Value(std::nullopt, nullptr); }
+  bool null() override { return Value(nullptr); }
+  bool boolean(bool v) override { return Value(v); }
+  bool number_integer(number_integer_t v) override { return Value(v); }
+  bool number_unsigned(number_unsigned_t v) override { return Value(v); }
+  bool number_float(number_float_t v, const string_t&) override { return Value(v); }
+  bool string(string_t& v) override { return Value(v); }
+  bool binary(binary_t& v) override { return Value(json::binary(v)); }
   bool key(string_t& k) override {
     last_key = k;
     return true;
@@ -172,6 +322,32 @@ struct WconTimePoints::Parsed : json::json_sax_t {
       return {a == kX || a == kY ? Kind::kNested : Kind::kFlat, a};
     }
     if (top == Kind::kUnits) units[last_key] = std::nullopt;
+    return MetadataOpened(is_object);
+  }
+
+  // An object or array opening within the metadata, or skipped.
+  Level MetadataOpened(bool is_object) {
+    const Kind top = Top();
+    if (top == Kind::kCapture) {
+      capture.Open(is_object, last_key);
+      return {Kind::kCapture};
+    }
+    const bool owval = top == Kind::kRoot && last_key == "@owval";
+    const bool settings = top == Kind::kSoftware && last_key == "settings";
+    if (owval || settings) {
+      capture.Start(owval ? &head.owval : &head.software_settings);
+      capture.Open(is_object, last_key);
+      return {Kind::kCapture};
+    }
+    if (top == Kind::kRoot && last_key == "metadata") {
+      ForgetSoftware();
+      return {is_object ? Kind::kMetadata : Kind::kSkip};
+    }
+    if (top == Kind::kMetadata && last_key == "software") {
+      ForgetSoftware();
+      return {is_object ? Kind::kSoftware : Kind::kSkip};
+    }
+    if (top == Kind::kSoftware && last_key == "version") head.software_version.clear();
     return {Kind::kSkip};
   }
   bool start_object(std::size_t) override {
@@ -191,13 +367,19 @@ struct WconTimePoints::Parsed : json::json_sax_t {
       ++records.back().count[closed.array];
     }
     if (closed.kind == Kind::kRecord) CheckRecord();
+    if (closed.kind == Kind::kCapture) capture.Close();
     return true;
   }
   bool end_object() override { return Closed(); }
   bool end_array() override { return Closed(); }
-  bool parse_error(std::size_t position, const std::string&,
+  // A syntax error, or a number beyond a double's range (1e400), where the parser stopped.
+  bool parse_error(std::size_t byte, const std::string&,
                    const nlohmann::detail::exception& e) override {
-    Fail("not JSON at byte " + std::to_string(position) + ": " + e.what());
+    if (!bytes) Fail("not valid JSON: " + JsonReason(e.what()));
+    const auto [line, column] = bytes->LineAndColumn(byte);
+    // FILE:LINE:COLUMN, as compilers say it (InputError itself carries no column).
+    throw InputError(name + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                     ": not valid JSON: " + JsonReason(e.what()));
   }
 
   // What ReadWcon refuses of a record, said the same way.
@@ -232,6 +414,7 @@ struct WconTimePoints::Parsed : json::json_sax_t {
     x_factor = Unit("x", true);
     y_factor = Unit("y", true);
     if (records.empty()) Fail("data: no time point");
+    head.id = *records.front().id;
     centroid = records.front().present[kCx];
     if (centroid) {
       cx_factor = Unit("cx", true);
@@ -282,24 +465,36 @@ struct WconTimePoints::Parsed : json::json_sax_t {
   }
 };
 
-WconTimePoints::WconTimePoints(const std::filesystem::path& path)
+WconReader::WconReader(const std::filesystem::path& path)
     : parsed_(std::make_unique<Parsed>(path.string())) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "cannot open");
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                             &std::fclose);
+  if (!file) throw InputError(path.string(), 0, "cannot open");
+  CountedBytes bytes(file.get(), parsed_->name);
+  parsed_->bytes = &bytes;
   try {
-    json::sax_parse(in, parsed_.get());
-  } catch (const json::exception& e) {  // a number beyond a double's range (1e400)
-    throw InputError(path.string(), 0, std::string("not a WCON number: ") + e.what());
+    json::sax_parse(ByteIterator(&bytes), ByteIterator(), parsed_.get());
+  } catch (const json::exception& e) {  // the parser's own errors go to parse_error; any other
+    throw InputError(path.string(), 0, "not valid JSON: " + JsonReason(e.what()));
   }
+  parsed_->bytes = nullptr;
   parsed_->Finish();
 }
 
-WconTimePoints::~WconTimePoints() = default;
+WconReader::~WconReader() = default;
 
-std::size_t WconTimePoints::size() const { return parsed_->size; }
-bool WconTimePoints::has_centroid() const { return parsed_->centroid; }
+const WormTrack& WconReader::head() const { return parsed_->head; }
+std::size_t WconReader::size() const { return parsed_->size; }
+bool WconReader::has_centroid() const { return parsed_->centroid; }
 
-bool WconTimePoints::Next(WconTimePoint* point) {
+void WconReader::Rewind() {
+  Parsed& p = *parsed_;
+  for (Spool& s : p.spools) s.Rewind();
+  p.record = p.element = p.points = 0;
+  p.last_time_s = 0;
+}
+
+bool WconReader::Next(WconTimePoint* point) {
   Parsed& p = *parsed_;
   while (p.record < p.records.size()) {
     const Record& r = p.records[p.record];
@@ -311,9 +506,8 @@ bool WconTimePoints::Next(WconTimePoint* point) {
     p.ReadElement(r, keep, point);
     ++p.element;
     if (!keep) continue;
-    if (!std::isfinite(point->time_s) || (p.points > 0 && !(point->time_s > p.last_time_s)))
-      p.Fail("data: t: time point " + std::to_string(p.points) + " at " +
-             FormatNumber(point->time_s) + " s is not finite and after its predecessor's");
+    // Finite too: a t of 1e308 in hours is infinite in seconds.
+    CheckFrameTimeFollows(p.points, point->time_s, p.last_time_s, p.name, "data: t: ");
     p.last_time_s = point->time_s;
     ++p.points;
     return true;
