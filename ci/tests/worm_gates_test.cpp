@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include "owval/ci/checklist.hpp"
 #include "owval/ci/gates.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
@@ -49,6 +52,23 @@ TEST(WormGates, QuickTestRequiresAWconForWormRuns) {
   EXPECT_TRUE(with.pass()) << with.ToText();
   EXPECT_EQ(Find(with, "worm run wrote a WCON")->detail,
             "worm.wcon: 200 time points, 99 midline points");
+  // Cut short after a line: the one parse refuses it, and both gates that read it say where the
+  // file ends (the line after the last, column 1).
+  const std::string text = testing::FileBytes(dir / "worm.wcon");
+  const std::size_t cut = text.find('\n', text.size() / 2) + 1;
+  std::ofstream(dir / "worm.wcon", std::ios::binary | std::ios::trunc) << text.substr(0, cut);
+  const std::string line = std::to_string(1 + std::count(text.begin(), text.begin() + cut, '\n'));
+  const GateReport cut_short = QuickTest(dir);
+  EXPECT_FALSE(cut_short.pass());
+  for (const char* gate : {"worm run wrote a WCON", "worm.wcon describes the candidate"}) {
+    ASSERT_TRUE(Find(cut_short, gate)) << gate;
+    EXPECT_FALSE(Find(cut_short, gate)->pass);
+    EXPECT_EQ(
+        Find(cut_short, gate)
+            ->detail.rfind((dir / "worm.wcon").string() + ":" + line + ":1: not valid JSON: ", 0),
+        0u)
+        << Find(cut_short, gate)->detail;
+  }
   fs::remove_all(dir);
 }
 
