@@ -4,7 +4,9 @@
 Text and configuration seeds are small files in Sibernetic's formats (a few particles, a few
 frames: libFuzzer mutates small inputs fastest); HDF5 seeds are the text seeds converted by
 `owval convert` (pass the owval binary); zlib seeds are zlib streams of chunk-like data behind the
-2-byte size prefix fuzz_zlib_chunk.cpp reads; manifest seeds are the built-in scenario manifests.
+2-byte size prefix fuzz_zlib_chunk.cpp reads; manifest seeds are the built-in scenario manifests;
+WCON seeds are small tracks in owval's layout and in another producer's (keys in another order,
+several ids, origins, units to convert, metadata).
 Run: python3 fuzz/make_corpus.py build/cli/owval
 """
 import gzip
@@ -98,7 +100,29 @@ def manifest_seeds():
             shutil.copy(os.path.join(src, name), os.path.join(CORPUS, "manifest", name))
 
 
+def wcon_seeds():
+    units = '"units": {"t": "s", "x": "mm", "y": "mm", "cx": "mm", "cy": "mm"}'
+    write("wcon", "owval_layout.wcon",
+          '{\n ' + units + ',\n "metadata": {"software": {"name": "owval", "version": "0.1.0", '
+          '"featureID": "@owval", "settings": {"backend": "pcisph"}}},\n "@owval": {"frames": 3},\n'
+          ' "data": [\n  {"id": "1", "head": "L",\n   "t": [0,0.003,0.006],\n'
+          '   "cx": [0.5,0.51,0.52],\n   "cy": [1,1,1],\n'
+          '   "x": [\n    [0,0.1,0.2],\n    [0,0.1,0.21],\n    [0,0.1,0.22]],\n'
+          '   "y": [\n    [1,1.1,1.2],\n    [1,1.1,1.2],\n    [1,1.1,1.2]]}\n ]\n}\n')
+    write("wcon", "foreign_order.wcon",
+          '{"data": [{"x": [[1000, 3000], [2000, 1000]], "cy": [1, 2], "cx": [5, 6], '
+          '"y": [[1, 2], [2, 3]], "id": "7", "t": [0, 500], "ox": [100, 100], "@X": {"t": [9]}}, '
+          '{"id": "8", "t": [0], "x": [[1]], "y": [[1]]}, '
+          '{"id": "7", "t": [600], "x": [4000], "y": [5], "cx": [7], "cy": [8]}], '
+          '"units": {"t": "ms", "x": "um", "y": "mm", "cx": "um", "cy": "mm"}}\n')
+    write("wcon", "single_record.wcon",
+          '{"units": {"t": "minutes", "x": "m", "y": "cm"}, "metadata": 5, '
+          '"data": {"id": "w", "t": [0, 1e-3], "x": [[0, -1.5e-3], [2e-4, 1]], '
+          '"y": [[0, 0], [1e2, -0]]}}\n')
+
+
 def main():
+    wcon_seeds()
     text_paths = text_seeds()
     config_seeds()
     zlib_seeds()
