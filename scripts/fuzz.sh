@@ -22,7 +22,7 @@ declare -A RUNS=(
   [hdf5]=4000
   [zlib_chunk]=600000
   [manifest]=15000
-  [wcon]=30000
+  [wcon]=20000
 )
 # The slowest first (hdf5: a fork per input), so that the two slots end together.
 targets="${FUZZ_TARGETS:-hdf5 config text zlib_chunk manifest wcon}"
