@@ -14,8 +14,9 @@ scale="${1:-1}"
 
 # Executions per target at scale 1, from rates measured on the 2-core machine under other builds'
 # load (docs/fuzzing.md): about 8-9 minutes of fuzzing plus 3-4 minutes of build, 1,009,000
-# executions in all. hdf5 is slow by design: each input is first read in a forked child (the
-# containment of libhdf5's crashes), about 27 executions/s under ASan.
+# executions in all before the wcon target (20,000 more, about 50 s). hdf5 is slow by design:
+# each input is first read in a forked child (the containment of libhdf5's crashes), about 27
+# executions/s under ASan.
 declare -A RUNS=(
   [config]=300000
   [text]=90000
