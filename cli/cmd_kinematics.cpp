@@ -14,7 +14,7 @@ struct KinematicsArgs {
 };
 
 void RunKinematics(const KinematicsArgs& a) {
-  const kinematics::Report r = kinematics::Analyse(kinematics::LoadSkeletons(a.input));
+  const kinematics::Report r = kinematics::AnalyseFile(a.input);
   if (a.json) {
     nlohmann::json j = r.ToJson();
     j["input"] = a.input;

@@ -7,6 +7,7 @@
 #include "caller_reference.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/compare/stability.hpp"
+#include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/skeleton.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -51,21 +52,22 @@ void NoNaN(FrameSource& frames, GateResult* g) {
 
 // What validate measures on one trajectory, in one pass over its frames: stability, the
 // incompressibility of its liquid (when asked, and it carries density and has liquid) and, for
-// a worm, every frame's skeleton.
+// a worm, its kinematics (each frame's skeleton analysed as it is read, then dropped: the
+// Analyser keeps 48 bytes a frame, where the whole skeleton series held ~1.6 kB).
 struct TrajectoryChecks {
   compare::StabilityReport stability;
   std::optional<compare::IncompressibilityReport> incompressibility;
-  std::optional<kinematics::SkeletonSeries> skeletons;
+  std::optional<kinematics::Analyser> worm;
 };
 
-TrajectoryChecks Check(FrameSource& frames, bool incompressibility, bool skeletons) {
+TrajectoryChecks Check(FrameSource& frames, bool incompressibility, bool worm) {
   frames.ReadFields();
   const Trajectory& header = frames.header();
   const std::size_t count = frames.frame_count();
   compare::StabilityMonitor stability(header.box, header.type);
   std::optional<compare::IncompressibilityMonitor> density;
   TrajectoryChecks c;
-  if (skeletons) c.skeletons.emplace();
+  if (worm) c.worm.emplace();
   for (std::size_t f = 0; f < count; ++f) {
     const FrameRef frame = frames.Frame(f);
     stability.Observe(frame);
@@ -73,10 +75,9 @@ TrajectoryChecks Check(FrameSource& frames, bool incompressibility, bool skeleto
         header.count(ParticleKind::kLiquid) > 0)
       density.emplace(header, count, true);
     if (density) density->Observe(f, frame);
-    if (skeletons) {
-      c.skeletons->time_s.push_back(frame.trajectory.time_s[frame.frame]);
-      c.skeletons->skeletons.push_back(kinematics::SkeletonAt(frame.trajectory, frame.frame));
-    }
+    if (worm)
+      c.worm->Observe(frame.trajectory.time_s[frame.frame],
+                      kinematics::SkeletonAt(frame.trajectory, frame.frame));
   }
   c.stability = stability.report();
   if (count == 0) c.stability.velocities_from_positions = true;
@@ -175,9 +176,8 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();
   }));
   if (worm)
-    for (const GateResult& g :
-         internal::WormValidateGates(dir, ref_checks.skeletons ? &*ref_checks.skeletons : nullptr,
-                                     *cand_checks.skeletons, *cand))
+    for (const GateResult& g : internal::WormValidateGates(
+             dir, ref_checks.worm ? &*ref_checks.worm : nullptr, *cand_checks.worm, *cand))
       r.gates.push_back(g);
   return r;
 }

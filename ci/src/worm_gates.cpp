@@ -164,15 +164,15 @@ std::vector<GateResult> WormSideFileGates(const fs::path& dir, const fs::path& c
 }
 
 std::vector<GateResult> WormValidateGates(const fs::path& dir,
-                                          const kinematics::SkeletonSeries* reference,
-                                          const kinematics::SkeletonSeries& candidate,
+                                          const kinematics::Analyser* reference,
+                                          const kinematics::Analyser& candidate,
                                           FrameSource& candidate_frames) {
   std::vector<GateResult> gates = SideFileGates(dir, &candidate_frames, nullptr);
-  const kinematics::Report cand = kinematics::Analyse(candidate);
+  const kinematics::Report cand = candidate.Finish();
   for (const kinematics::Tier3Check& c : kinematics::CheckTier3(cand))
     gates.push_back({"Tier-3 " + c.range.metric, c.pass, c.detail});
   if (reference) {
-    const kinematics::Report ref = kinematics::Analyse(*reference);
+    const kinematics::Report ref = reference->Finish();
     for (const kinematics::AgreementCheck& c : kinematics::CompareKinematics(ref, cand))
       gates.push_back({"kinematics parity " + c.metric, c.pass, c.detail});
   }

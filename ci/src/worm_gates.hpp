@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "owval/ci/gates.hpp"
-#include "owval/kinematics/skeleton.hpp"
+#include "owval/kinematics/kinematics.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::ci::internal {
@@ -26,13 +26,15 @@ std::vector<GateResult> WormSideFileGates(const std::filesystem::path& directory
                                           const std::filesystem::path& candidate);
 std::vector<GateResult> WormQuickTestGates(const std::filesystem::path& directory,
                                            const std::filesystem::path& candidate);
-// The skeletons of every frame (kinematics::SkeletonsFromTrajectory, or SkeletonAt frame by
-// frame), for the kinematics; reference: null when the reference is not a worm.
+// The kinematics of every frame, observed as validate read them (kinematics::Analyser: memory
+// a few doubles a frame, not the skeletons); reference: null when the reference is not a worm.
+// Finished here, the candidate's first (an InputError from either, e.g. a frame's skeleton of
+// fewer than 2 points, leaves validate as Analyse's did).
 // candidate_frames: the candidate's trajectory, read again frame by frame in step with each side
 // file (memory: one frame and one time point, whatever the run's length).
 std::vector<GateResult> WormValidateGates(const std::filesystem::path& directory,
-                                          const kinematics::SkeletonSeries* reference,
-                                          const kinematics::SkeletonSeries& candidate,
+                                          const kinematics::Analyser* reference,
+                                          const kinematics::Analyser& candidate,
                                           FrameSource& candidate_frames);
 
 }  // namespace owval::ci::internal

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/kinematics/midline.hpp"
 #include "spectral.hpp"
+#include "speed_windows.hpp"
 
 namespace owval::kinematics {
 namespace {
@@ -22,30 +24,6 @@ Point2 Centroid(const Skeleton& s, Part p) {
   for (int i = p.first; i <= p.last; ++i) c = {c[0] + s[i][0], c[1] + s[i][1]};
   const double n = p.last - p.first + 1;
   return {c[0] / n, c[1] / n};
-}
-
-// Mean signed speed of a part's centroid over a window of width window_s centred on each frame.
-std::optional<double> MeanSpeed(const SkeletonSeries& s, const std::vector<Skeleton>& body,
-                                Part part, double window_s) {
-  double sum = 0;
-  std::size_t used = 0;
-  const std::size_t n = body.size();
-  for (std::size_t i = 0, j = 0; i < n; ++i) {
-    // j: the first frame at or after t_i + window; i's window is [t_i, t_j], centred at its middle.
-    while (j < n && s.time_s[j] < s.time_s[i] + window_s - 1e-9) ++j;
-    if (j >= n) break;
-    const Point2 a = Centroid(body[i], part), b = Centroid(body[j], part);
-    const Point2 d{b[0] - a[0], b[1] - a[1]};
-    // Forward: along the tail-to-head direction at the middle of the window.
-    const Skeleton& mid = body[(i + j) / 2];
-    const Point2 h = Centroid(mid, kHead), t = Centroid(mid, kTail);
-    const double along = d[0] * (h[0] - t[0]) + d[1] * (h[1] - t[1]);
-    const double speed = std::hypot(d[0], d[1]) / (s.time_s[j] - s.time_s[i]);
-    sum += along < 0 ? -speed : speed;
-    ++used;
-  }
-  if (used == 0) return std::nullopt;
-  return sum / used;
 }
 
 // Mean bend angle (radians, signed) over the toolbox's midbody bend partition, points 22-26 of
@@ -90,11 +68,7 @@ std::string Rejection(const internal::SpectralPeak& peak, double zc, double dura
   return why.str();
 }
 
-void BendFrequency(const SkeletonSeries& s, const std::vector<Skeleton>& body, const Options& o,
-                   Report* r) {
-  std::vector<double> angle;
-  for (const Skeleton& b : body) angle.push_back(MidbodyBendAngle(b));
-  const double dt = (s.time_s.back() - s.time_s.front()) / (s.time_s.size() - 1);
+void BendFrequency(const std::vector<double>& angle, double dt, const Options& o, Report* r) {
   const auto [lo, hi] = std::minmax_element(angle.begin(), angle.end());
   internal::SpectralPeak peak;
   if (*hi - *lo < o.min_bend_range_rad || !internal::FindSpectralPeak(angle, dt, &peak)) {
@@ -134,28 +108,45 @@ std::vector<double> AlongPrincipalAxis(const Skeleton& s, double* dx_mm, double*
   return y;
 }
 
-void WaveShape(const std::vector<Skeleton>& body, double length_mm, Report* r) {
+// One frame's wave along the body, before the run's mean length says whether the body is
+// straight (kept per frame: the Analyser's 4 of its 6 doubles a frame).
+struct FrameWave {
+  double max_offset_mm = 0;    // from the principal axis
+  double max_from_fit_mm = 0;  // from the straight line fitted with the wave
+  double wavelength_mm = 0;    // 1 / the spectral peak along the body; 0: no peak
+  double amplitude_mm = 0;     // the fitted sine's
+};
+
+FrameWave WaveOf(const Skeleton& body) {
+  FrameWave w;
+  double dx = 0;
+  const std::vector<double> y = AlongPrincipalAxis(body, &dx, &w.max_offset_mm);
+  internal::SpectralPeak peak;
+  if (!(dx > 0) || !internal::FindSpectralPeak(y, dx, &peak) || !(peak.frequency > 0)) return w;
+  // The principal axis tilts when the body holds a whole number of waves: the maximum offset
+  // is taken from the straight line fitted with the wave instead.
+  const internal::SineFit fit = internal::FitSine(y, dx, peak.frequency);
+  for (std::size_t i = 0; i < y.size(); ++i)
+    w.max_from_fit_mm = std::max(w.max_from_fit_mm, std::abs(y[i] - fit.baseline[i]));
+  w.wavelength_mm = 1.0 / peak.frequency;
+  w.amplitude_mm = peak.amplitude;
+  return w;
+}
+
+// Means over the frames, summed in frame order; a straight body (offset within 1e-4 of the
+// mean length) holds no wave to measure.
+void WaveShape(const std::vector<FrameWave>& frames, double length_mm, Report* r) {
   double wavelength = 0, amplitude = 0, max_amplitude = 0;
   std::size_t waves = 0;
-  for (const Skeleton& s : body) {
-    double dx = 0, max_offset = 0;
-    const std::vector<double> y = AlongPrincipalAxis(s, &dx, &max_offset);
-    max_amplitude += max_offset;
-    if (max_offset <= 1e-4 * length_mm) continue;  // straight: no wave to measure
-    internal::SpectralPeak peak;
-    if (!(dx > 0) || !internal::FindSpectralPeak(y, dx, &peak) || !(peak.frequency > 0)) continue;
-    // The principal axis tilts when the body holds a whole number of waves: the maximum offset
-    // is taken from the straight line fitted with the wave instead.
-    const internal::SineFit fit = internal::FitSine(y, dx, peak.frequency);
-    double max_from_fit = 0;
-    for (std::size_t i = 0; i < y.size(); ++i)
-      max_from_fit = std::max(max_from_fit, std::abs(y[i] - fit.baseline[i]));
-    max_amplitude += max_from_fit - max_offset;
-    wavelength += std::min(1.0 / peak.frequency, 2 * length_mm);
-    amplitude += peak.amplitude;
+  for (const FrameWave& w : frames) {
+    max_amplitude += w.max_offset_mm;
+    if (w.max_offset_mm <= 1e-4 * length_mm || w.wavelength_mm == 0) continue;
+    max_amplitude += w.max_from_fit_mm - w.max_offset_mm;
+    wavelength += std::min(w.wavelength_mm, 2 * length_mm);
+    amplitude += w.amplitude_mm;
     ++waves;
   }
-  r->max_amplitude_mm = max_amplitude / body.size();
+  r->max_amplitude_mm = max_amplitude / frames.size();
   if (waves == 0) return;
   r->wavelength_mm = wavelength / waves;
   r->amplitude_mm = amplitude / waves;
@@ -174,27 +165,80 @@ const char* RegimeName(Regime regime) {
   }
 }
 
-Report Analyse(const SkeletonSeries& s, const Options& o) {
-  if (s.time_s.size() != s.skeletons.size() || s.time_s.size() < 2)
-    throw InputError("kinematics need at least 2 frames with one skeleton each");
+struct Analyser::State {
+  explicit State(const Options& o) : options(o), speeds(o.head_tail_window_s, o.midbody_window_s) {}
+  Options options;
+  internal::SpeedWindows speeds;
+  std::size_t frames = 0;
+  double first_time_s = 0, last_time_s = 0;
+  bool short_skeleton = false;  // a frame with fewer than 2 points: Finish refuses the run
+  // Per frame (the run's means and the bend angle's spectrum need them all).
+  std::vector<double> length_mm, bend_rad;
+  std::vector<FrameWave> waves;
+};
+
+Analyser::Analyser(const Options& options) : state_(std::make_unique<State>(options)) {}
+Analyser::~Analyser() = default;
+Analyser::Analyser(Analyser&&) noexcept = default;
+Analyser& Analyser::operator=(Analyser&&) noexcept = default;
+
+std::size_t Analyser::frames() const { return state_->frames; }
+std::size_t Analyser::window_frames() const { return state_->speeds.held_frames(); }
+
+void Analyser::Observe(double time_s, const Skeleton& skeleton) {
+  State& s = *state_;
+  if (s.frames++ == 0) s.first_time_s = time_s;
+  s.last_time_s = time_s;
+  if (skeleton.size() < 2) s.short_skeleton = true;
+  if (s.short_skeleton) return;
+  const Skeleton body = ResampleByArcLength(skeleton);
+  s.length_mm.push_back(ArcLength(skeleton));
+  s.bend_rad.push_back(MidbodyBendAngle(body));
+  s.waves.push_back(WaveOf(body));
+  s.speeds.Observe(
+      {time_s, Centroid(body, kHead), Centroid(body, kMidbody), Centroid(body, kTail)});
+}
+
+Report Analyser::Finish() const {
+  const State& s = *state_;
+  if (s.frames < 2) throw InputError("kinematics need at least 2 frames with one skeleton each");
+  if (s.short_skeleton) throw InputError("skeleton needs at least 2 points");
+  const Options& o = s.options;
   Report r;
-  r.frames = s.time_s.size();
-  r.duration_s = s.time_s.back() - s.time_s.front();
-  std::vector<Skeleton> body;
-  for (const Skeleton& k : s.skeletons) {
-    body.push_back(ResampleByArcLength(k));
-    r.length_mm += ArcLength(k) / s.skeletons.size();
-  }
-  r.midbody_speed_mm_s = MeanSpeed(s, body, kMidbody, o.midbody_window_s);
-  r.head_speed_mm_s = MeanSpeed(s, body, kHead, o.head_tail_window_s);
-  r.tail_speed_mm_s = MeanSpeed(s, body, kTail, o.head_tail_window_s);
-  BendFrequency(s, body, o, &r);
-  WaveShape(body, r.length_mm, &r);
+  r.frames = s.frames;
+  r.duration_s = s.last_time_s - s.first_time_s;
+  for (double length : s.length_mm) r.length_mm += length / s.frames;
+  r.midbody_speed_mm_s = s.speeds.MeanSpeed(internal::BodyPart::kMidbody);
+  r.head_speed_mm_s = s.speeds.MeanSpeed(internal::BodyPart::kHead);
+  r.tail_speed_mm_s = s.speeds.MeanSpeed(internal::BodyPart::kTail);
+  BendFrequency(s.bend_rad, r.duration_s / (s.frames - 1), o, &r);
+  WaveShape(s.waves, r.length_mm, &r);
   if (r.frequency_hz)
     r.regime = *r.frequency_hz > o.swimming_frequency_hz ? Regime::kSwimming : Regime::kCrawling;
   else if (r.wavelength_mm && r.length_mm > 0)
     r.regime = *r.wavelength_mm > r.length_mm ? Regime::kSwimming : Regime::kCrawling;
   return r;
+}
+
+Report Analyse(const SkeletonSeries& series, const Options& options) {
+  if (series.time_s.size() != series.skeletons.size() || series.time_s.size() < 2)
+    throw InputError("kinematics need at least 2 frames with one skeleton each");
+  Analyser analyser(options);
+  for (std::size_t f = 0; f < series.time_s.size(); ++f)
+    analyser.Observe(series.time_s[f], series.skeletons[f]);
+  return analyser.Finish();
+}
+
+Report AnalyseFrames(FrameSource& frames, const Options& options) {
+  if (!IsWorm(frames.header()))  // SkeletonsFromFrames' refusal
+    throw InputError(
+        "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
+  Analyser analyser(options);
+  for (std::size_t f = 0; f < frames.frame_count(); ++f) {
+    const FrameRef frame = frames.Frame(f);
+    analyser.Observe(frames.header().time_s[f], SkeletonAt(frame.trajectory, frame.frame));
+  }
+  return analyser.Finish();
 }
 
 }  // namespace owval::kinematics

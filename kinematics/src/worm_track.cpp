@@ -1,6 +1,9 @@
 #include "owval/kinematics/worm_track.hpp"
 
+#include <functional>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
@@ -74,51 +77,92 @@ void WormWconWriter::Append(const Trajectory& trajectory, std::size_t frame) {
   wcon_.Append(p.time_s, p.x_mm, p.y_mm, p.cx_mm, p.cy_mm);
 }
 
-SkeletonSeries SkeletonsFromTrack(const WormTrack& track) {
-  SkeletonSeries s;
-  s.time_s = track.time_s;
-  for (std::size_t i = 0; i < track.time_s.size(); ++i) {
-    Skeleton k;
-    for (std::size_t j = 0; j < track.x_mm[i].size(); ++j)
-      k.push_back({track.x_mm[i][j], track.y_mm[i][j]});
-    s.skeletons.push_back(std::move(k));
-  }
-  return s;
-}
-
 namespace {
 
 // What Analyse needs, said with the file's name (Analyse itself knows no file): two frames, and
 // a skeleton of two points at each (a WCON may hold one point a time, a centroid track).
-void CheckAnalysable(const SkeletonSeries& s, const std::filesystem::path& path) {
-  if (s.time_s.size() < 2)
+// short_frame: the first frame whose skeleton has fewer than 2 points, and its point count.
+using ShortFrame = std::optional<std::pair<std::size_t, std::size_t>>;
+
+void RefuseUnanalysable(std::size_t frames, const ShortFrame& short_frame,
+                        const std::filesystem::path& path) {
+  if (frames < 2)
+    throw InputError(
+        path.string(), 0,
+        "holds " + std::to_string(frames) + " frame(s): kinematics need at least 2 frames");
+  if (short_frame)
     throw InputError(path.string(), 0,
-                     "holds " + std::to_string(s.time_s.size()) +
-                         " frame(s): kinematics need at least 2 frames");
-  for (std::size_t f = 0; f < s.skeletons.size(); ++f)
-    if (s.skeletons[f].size() < 2)
-      throw InputError(path.string(), 0,
-                       "frame " + std::to_string(f) + "'s skeleton has " +
-                           std::to_string(s.skeletons[f].size()) +
-                           " point(s): kinematics need at least 2 midline points a frame");
+                     "frame " + std::to_string(short_frame->first) + "'s skeleton has " +
+                         std::to_string(short_frame->second) +
+                         " point(s): kinematics need at least 2 midline points a frame");
 }
 
-SkeletonSeries ReadSkeletons(const std::filesystem::path& path) {
+void CheckAnalysable(const SkeletonSeries& s, const std::filesystem::path& path) {
+  ShortFrame short_frame;
+  for (std::size_t f = 0; f < s.skeletons.size() && !short_frame; ++f)
+    if (s.skeletons[f].size() < 2) short_frame.emplace(f, s.skeletons[f].size());
+  RefuseUnanalysable(s.time_s.size(), short_frame, path);
+}
+
+Skeleton TrackSkeleton(const WormTrack& track, std::size_t i) {
+  Skeleton k;
+  for (std::size_t j = 0; j < track.x_mm[i].size(); ++j)
+    k.push_back({track.x_mm[i][j], track.y_mm[i][j]});
+  return k;
+}
+
+// Each frame's time and skeleton in order: a .wcon/.json through ReadWcon, anything else as a
+// trajectory read frame by frame (OpenFrameSource).
+void ForEachSkeleton(const std::filesystem::path& path,
+                     const std::function<void(double, const Skeleton&)>& observe) {
   const std::string ext = path.extension().string();
-  if (ext == ".wcon" || ext == ".json") return SkeletonsFromTrack(ReadWcon(path));
+  if (ext == ".wcon" || ext == ".json") {
+    const WormTrack track = ReadWcon(path);
+    for (std::size_t i = 0; i < track.time_s.size(); ++i)
+      observe(track.time_s[i], TrackSkeleton(track, i));
+    return;
+  }
   TextReadOptions quiet;
   quiet.quiet = true;
   const std::unique_ptr<FrameSource> frames = OpenFrameSource(path, quiet);
   if (!IsWorm(frames->header())) throw InputError(path.string(), 0, kNotAWorm);
-  return SkeletonsFromFrames(*frames);
+  for (std::size_t f = 0; f < frames->frame_count(); ++f) {
+    const FrameRef frame = frames->Frame(f);
+    observe(frames->header().time_s[f], SkeletonAt(frame.trajectory, frame.frame));
+  }
 }
 
 }  // namespace
 
+SkeletonSeries SkeletonsFromTrack(const WormTrack& track) {
+  SkeletonSeries s;
+  s.time_s = track.time_s;
+  for (std::size_t i = 0; i < track.time_s.size(); ++i)
+    s.skeletons.push_back(TrackSkeleton(track, i));
+  return s;
+}
+
 SkeletonSeries LoadSkeletons(const std::filesystem::path& path) {
-  SkeletonSeries s = ReadSkeletons(path);
+  SkeletonSeries s;
+  ForEachSkeleton(path, [&](double time_s, const Skeleton& skeleton) {
+    s.time_s.push_back(time_s);
+    s.skeletons.push_back(skeleton);
+  });
   CheckAnalysable(s, path);
   return s;
+}
+
+Report AnalyseFile(const std::filesystem::path& path, const Options& options) {
+  Analyser analyser(options);
+  ShortFrame short_frame;
+  const auto observe = [&](double time_s, const Skeleton& skeleton) {
+    if (skeleton.size() < 2 && !short_frame)
+      short_frame.emplace(analyser.frames(), skeleton.size());
+    analyser.Observe(time_s, skeleton);
+  };
+  ForEachSkeleton(path, observe);
+  RefuseUnanalysable(analyser.frames(), short_frame, path);
+  return analyser.Finish();
 }
 
 }  // namespace owval::kinematics

@@ -25,6 +25,16 @@
 //  - crawling vs swimming: by bend frequency (above 1 Hz swimming; Fang-Yen et al. 2010, PNAS
 //    107:20323: crawling ~0.3-0.5 Hz, swimming ~1.6-2 Hz), else by wavelength over body length
 //    (above 1 swimming: ~1.5 swimming, ~0.65 crawling).
+//
+// Memory: the analysis streams (Analyser). The bend frequency's FFT needs the whole run's bend
+// angle, and each frame's wave counts only when the body is not straight against the run's mean
+// length (known at the end), so per frame it keeps 6 doubles (48 bytes): arc length, midbody
+// bend angle, and the wave's maximum offset, maximum offset from the fitted line, wavelength and
+// amplitude. The speeds need the part centroids of the frames within the longest window (0.5 s),
+// kept only while a window is open. A skeleton series held whole costs its points (up to 99 at
+// 16 bytes, ~1.6 kB a frame) and Analyse's resampled copy (49 points, 784 bytes).
+#include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -68,6 +78,35 @@ struct Report {
   std::string ToText() const;
 };
 
+// The analysis frame by frame: Observe each frame in time order, then Finish (any number of
+// times). Finish gives Analyse(series) of the frames observed, the same numbers bit for bit, and
+// refuses what Analyse refuses (fewer than 2 frames, a skeleton of fewer than 2 points) with
+// Analyse's InputError.
+class Analyser {
+ public:
+  explicit Analyser(const Options& options = {});
+  ~Analyser();
+  Analyser(Analyser&&) noexcept;
+  Analyser& operator=(Analyser&&) noexcept;
+
+  void Observe(double time_s, const Skeleton& skeleton);
+  Report Finish() const;
+
+  std::size_t frames() const;
+  // Frames whose part centroids are held for a speed window still open (bounded by the longest
+  // window's frames, whatever the run's length).
+  std::size_t window_frames() const;
+
+  struct State;
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+// Analyser over the series' frames.
 Report Analyse(const SkeletonSeries& series, const Options& options = {});
+// Analyser over a worm trajectory read frame by frame (memory: one frame and the Analyser's);
+// InputError when it is not a worm (as SkeletonsFromFrames).
+Report AnalyseFrames(FrameSource& frames, const Options& options = {});
 
 }  // namespace owval::kinematics

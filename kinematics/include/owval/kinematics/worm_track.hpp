@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/skeleton.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 
@@ -48,5 +49,11 @@ SkeletonSeries SkeletonsFromTrack(const WormTrack& track);
 // (OpenFrameSource: memory holds the skeletons, not the particles). InputError naming the file
 // unless Analyse can use it: at least 2 frames, each skeleton of at least 2 points.
 SkeletonSeries LoadSkeletons(const std::filesystem::path& path);
+
+// Analyse(LoadSkeletons(path)), the same report and refusals, frame by frame into an Analyser: a
+// trajectory's memory is one frame and the Analyser's few doubles a frame, never the skeletons.
+// A WCON is read whole by ReadWcon (its track, as LoadSkeletons), then analysed time point by
+// time point.
+Report AnalyseFile(const std::filesystem::path& path, const Options& options = {});
 
 }  // namespace owval::kinematics
