@@ -12,6 +12,8 @@
 #include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
 
 namespace owval::kinematics {
 namespace {
@@ -117,6 +119,9 @@ TEST(Analyser, WormReferenceGivesTheBatchAnalysisReportBitForBit) {
     "wavelength_mm": 0.8039366670070642, "zero_crossing_frequency_hz": null})");
   EXPECT_EQ(AnalyseFile(kWorm).ToJson(), batch);
   EXPECT_EQ(Analyse(LoadSkeletons(kWorm)).ToJson(), batch);
+  TextReadOptions quiet;
+  quiet.quiet = true;
+  EXPECT_EQ(AnalyseFrames(*OpenFrameSource(kWorm, quiet)).ToJson(), batch);
 }
 
 TEST(Analyser, RefusesWhatAnalyseRefusedAtFinish) {
