@@ -104,22 +104,24 @@ void CheckAnalysable(const SkeletonSeries& s, const std::filesystem::path& path)
   RefuseUnanalysable(s.time_s.size(), short_frame, path);
 }
 
-Skeleton TrackSkeleton(const WormTrack& track, std::size_t i) {
+Skeleton SkeletonOf(const std::vector<float>& x_mm, const std::vector<float>& y_mm) {
   Skeleton k;
-  for (std::size_t j = 0; j < track.x_mm[i].size(); ++j)
-    k.push_back({track.x_mm[i][j], track.y_mm[i][j]});
+  for (std::size_t j = 0; j < x_mm.size(); ++j) k.push_back({x_mm[j], y_mm[j]});
   return k;
 }
+Skeleton TrackSkeleton(const WormTrack& track, std::size_t i) {
+  return SkeletonOf(track.x_mm[i], track.y_mm[i]);
+}
 
-// Each frame's time and skeleton in order: a .wcon/.json through ReadWcon, anything else as a
-// trajectory read frame by frame (OpenFrameSource).
+// Each frame's time and skeleton in order, one at a time: a .wcon/.json through WconReader,
+// anything else as a trajectory read frame by frame (OpenFrameSource).
 void ForEachSkeleton(const std::filesystem::path& path,
                      const std::function<void(double, const Skeleton&)>& observe) {
   const std::string ext = path.extension().string();
   if (ext == ".wcon" || ext == ".json") {
-    const WormTrack track = ReadWcon(path);
-    for (std::size_t i = 0; i < track.time_s.size(); ++i)
-      observe(track.time_s[i], TrackSkeleton(track, i));
+    WconReader reader(path);
+    WconTimePoint point;
+    while (reader.Next(&point)) observe(point.time_s, SkeletonOf(point.x_mm, point.y_mm));
     return;
   }
   TextReadOptions quiet;

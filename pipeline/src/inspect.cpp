@@ -46,8 +46,7 @@ Inspection InspectTrajectory(const std::filesystem::path& path, const TextReadOp
   i.subject = track.Describe();
   CheckWindow(frames->header().time_s, window);
   i.metrics = compare::MeasureSignal(frames->header().time_s, track.Series(*frames), window);
-  if (kinematics::IsWorm(frames->header()))
-    i.worm = kinematics::Analyse(kinematics::SkeletonsFromFrames(*frames));
+  if (kinematics::IsWorm(frames->header())) i.worm = kinematics::AnalyseFrames(*frames);
   return i;
 }
 
