@@ -187,27 +187,45 @@ std::vector<Target> RecordedTargets(const nlohmann::json& history, const FitReru
   return targets;
 }
 
+// The best iterate of a fit scored by targets (the engine's, a named backend's): its parameters'
+// names and values, and the targets with their track.
+struct ScoredIterate {
+  nlohmann::json best;
+  std::vector<std::string> names;
+  std::vector<double> values;
+  Track track;
+  std::vector<Target> targets;
+};
+
+ScoredIterate BestScoredIterate(const nlohmann::json& history, const FitRerunOptions& options) {
+  ScoredIterate b;
+  b.best = BestIteration(history);
+  for (const Parameter& p : FittedParameters(history, b.best, &b.values)) b.names.push_back(p.name);
+  b.targets = RecordedTargets(history, options, &b.track);
+  return b;
+}
+
+// The rerun of `b` scored: its residuals against the targets and their sum of squares.
+FitRerun Scored(const ScoredIterate& b, const TrackedSeries& series, std::string simulated) {
+  FitRerun r;
+  r.best_iteration = b.best;
+  r.residuals = ScaledResiduals(series, b.track, b.targets);
+  for (double v : r.residuals) r.loss += v * v;
+  r.simulated = std::move(simulated);
+  return r;
+}
+
 FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& simulation,
                         const fs::path& fit_dir, const FitRerunOptions& options) {
   const engine::SiberneticConfig config = RecordedConfiguration(simulation, fit_dir);
   engine::RunOptions base = RecordedRunOptions(simulation);
-  std::vector<double> values;
-  const nlohmann::json& best = BestIteration(history);
-  const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
-  Track track;
-  const std::vector<Target> targets = RecordedTargets(history, options, &track);
-  std::vector<std::string> names;
-  for (const Parameter& p : parameters) names.push_back(p.name);
-  engine::RunOptions run = EvaluationRunOptions(base, names, values);
+  const ScoredIterate b = BestScoredIterate(history, options);
+  engine::RunOptions run = EvaluationRunOptions(base, b.names, b.values);
   run.on_step = options.on_step;  // the fit's evaluations run concurrently, without one
-  FitRerun r;
-  r.best_iteration = best;
-  r.residuals = ScaledResiduals(RunTrackedSeries(config, run, track), track, targets);
-  for (double v : r.residuals) r.loss += v * v;
-  r.simulated = run.backend + ", " + FormatNumber(run.duration_s) + " s, log step " +
-                std::to_string(run.log_step) + ", " +
-                simulation["configuration"]["file"].get<std::string>();
-  return r;
+  return Scored(b, RunTrackedSeries(config, run, b.track),
+                run.backend + ", " + FormatNumber(run.duration_s) + " s, log step " +
+                    std::to_string(run.log_step) + ", " +
+                    simulation["configuration"]["file"].get<std::string>());
 }
 
 // A fit of a named backend, rerun through the caller's entry (options.backend) with the recorded
@@ -233,24 +251,13 @@ FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& si
   if (!(log_step >= 1 && log_step == std::floor(log_step) && log_step < 1e9))
     throw NotVerified{"simulation.log_step is not a whole number of steps"};
   run.log_step = int(log_step);
-  std::vector<double> values;
-  const nlohmann::json& best = BestIteration(history);
-  const std::vector<Parameter> parameters = FittedParameters(history, best, &values);
-  Track track;
-  const std::vector<Target> targets = RecordedTargets(history, options, &track);
-  std::vector<std::string> names;
-  for (const Parameter& p : parameters) names.push_back(p.name);
-  CheckFittableBackend(*options.backend, names);  // InputError: not verified, with the reason
-  FitRerun r;
-  r.best_iteration = best;
-  r.residuals = ScaledResiduals(
-      RunBackendTrackedSeries(*options.backend, run, names, values, track), track, targets);
-  for (double v : r.residuals) r.loss += v * v;
-  r.simulated = "backend " + options.backend->name + " of the caller's " +
-                options.backend->defined_in + ", " + FormatNumber(run.duration_s) +
-                " s, log step " + std::to_string(run.log_step) + ", " +
-                run.configuration.filename().string();
-  return r;
+  const ScoredIterate b = BestScoredIterate(history, options);
+  CheckFittableBackend(*options.backend, b.names);  // InputError: not verified, with the reason
+  return Scored(b, RunBackendTrackedSeries(*options.backend, run, b.names, b.values, b.track),
+                "backend " + options.backend->name + " of the caller's " +
+                    options.backend->defined_in + ", " + FormatNumber(run.duration_s) +
+                    " s, log step " + std::to_string(run.log_step) + ", " +
+                    run.configuration.filename().string());
 }
 
 FitRerun RerunModelFit(const nlohmann::json& history, const nlohmann::json& simulation,
