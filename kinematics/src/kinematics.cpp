@@ -230,14 +230,9 @@ Report Analyse(const SkeletonSeries& series, const Options& options) {
 }
 
 Report AnalyseFrames(FrameSource& frames, const Options& options) {
-  if (!IsWorm(frames.header()))  // SkeletonsFromFrames' refusal
-    throw InputError(
-        "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
   Analyser analyser(options);
-  for (std::size_t f = 0; f < frames.frame_count(); ++f) {
-    const FrameRef frame = frames.Frame(f);
-    analyser.Observe(frames.header().time_s[f], SkeletonAt(frame.trajectory, frame.frame));
-  }
+  ForEachFrameSkeleton(
+      frames, [&](double time_s, const Skeleton& skeleton) { analyser.Observe(time_s, skeleton); });
   return analyser.Finish();
 }
 

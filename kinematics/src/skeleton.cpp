@@ -20,16 +20,23 @@ SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory) {
   return series;
 }
 
-SkeletonSeries SkeletonsFromFrames(FrameSource& frames) {
+void ForEachFrameSkeleton(FrameSource& frames,
+                          const std::function<void(double time_s, const Skeleton&)>& observe) {
   if (!IsWorm(frames.header()))
     throw InputError(
         "trajectory has no worm body (no elastic particles with midline codes 2.1xxx)");
-  SkeletonSeries series;
   for (std::size_t f = 0; f < frames.frame_count(); ++f) {
     const FrameRef frame = frames.Frame(f);
-    series.time_s.push_back(frames.header().time_s[f]);
-    series.skeletons.push_back(SkeletonAt(frame.trajectory, frame.frame));
+    observe(frames.header().time_s[f], SkeletonAt(frame.trajectory, frame.frame));
   }
+}
+
+SkeletonSeries SkeletonsFromFrames(FrameSource& frames) {
+  SkeletonSeries series;
+  ForEachFrameSkeleton(frames, [&](double time_s, const Skeleton& skeleton) {
+    series.time_s.push_back(time_s);
+    series.skeletons.push_back(skeleton);
+  });
   return series;
 }
 

@@ -128,10 +128,7 @@ void ForEachSkeleton(const std::filesystem::path& path,
   quiet.quiet = true;
   const std::unique_ptr<FrameSource> frames = OpenFrameSource(path, quiet);
   if (!IsWorm(frames->header())) throw InputError(path.string(), 0, kNotAWorm);
-  for (std::size_t f = 0; f < frames->frame_count(); ++f) {
-    const FrameRef frame = frames->Frame(f);
-    observe(frames->header().time_s[f], SkeletonAt(frame.trajectory, frame.frame));
-  }
+  ForEachFrameSkeleton(*frames, observe);
 }
 
 }  // namespace

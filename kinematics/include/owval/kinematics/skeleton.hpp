@@ -4,6 +4,7 @@
 // (z, x) plane: skeleton x = simulation z, skeleton y = simulation x (the worm_motion_log swap).
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "owval/trajectory/frame_source.hpp"
@@ -27,6 +28,10 @@ constexpr int kNormalisedPoints = 49;
 SkeletonSeries SkeletonsFromTrajectory(const Trajectory& trajectory);
 // The same, read frame by frame (memory: the skeletons, not the particles of every frame).
 SkeletonSeries SkeletonsFromFrames(FrameSource& frames);
+// Each frame's time and skeleton in order, read one frame at a time (memory: one frame), for an
+// analysis that streams. Throws InputError, as SkeletonsFromTrajectory, when it is not a worm.
+void ForEachFrameSkeleton(FrameSource& frames,
+                          const std::function<void(double time_s, const Skeleton&)>& observe);
 // One frame's skeleton, as SkeletonsFromTrajectory gives it (for frames read one at a time).
 Skeleton SkeletonAt(const Trajectory& trajectory, std::size_t frame);
 
