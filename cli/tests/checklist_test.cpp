@@ -598,6 +598,7 @@ class BackendFit : public Checklist {
     Write(dir / "backends.json",
           nlohmann::json{{"backends",
                           {{"mine", {{"command", run + " --out {out}"}}},
+                           {"renamed", {{"command", run + " --out {out}"}}},
                            {"other", {{"command", run + " --set gravity_y=-9.0 --out {out}"}}}}}}
               .dump(2));
     return dir / "backends.json";
@@ -677,6 +678,17 @@ TEST_F(BackendFit, Item6RerunsItThroughTheCallersEntryAndItIsReady) {
       << Item6(j);
   EXPECT_NE(Item6(j).find("(tolerance 1e-09 relative)"), std::string::npos) << Item6(j);
   EXPECT_NE(Item6(j).find("with no weight below 1"), std::string::npos) << Item6(j);
+  EXPECT_EQ(Item6(j).find("the history fitted"), std::string::npos) << Item6(j);
+}
+
+// The reviewer's registry may name the port otherwise: the rerun is judged as any other, and the
+// report says the names differ (it may also be a rerun through another substrate).
+TEST_F(BackendFit, Item6SaysWhenTheCallersEntryHasAnotherName) {
+  const fs::path d = CopyWithBackendFit("backend_renamed");
+  const auto j = JudgeWith(d, 0, "--fit-backend renamed");
+  EXPECT_TRUE(ItemPasses(j, 6)) << Item6(j);
+  EXPECT_NE(Item6(j).find("(backend renamed of the caller's"), std::string::npos) << Item6(j);
+  EXPECT_NE(Item6(j).find("(the history fitted backend 'mine')"), std::string::npos) << Item6(j);
 }
 
 TEST_F(BackendFit, Item6IsNotVerifiedWithoutTheCallersEntry) {

@@ -253,9 +253,15 @@ FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& si
   run.log_step = int(log_step);
   const ScoredIterate b = BestScoredIterate(history, options);
   CheckFittableBackend(*options.backend, b.names);  // InputError: not verified, with the reason
+  // The reviewer's registry may name the port otherwise; a different name may also be a rerun
+  // through another substrate than the one fitted. Not a failure (the rerun's loss is judged
+  // either way), but the report says so.
+  const std::string fitted = simulation.value("name", std::string("?"));
+  const std::string renamed =
+      fitted == options.backend->name ? "" : " (the history fitted backend '" + fitted + "')";
   return Scored(b, RunBackendTrackedSeries(*options.backend, run, b.names, b.values, b.track),
                 "backend " + options.backend->name + " of the caller's " +
-                    options.backend->defined_in + ", " + FormatNumber(run.duration_s) +
+                    options.backend->defined_in + renamed + ", " + FormatNumber(run.duration_s) +
                     " s, log step " + std::to_string(run.log_step) + ", " +
                     run.configuration.filename().string());
 }
