@@ -87,7 +87,7 @@ void SetUp(CLI::App& app) {
       ->required();
   AddJsonFlag(cmd, &a->json, "the history");
   AddBackendFlag(cmd, &a->request.backend,
-                 " of the finite-difference fit's simulations (pcisph, xpbd)");
+                 " of the finite-difference fit's engine runs (pcisph, the default, or xpbd)");
   cmd->add_option("--gradient", a->request.gradient,
                   "fd (finite differences of runs, any backend), analytic (XPBD's reverse "
                   "pass, Ceres L-BFGS) or model-fd (the same L-BFGS and model, central "

@@ -793,7 +793,11 @@ TEST_F(BackendFit, TheFitRefusesAnEntryItCannotFitAndLeavesNothing) {
   for (const std::string& flags :
        {std::string(" --fit-backend nosuch --param elasticity_coefficient=1.62e8:log"),
         std::string(" --fit-backend owval --param elasticity_coefficient=1.62e8:log"),
-        std::string(" --fit-backend mine --param gravity_y=-9.8")}) {
+        std::string(" --fit-backend mine --param gravity_y=-9.8"),
+        // --backend names an engine scheme, which a named backend's fit never runs: a fit
+        // recorded as xpbd's that ran "mine" would mislead.
+        std::string(" --fit-backend mine --backend xpbd --param elasticity_coefficient=1.62e8:log"),
+        std::string(" --command 'true {out}' --backend xpbd --param k=1")}) {
     const Result r = Owval("fit " + config + " --backends " + registry.string() + flags +
                            " --target period=7.246e-4 -o " + out.string());
     EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.out << r.err;

@@ -157,7 +157,7 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   engine::RunOptions run;
   run.duration_s = r.time_s;
   run.log_step = r.log_step;
-  run.backend = r.backend;
+  run.backend = r.backend.empty() ? "pcisph" : r.backend;
   nlohmann::json backend_record;
   SimulationRecord simulation([&]() -> nlohmann::json {
     if (!r.command.empty()) return {{"kind", "command"}, {"command", r.command}};  // not rerun
@@ -209,6 +209,15 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
     throw InputError("fit: --fit-backend and --command are two simulators; give one");
   if (!request.fit_backend.empty() && request.gradient != "fd")
     throw InputError("fit --gradient " + request.gradient + ": takes no --fit-backend");
+  if (!request.backend.empty()) {
+    const std::string runs = !request.command.empty()       ? "--command's program"
+                             : !request.fit_backend.empty() ? "backend " + request.fit_backend
+                             : request.gradient != "fd"     ? "the XPBD model"
+                                                            : "";
+    if (!runs.empty())
+      throw InputError("fit --backend " + request.backend + ": this fit runs " + runs +
+                       ", not an engine scheme; drop --backend");
+  }
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
   } else {

@@ -10,6 +10,7 @@
 #include <functional>
 
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/ci/checklist.hpp"
 #include "owval/compare/signal_metrics.hpp"
@@ -63,6 +64,31 @@ void Edit(const fs::path& file, const std::function<void(nlohmann::json&)>& edit
   nlohmann::json j = ReadJsonFile(file);
   edit(j);
   std::ofstream(file) << j.dump(2);
+}
+
+// --backend names the engine scheme of a finite-difference fit's runs. The gradient fits run the
+// XPBD model whatever it says, and a --command fit its program: a fit recorded under a scheme it
+// never ran is refused before anything is written.
+TEST(FitRerun, ABackendTheFitWouldNotRunIsBadInput) {
+  const fs::path dir = owval::testing::TestScratch("fit_backend_ignored");
+  const engine::SiberneticConfig config = scenarios::ResolveConfig("one_sprig", OWVAL_SOURCE_DIR);
+  for (const std::string gradient : {"analytic", "model-fd"}) {
+    FitRequest r;
+    r.parameters = {"elasticity_coefficient=1.62e8:log"};
+    r.gradient = gradient;
+    r.backend = "pcisph";
+    r.out = (dir / "fit").string();
+    FitDirectorySummary summary;
+    try {
+      FitIntoDirectory(r, &config, nullptr, {}, &summary);
+      ADD_FAILURE() << gradient << ": expected an InputError";
+    } catch (const InputError& e) {
+      EXPECT_STREQ(e.what(),
+                   "fit --backend pcisph: this fit runs the XPBD model, not an engine scheme; "
+                   "drop --backend");
+    }
+    EXPECT_FALSE(fs::exists(dir / "fit"));
+  }
 }
 
 TEST(FitRerun, TheHistoryRecordsWhatWasSimulated) {

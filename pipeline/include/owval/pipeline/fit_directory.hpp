@@ -46,8 +46,11 @@ struct FitRequest {
   int max_iterations = 20;
   double learning_rate = 0.5;
   int patience = 10;  // --solver adam: iterations without a 0.1% better loss before it stops
-  std::string gradient = "fd";     // fd | analytic | model-fd
-  std::string backend = "pcisph";  // fd: the engine scheme of the evaluations
+  std::string gradient = "fd";  // fd | analytic | model-fd
+  // fd: the engine scheme of the evaluations ("": pcisph). Refused with --command,
+  // --fit-backend and the gradient fits, which run no engine scheme it could name: a fit that
+  // silently ran something else than the scheme asked for would be recorded as that scheme's.
+  std::string backend;
   // analytic: group centroids (every axis) in the loss instead of the tracked coordinate.
   std::vector<std::string> loss_groups;
   double loss_scale = 1;                          // cu
