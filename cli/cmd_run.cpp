@@ -1,6 +1,8 @@
 // owval run: the engine (PCISPH, Sibernetic's scheme, unless --backend says otherwise) on a
 // configuration or built-in scenario, streamed into an output directory (pipeline/run_directory).
+#include <cstddef>
 #include <cstdio>
+#include <vector>
 
 #include "command.hpp"
 #include "owval/base/stop_signals.hpp"
@@ -41,8 +43,10 @@ void RunEngine(RunArgs& a) {
   SetExitCode(s.exit_code(StopSignal()));
 }
 
-// What a run is (pipeline::RunRequest), as `run` and a checkpoint's resumption take it.
-void AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
+// What a run is (pipeline::RunRequest), as `run` and a checkpoint's resumption take it. Returns
+// the options, which --resume excludes: a resumed run has its checkpoint's own.
+std::vector<CLI::Option*> AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
+  const std::size_t before = cmd->get_options().size();
   cmd->add_option("config", r->config,
                   "Scenario name (owval scenario list) or Sibernetic configuration file")
       ->check(GivenName());
@@ -70,20 +74,25 @@ void AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
          "--checkpoint-every", r->checkpoint_every,
          "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)")
       ->check(Count());
+  const std::vector<CLI::Option*> all = cmd->get_options();
+  return {all.begin() + std::ptrdiff_t(before), all.end()};
 }
 
 void SetUp(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   pipeline::RunRequest& r = a->request;
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
-  AddRunFlags(cmd, &r);
+  const std::vector<CLI::Option*> run_flags = AddRunFlags(cmd, &r);
   AddThreadsFlag(cmd, &a->options.threads,
                  " (default: every idle core; one below 4,096 particles)");
   AddJsonFlag(cmd, &a->json, "a summary");
-  cmd->add_option("--resume", a->resume,
-                  "Continue the checkpointed run in this output directory with its own "
-                  "arguments; the outputs equal an uninterrupted run's byte for byte")
-      ->check(CLI::ExistingDirectory);
+  CLI::Option* resume =
+      cmd->add_option("--resume", a->resume,
+                      "Continue the checkpointed run in this output directory with its own "
+                      "arguments; the outputs equal an uninterrupted run's byte for byte")
+          ->check(CLI::ExistingDirectory);
+  // `--resume DIR --time 5` ran the checkpoint's own time and said nothing.
+  for (CLI::Option* flag : run_flags) resume->excludes(flag);
   cmd->add_flag("--stability", a->options.stability,
                 "Apply the long-run stability gate to every frame as it is produced (NaN, "
                 "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid "

@@ -55,6 +55,26 @@ TEST(Cli, InspectRefusesANonFiniteOrNegativeWindowBound) {
   EXPECT_EQ(Owval("inspect " + kOneSprig + " --from 0 --to 0.001").exit_code, 0);
 }
 
+// A resumed run takes its checkpoint's own arguments: `run --resume DIR --time 5` ran the
+// checkpoint's time and said nothing. Every flag that says what the run is is refused with it,
+// before the directory is read (here it holds no checkpoint at all).
+TEST(Cli, RunResumeRefusesTheRunsOwnArguments) {
+  const fs::path dir = Scratch() / "resumed";
+  fs::create_directories(dir);
+  for (const std::string& given : std::vector<std::string>{
+           "one_sprig", "--time 5", "--log-step 3", "--out " + (Scratch() / "other").string(),
+           "--backend xpbd", "--integrator leapfrog", "--muscles off",
+           "--apply-physical-parameters", "--set gravity_y=-1", "--no-fields", "--zarr",
+           "--checkpoint-every 10"}) {
+    const Result r = Owval("run --resume " + dir.string() + " " + given);
+    EXPECT_EQ(r.exit_code, 2) << given << ": " << r.err;
+    const std::string flag = given.substr(0, given.find(' '));
+    EXPECT_EQ(r.err, "owval: usage: " + (flag == "one_sprig" ? "config" : flag) +
+                         " excludes --resume (see --help)\n");
+  }
+  EXPECT_FALSE(fs::exists(Scratch() / "other"));
+}
+
 TEST(Cli, MissingFileIsOneLineExitTwo) {
   const Result r = Owval("inspect /nonexistent/position_buffer.txt");
   EXPECT_EQ(r.exit_code, 2);
