@@ -42,7 +42,34 @@ compare::ParityOptions FileParityOptions(const CompareRequest& r) {
   return o;
 }
 
+// A flag of the other form of compare was ignored: `compare A.txt B.txt --scenarios demo1` and
+// `compare opencl owval --frame-threshold 0.01` said nothing of it (the suite takes each
+// scenario's manifest gates). The first such flag, or "".
+std::string SuiteOnlyFlagGiven(const CompareRequest& r) {
+  if (!r.scenarios.names.empty()) return "--scenarios";
+  if (!r.scenarios.sibernetic.empty()) return "--sibernetic";
+  if (!r.scenarios.reference_dir.empty()) return "--reference-dir";
+  if (!r.sets.empty()) return "--set";
+  if (!r.backends.file.empty()) return "--backends";
+  if (!r.backends.cache.directory.empty()) return "--cache";
+  if (!r.backends.cache.enabled) return "--no-cache";
+  return "";
+}
+std::string FilesOnlyFlagGiven(const CompareRequest& r) {
+  if (!r.manifest.empty()) return "--manifest";
+  if (r.track.given() || r.track.axis) return "the tracked quantity (--particle, --group, --axis)";
+  if (!r.frames.empty()) return "--frames";
+  if (r.scale) return "--scale";
+  for (std::size_t i = 0; i < r.thresholds.size() && i < compare::kGateThresholdFields.size(); ++i)
+    if (r.thresholds[i]) return compare::kGateThresholdFields[i].flag;
+  return "";
+}
+
 SuiteReport CompareBackendNames(const CompareRequest& r) {
+  if (const std::string flag = FilesOnlyFlagGiven(r); !flag.empty())
+    throw InputError("compare " + r.reference + " " + r.candidate + ": " + flag +
+                     " applies to two trajectory files; with backend names each scenario's "
+                     "manifest sets the track and gates");
   CheckMarkdownOut(r);
   for (const std::string& arg : {r.reference, r.candidate}) {
     std::error_code ec;
@@ -93,6 +120,10 @@ CompareOutcome CompareNamed(const CompareRequest& r) {
   if (!fs::is_regular_file(r.reference, ec) || !fs::is_regular_file(r.candidate, ec)) {
     outcome.suite = CompareBackendNames(r);
   } else {
+    if (const std::string flag = SuiteOnlyFlagGiven(r); !flag.empty())
+      throw InputError("compare: " + flag +
+                       " applies to two backend names; the reference and candidate given are "
+                       "trajectory files");
     const compare::ParityOptions options = FileParityOptions(r);
     CheckMarkdownOut(r);
     const auto reference = OpenFrameSource(r.reference, r.reading);  // frame by frame

@@ -5,6 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
@@ -51,6 +55,53 @@ TEST(BackendCommands, ANameWithASlashThatIsNoFileIsNamed) {
   r.reference = "no/such.h5";
   r.candidate = "opencl";  // a backend name, not a file in the working directory
   EXPECT_EQ(ErrorOf(r), "no/such.h5: no such trajectory file (and not a backend name)");
+}
+
+// Each form of compare takes its own flags; a flag of the other form is refused, not ignored
+// (`compare A.txt B.txt --scenarios demo1` compared the files and said nothing of demo1).
+TEST(BackendCommands, TwoFilesRefuseTheSuitesFlags) {
+  const fs::path dir = owval::testing::TestScratch("commands_files");
+  std::ofstream(dir / "ref.txt") << "x\n";  // never read: the refusal comes first
+  const std::vector<std::pair<std::string, std::function<void(CompareRequest&)>>> flags = {
+      {"--scenarios", [](CompareRequest& r) { r.scenarios.names = {"demo1"}; }},
+      {"--sibernetic", [](CompareRequest& r) { r.scenarios.sibernetic = "/opt/sibernetic"; }},
+      {"--reference-dir", [](CompareRequest& r) { r.scenarios.reference_dir = "/tmp"; }},
+      {"--set", [](CompareRequest& r) { r.sets = {"k=1"}; }},
+      {"--backends", [](CompareRequest& r) { r.backends.file = "b.json"; }},
+      {"--cache", [](CompareRequest& r) { r.backends.cache.directory = "/tmp"; }},
+      {"--no-cache", [](CompareRequest& r) { r.backends.cache.enabled = false; }}};
+  for (const auto& [flag, give] : flags) {
+    CompareRequest r;
+    r.reference = r.candidate = (dir / "ref.txt").string();
+    give(r);
+    EXPECT_EQ(ErrorOf(r), "compare: " + flag +
+                              " applies to two backend names; the reference and candidate given "
+                              "are trajectory files");
+  }
+}
+
+TEST(BackendCommands, TwoBackendNamesRefuseTheFilesFlags) {
+  const std::vector<std::pair<std::string, std::function<void(CompareRequest&)>>> flags = {
+      {"--manifest", [](CompareRequest& r) { r.manifest = "m.json"; }},
+      {"the tracked quantity (--particle, --group, --axis)",
+       [](CompareRequest& r) { r.track.axis = "x"; }},
+      {"the tracked quantity (--particle, --group, --axis)",
+       [](CompareRequest& r) { r.track.particle = 3; }},
+      {"--frames", [](CompareRequest& r) { r.frames = "0,15"; }},
+      {"--scale", [](CompareRequest& r) { r.scale = 1.0; }},
+      {compare::kGateThresholdFields[0].flag, [](CompareRequest& r) {
+         r.thresholds.resize(compare::kGateThresholdFields.size());
+         r.thresholds[0] = 0.01;  // tighter than the default: ignored, it would not be applied
+       }}};
+  for (const auto& [flag, give] : flags) {
+    CompareRequest r;
+    r.reference = "opencl";
+    r.candidate = "owval";
+    give(r);
+    EXPECT_EQ(ErrorOf(r), "compare opencl owval: " + flag +
+                              " applies to two trajectory files; with backend names each "
+                              "scenario's manifest sets the track and gates");
+  }
 }
 
 }  // namespace

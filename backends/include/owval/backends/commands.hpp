@@ -59,7 +59,9 @@ struct CompareOutcome {
 
 // InputError before anything is read when one argument is a file and the other is not (named:
 // missing, a directory, not a regular file), a name with a '/' is no file, or --markdown is
-// unwritable or one of the inputs. Writes request.markdown when given.
+// unwritable or one of the inputs, or when a field of the other form is set (files: scenarios,
+// sets, backends file, cache; names: manifest, track, frames, scale, thresholds), which that form
+// would ignore. Writes request.markdown when given.
 CompareOutcome CompareNamed(const CompareRequest& request);
 
 struct BenchRequest {
