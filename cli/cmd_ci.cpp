@@ -53,7 +53,7 @@ void SetUp(CLI::App& app) {
   validate->add_option("directory", *dir, "Artifact directory (reference.*, candidate.*)")
       ->check(GivenName());
   auto stability = std::make_shared<StabilityArgs>();
-  validate->add_option(
+  CLI::Option* streamed = validate->add_option(
       "--stability", stability->duration,
       "Instead: run --scenario for this simulated time (10s, 500ms) and apply "
       "the stability gate to every frame as it is produced (NaN, escapes, "
@@ -63,9 +63,11 @@ void SetUp(CLI::App& app) {
       ->add_option(
           "--scenario", stability->scenario,
           "With --stability: scenario name or configuration (default: the reference demo1)")
-      ->check(GivenName());
-  AddLogStepFlag(validate, &stability->options.log_step, " (with --stability)");
-  AddOut(validate, &stability->options.out, "With --stability: where the run's trajectory goes");
+      ->check(GivenName())
+      ->needs(streamed);  // `validate DIR --scenario worm` judged DIR and said nothing of it
+  AddLogStepFlag(validate, &stability->options.log_step, " (with --stability)")->needs(streamed);
+  AddOut(validate, &stability->options.out, "With --stability: where the run's trajectory goes")
+      ->needs(streamed);
   auto reference = std::make_shared<std::string>();
   validate->add_option("--reference", *reference, "Trajectory the directory's reference must be")
       ->check(GivenName());

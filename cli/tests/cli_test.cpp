@@ -75,6 +75,20 @@ TEST(Cli, RunResumeRefusesTheRunsOwnArguments) {
   EXPECT_FALSE(fs::exists(Scratch() / "other"));
 }
 
+// ci validate's run flags belong to --stability: given with a directory they were ignored.
+TEST(Cli, ValidateRefusesTheStabilityRunsFlagsWithoutIt) {
+  const fs::path dir = Scratch() / "artifacts";
+  fs::create_directories(dir);
+  for (const std::string& given : std::vector<std::string>{
+           "--scenario one_sprig", "--log-step 5", "--out " + (Scratch() / "run").string()}) {
+    const Result r = Owval("ci validate " + dir.string() + " " + given);
+    EXPECT_EQ(r.exit_code, 2) << given;
+    EXPECT_EQ(r.err, "owval: usage: " + given.substr(0, given.find(' ')) +
+                         " requires --stability (see --help)\n");
+  }
+  EXPECT_FALSE(fs::exists(Scratch() / "run"));
+}
+
 TEST(Cli, MissingFileIsOneLineExitTwo) {
   const Result r = Owval("inspect /nonexistent/position_buffer.txt");
   EXPECT_EQ(r.exit_code, 2);
