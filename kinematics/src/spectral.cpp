@@ -2,46 +2,21 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <complex>
 #include <numeric>
-#include <unsupported/Eigen/FFT>
+
+#include "padded_spectrum.hpp"
 
 namespace owval::kinematics::internal {
 namespace {
 
-// Power spectrum of y zero-padded to at least 16x its length (a power of two).
-std::vector<double> PaddedPower(const std::vector<double>& y) {
-  std::size_t n = 1;
-  while (n < 16 * y.size()) n *= 2;
-  std::vector<double> padded(n, 0.0);
-  std::copy(y.begin(), y.end(), padded.begin());
-  // Only the bins 0..n/2 are used: HalfSpectrum keeps the FFT from mirroring the other half
-  // into a second n/2 complex values (the kept bins are the same numbers; for a run's bend angle,
-  // padded to 16x its frames, that half was 128 bytes a frame).
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  std::vector<std::complex<double>> spectrum;
-  fft.fwd(spectrum, padded);
-  std::vector<double> power(n / 2 + 1);
-  for (std::size_t k = 0; k < power.size(); ++k) power[k] = std::norm(spectrum[k]);
-  return power;
-}
-
-// The toolbox's bandwidth of the peak: nearest local minima of the magnitude on each side.
-void Bandwidth(const std::vector<double>& power, std::size_t best, SpectralPeak* peak) {
-  std::size_t lo = best, hi = best;
-  while (lo > 0 && power[lo - 1] < power[lo]) --lo;
-  while (hi + 1 < power.size() && power[hi + 1] < power[hi]) ++hi;
-  // A side that decays to the spectrum's end is bounded there (after detrending, the DC bin is
-  // near zero); only a peak at DC itself has no bandwidth.
-  peak->bounded = best > 0;
-  peak->trough_ratio = std::sqrt(std::max(power[lo], power[hi]) / power[best]);
-  double total = 0, between = 0;
-  for (std::size_t k = 0; k < power.size(); ++k) {
-    total += power[k];
-    if (k >= lo && k <= hi) between += power[k];
-  }
-  peak->peak_energy_fraction = total > 0 ? between / total : 0;
+// The toolbox's bandwidth of the peak: the nearest local minima of the magnitude on each side
+// (PaddedPeak's troughs). A side that decays to the spectrum's end is bounded there (after
+// detrending, the DC bin is near zero); only a peak at DC itself has no bandwidth.
+void Bandwidth(const PaddedPeak& padded, SpectralPeak* peak) {
+  peak->bounded = padded.best > 0;
+  peak->trough_ratio = std::sqrt(std::max(padded.lo_power, padded.hi_power) / padded.best_power);
+  peak->peak_energy_fraction =
+      padded.total_power > 0 ? padded.between_power / padded.total_power : 0;
 }
 
 }  // namespace
@@ -75,6 +50,7 @@ SineFit FitSine(const std::vector<double>& y, double dx, double frequency) {
   const Eigen::Vector4d c = normal.ldlt().solve(rhs);
   SineFit fit;
   fit.amplitude = std::hypot(c[0], c[1]);
+  fit.baseline.reserve(y.size());  // 8 bytes a sample, not up to twice that as it grows
   for (std::size_t i = 0; i < y.size(); ++i) fit.baseline.push_back(c[2] + c[3] * (i - mid) / mid);
   for (std::size_t i = 0; i < y.size(); ++i) {
     const double phase = 2 * M_PI * frequency * dx * i;
@@ -91,11 +67,9 @@ bool FindSpectralPeak(const std::vector<double>& raw, double dx, SpectralPeak* p
   double energy = 0;
   for (double v : y) energy += v * v;
   if (!(energy > 0)) return false;
-  const std::vector<double> power = PaddedPower(y);
-  const std::size_t n = 2 * (power.size() - 1);
-  std::size_t best = 0;
-  for (std::size_t k = 0; k < power.size(); ++k)
-    if (power[k] > power[best]) best = k;
+  // The padded spectrum's peak bin and troughs, streamed: memory bounded whatever y's length.
+  const PaddedPeak padded = FindPaddedPeak(y);
+  const std::size_t n = padded.padded_length, best = padded.best;
   const double bin = 1.0 / (n * dx);
   // Golden-section search of the sine fit's residual within two padded bins of the peak.
   double lo = std::max((best - 2.0) * bin, 0.25 * bin), hi = (best + 2.0) * bin;
@@ -110,7 +84,7 @@ bool FindSpectralPeak(const std::vector<double>& raw, double dx, SpectralPeak* p
   peak->frequency = 0.5 * (lo + hi);
   peak->amplitude = FitSine(y, dx, peak->frequency).amplitude;
   peak->coarse_frequency = best * bin;
-  Bandwidth(power, best, peak);
+  Bandwidth(padded, peak);
   peak->lowest_frequency = 1.0 / ((y.size() - 1) * dx);
   return true;
 }
