@@ -28,14 +28,15 @@
 //
 // Memory: the analysis streams (Analyser). The bend frequency's FFT needs the whole run's bend
 // angle, and each frame's wave counts only when the body is not straight against the run's mean
-// length (known at the end), so per frame it keeps 6 doubles (48 bytes, up to twice that in the
-// vectors' spare capacity): arc length, midbody bend angle, and the wave's maximum offset,
+// length (known at the end), so per frame it keeps 6 doubles (48 bytes, in deques: no spare
+// capacity): arc length, midbody bend angle, and the wave's maximum offset,
 // maximum offset from the fitted line, wavelength and amplitude. At Finish the bend angle's
 // spectrum, zero-padded to 16x the frames, is computed in FFTs of at most 2^15 samples, never held
-// whole: a transient of at most ~2 MB, plus the detrended angles and a sine fit's baseline (8 bytes
-// a frame each). The speeds need the part centroids of the frames within the longest window (0.5
-// s), kept only while a window is open. A skeleton series held whole costs its points (up to 99 at
-// 16 bytes, ~1.6 kB a frame) and Analyse's resampled copy (49 points, 784 bytes).
+// whole: a transient of at most ~2 MB, plus the angles' contiguous copy, their detrended copy and a
+// sine fit's baseline (8 bytes a frame each). The speeds need the part centroids of the frames
+// within the longest window (0.5 s), kept only while a window is open. A skeleton series held whole
+// costs its points (up to 99 at 16 bytes, ~1.6 kB a frame) and Analyse's resampled copy (49 points,
+// 784 bytes).
 #include <cstddef>
 #include <memory>
 #include <optional>
