@@ -1,8 +1,9 @@
 #pragma once
-// Spectral peak of a sampled signal: FFT (Eigen's FFT module, zero-padded) for the coarse peak,
-// then a least-squares sine fit y ~ a sin(2 pi f x) + b cos(2 pi f x) + c + d x refined by
-// golden-section search around it, so that a pure sine's frequency is recovered to well under 1%
-// even with one or two cycles in the window (where the bare FFT bin is coarse).
+// Spectral peak of a sampled signal: FFT (Eigen's FFT module, zero-padded, streamed in blocks:
+// padded_spectrum.hpp) for the coarse peak, then a least-squares sine fit
+// y ~ a sin(2 pi f x) + b cos(2 pi f x) + c + d x refined by golden-section search around it, so
+// that a pure sine's frequency is recovered to well under 1% even with one or two cycles in the
+// window (where the bare FFT bin is coarse).
 #include <vector>
 
 namespace owval::kinematics::internal {
