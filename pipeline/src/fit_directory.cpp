@@ -198,6 +198,34 @@ void FiniteDifferenceFit(const FitRequest& r, const engine::SiberneticConfig* co
   summary->brief = fit.BriefReport();
 }
 
+// What this kind of fit would not read of the flags set away from their defaults, or "": a flag
+// accepted and ignored reads as applied (`fit --loss-scale 2` of a finite-difference fit fitted
+// exactly as without it).
+std::string IgnoredFlag(const FitRequest& r) {
+  const FitRequest defaults;
+  const bool adam = r.solver == "adam";
+  if (r.gradient == "fd") {
+    const char* analytic = " (a --gradient analytic or model-fd flag)";
+    if (!r.loss_groups.empty()) return std::string("--loss-group") + analytic;
+    if (r.loss_scale != defaults.loss_scale) return std::string("--loss-scale") + analytic;
+    if (r.window != defaults.window) return std::string("--window") + analytic;
+    if (r.clip_norm != defaults.clip_norm) return std::string("--clip-norm") + analytic;
+    if (r.checkpoint_every != defaults.checkpoint_every)
+      return std::string("--checkpoint-every") + analytic;
+    if (!r.reference_file.empty()) return std::string("--reference") + analytic;
+    if (r.patience != defaults.patience) return "--patience (--solver adam's, a gradient fit's)";
+    if (r.solver != "gd" && r.learning_rate != defaults.learning_rate)
+      return "--learning-rate (--solver gd's or adam's)";
+    return "";
+  }
+  if (!r.targets.empty())
+    return "--target (a finite-difference fit's; this one's loss is --reference's)";
+  if (!adam && r.patience != defaults.patience) return "--patience (--solver adam's)";
+  if (!adam && r.learning_rate != defaults.learning_rate)
+    return "--learning-rate (--solver adam's)";
+  return "";
+}
+
 }  // namespace
 
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
@@ -218,6 +246,8 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
       throw InputError("fit --backend " + request.backend + ": this fit runs " + runs +
                        ", not an engine scheme; drop --backend");
   }
+  if (const std::string flag = IgnoredFlag(request); !flag.empty())
+    throw InputError("fit --gradient " + request.gradient + ": " + flag + " does not apply");
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
   } else {

@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -86,6 +89,43 @@ TEST(FitRerun, ABackendTheFitWouldNotRunIsBadInput) {
       EXPECT_STREQ(e.what(),
                    "fit --backend pcisph: this fit runs the XPBD model, not an engine scheme; "
                    "drop --backend");
+    }
+    EXPECT_FALSE(fs::exists(dir / "fit"));
+  }
+}
+
+// A flag the fit would not read is refused before anything is written, instead of being
+// accepted and ignored (`fit --loss-scale 2` fitted by finite differences exactly as without it).
+TEST(FitRerun, AFlagTheFitWouldNotReadIsBadInput) {
+  const fs::path dir = owval::testing::TestScratch("fit_flag_ignored");
+  const engine::SiberneticConfig config = scenarios::ResolveConfig("one_sprig", OWVAL_SOURCE_DIR);
+  const std::vector<std::pair<std::string, std::function<void(FitRequest&)>>> cases = {
+      {"fit --gradient fd: --loss-scale (a --gradient analytic or model-fd flag) does not apply",
+       [](FitRequest& r) { r.loss_scale = 2; }},
+      {"fit --gradient fd: --reference (a --gradient analytic or model-fd flag) does not apply",
+       [](FitRequest& r) { r.reference_file = "reference.txt"; }},
+      {"fit --gradient fd: --learning-rate (--solver gd's or adam's) does not apply",
+       [](FitRequest& r) { r.learning_rate = 0.1; }},
+      {"fit --gradient analytic: --target (a finite-difference fit's; this one's loss is "
+       "--reference's) does not apply",
+       [](FitRequest& r) { r.gradient = "analytic"; }},
+      {"fit --gradient analytic: --patience (--solver adam's) does not apply", [](FitRequest& r) {
+         r.gradient = "analytic";
+         r.targets.clear();
+         r.patience = 3;
+       }}};
+  for (const auto& [message, edit] : cases) {
+    FitRequest r;
+    r.parameters = {"elasticity_coefficient=1.62e8:log"};
+    r.targets = {"period=7.246e-4"};
+    r.out = (dir / "fit").string();
+    edit(r);
+    FitDirectorySummary summary;
+    try {
+      FitIntoDirectory(r, &config, nullptr, {}, &summary);
+      ADD_FAILURE() << message << ": expected an InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.what(), message);
     }
     EXPECT_FALSE(fs::exists(dir / "fit"));
   }
