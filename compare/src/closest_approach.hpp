@@ -2,9 +2,10 @@
 // The closest approach of two particles in one frame: the smallest distance between a moving
 // particle (elastic or liquid) and any other particle. SPH and PBD keep particles apart (the
 // pressure or density constraint grows without bound as two approach: Solenthaler & Pajarola
-// 2009, Macklin & Mueller 2013), so two particles never coincide in an honest run; a candidate
-// edited to put one particle on another's place does. Pairs of two boundary particles are left
-// out: walls are built, not simulated.
+// 2009, Macklin & Mueller 2013), so two particles never coincide in an honest run and come no
+// closer than its rarest encounter; a candidate whose pressure fails, or edited to put one
+// particle by another, does. Pairs of two boundary particles are left out: walls are built, not
+// simulated.
 #include <cstddef>
 #include <vector>
 

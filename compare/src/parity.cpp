@@ -207,9 +207,9 @@ struct InitialState {
 };
 
 // The closest approach of two particles (one of them moving) over the paired frames, in each
-// run (closest_approach.hpp): two particles never coincide in an honest SPH or PBD run, so a
-// candidate whose particles come much closer than the reference's ever do has particles put
-// where the physics cannot put them (demo1: a liquid particle on its neighbour's place from
+// run (closest_approach.hpp): pressure holds an honest run's particles apart, so a candidate
+// whose particles come much closer than the reference's ever do has particles put where the
+// physics cannot put them (demo1: a liquid particle on its neighbour's place from
 // frame 1 on passed every distance gate, 4.2 cu being less than honest ports' own differences).
 struct ClosestApproach {
   internal::ClosestPair reference{INFINITY}, candidate{INFINITY};

@@ -21,7 +21,8 @@
 //  - particle_types: the candidate's type codes equal the reference's (every other gate reads
 //    the kinds from the reference).
 //  - closest_approach: the reference's closest approach of two particles (one moving) over the
-//    candidate's: two particles never share a place (closest_approach.hpp).
+//    candidate's: pressure holds particles apart, so no honest pair comes ten times closer than
+//    the reference's closest ever did (closest_approach.hpp, ParityGates::closest_approach).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -83,10 +84,18 @@ struct ParityGates {
   // same configuration starts where the reference starts, to the files' printed precision.
   Threshold initial_state{1};  // worst coordinate's difference, of two 6-digit prints' rounding
   // The reference's closest approach of two particles (one moving) over the paired frames over
-  // the candidate's: two particles never share a place in an honest run. Measured honest runs
-  // reach 481 (XPBD's liquid clumps: demo1 over 1 s, 6.3e-5 cu), so the bound only catches
-  // particles coincident to float precision (docs/checklist.md).
-  Threshold closest_approach{1e4};  // reference distance / candidate distance
+  // the candidate's. Pressure (PCISPH's density correction) holds particles apart at about r0,
+  // so a run's closest pair is the rarest of many brief near-encounters. Where the share of
+  // encounters closer than r grows as c r^(m+1) (m = 2 for pairs placed at random in 3-D, more
+  // where pressure holds them apart), the closest of n has P(min > r) = exp(-n c r^(m+1))
+  // (Weibull; Gumbel 1958, Statistics of Extremes), so two runs of the same physics over the
+  // same frames give a ratio above k with probability 1 / (1 + k^(m+1)) <= 1 / (1 + k^3),
+  // whatever n: 1e-3 at k = 10. A candidate whose closest pair is ten times closer than the
+  // reference's ever was has particles pushed into each other (pressure failing, a constraint
+  // leaking, an edit). Measured honest PCISPH reruns of demo1 (leapfrog, gravity changed by
+  // 1e-6): 0.48-2.1; XPBD's liquid, which clumps without Macklin & Mueller 2013's s_corr (the
+  // tensile instability), fails at 104, and measures 0.56 with it (docs/checklist.md).
+  Threshold closest_approach{10};  // reference distance / candidate distance
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
