@@ -93,8 +93,9 @@ struct ParityGates {
   // whatever n: 1e-3 at k = 10. A candidate whose closest pair is ten times closer than the
   // reference's ever was has particles pushed into each other (pressure failing, a constraint
   // leaking, an edit). Measured honest PCISPH reruns of demo1 (leapfrog, gravity changed by
-  // 1e-6): 0.48-2.1; XPBD's liquid, which clumps without Macklin & Mueller 2013's s_corr (the
-  // tensile instability), fails at 104, and measures 0.56 with it (docs/checklist.md).
+  // 1e-6): 0.48-2.1, and test_energy's leapfrog 6.8 (another integrator: the closest yet);
+  // XPBD's liquid, which clumps without Macklin & Mueller 2013's s_corr (the tensile
+  // instability), fails at 104, and measures 0.56 with it (docs/checklist.md).
   Threshold closest_approach{10};  // reference distance / candidate distance
 };
 
