@@ -43,7 +43,7 @@ compare::ParityOptions FileParityOptions(const CompareRequest& r) {
 }
 
 // A flag of the other form of compare was ignored: `compare A.txt B.txt --scenarios demo1` and
-// `compare opencl owval --frame-threshold 0.01` said nothing of it (the suite takes each
+// `compare opencl owval --threshold 0.01` said nothing of it (the suite takes each
 // scenario's manifest gates). The first such flag, or "".
 std::string SuiteOnlyFlagGiven(const CompareRequest& r) {
   if (!r.scenarios.names.empty()) return "--scenarios";
