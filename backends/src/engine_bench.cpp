@@ -92,6 +92,18 @@ nlohmann::json Profile(const engine::SiberneticConfig& config, const EngineBench
 }  // namespace
 
 nlohmann::json BenchEngine(const engine::SiberneticConfig& config, const EngineBenchOptions& a) {
+  // Without --phases the benchmark times one thread and every thread over --steps: these were
+  // accepted and ignored (`bench engine demo1 --threads 1` timed both).
+  if (!a.phases) {
+    const char* flag = a.threads != 0   ? "--threads"
+                       : a.time_s > 0   ? "--time"
+                       : a.log_step > 0 ? "--log-step"
+                                        : nullptr;
+    if (flag)
+      throw InputError(std::string("bench engine: ") + flag +
+                       " applies to --phases (or --whole-run); without it one thread and every "
+                       "thread are timed over --steps");
+  }
   nlohmann::json out = {{"benchmark", a.phases ? "engine phases" : "engine"},
                         {"configuration", config.source},
                         {"particles", config.particle_count()},

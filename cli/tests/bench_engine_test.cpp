@@ -43,4 +43,17 @@ TEST(BenchEngine, WholeRunNeedsAReferenceFolder) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// Without --phases the benchmark times one thread and every thread over --steps: its
+// phase-profile flags were accepted and ignored (`--threads 1` timed both).
+TEST(BenchEngine, ThePhaseProfilesFlagsNeedPhases) {
+  for (const std::string flag : {"--threads", "--time", "--log-step"}) {
+    const auto r = Owval("bench engine one_sprig --steps 1 " + flag + " 1");
+    EXPECT_EQ(r.exit_code, 2) << flag << ": " << r.err;
+    EXPECT_EQ(r.err, "owval: error: bench engine: " + flag +
+                         " applies to --phases (or --whole-run); without it one thread and every "
+                         "thread are timed over --steps\n");
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
 }  // namespace

@@ -220,6 +220,13 @@ std::string IgnoredFlag(const FitRequest& r) {
   }
   if (!r.targets.empty())
     return "--target (a finite-difference fit's; this one's loss is --reference's)";
+  if (r.gradient == "model-fd") {  // central differences of the model: no reverse pass
+    const char* reverse = " (the reverse pass's: --gradient analytic)";
+    if (r.window != defaults.window) return std::string("--window") + reverse;
+    if (r.clip_norm != defaults.clip_norm) return std::string("--clip-norm") + reverse;
+    if (r.checkpoint_every != defaults.checkpoint_every)
+      return std::string("--checkpoint-every") + reverse;
+  }
   if (!adam && r.patience != defaults.patience) return "--patience (--solver adam's)";
   if (!adam && r.learning_rate != defaults.learning_rate)
     return "--learning-rate (--solver adam's)";

@@ -109,6 +109,13 @@ TEST(FitRerun, AFlagTheFitWouldNotReadIsBadInput) {
       {"fit --gradient analytic: --target (a finite-difference fit's; this one's loss is "
        "--reference's) does not apply",
        [](FitRequest& r) { r.gradient = "analytic"; }},
+      {"fit --gradient model-fd: --window (the reverse pass's: --gradient analytic) does not "
+       "apply",
+       [](FitRequest& r) {
+         r.gradient = "model-fd";
+         r.targets.clear();
+         r.window = 50;
+       }},
       {"fit --gradient analytic: --patience (--solver adam's) does not apply", [](FitRequest& r) {
          r.gradient = "analytic";
          r.targets.clear();
