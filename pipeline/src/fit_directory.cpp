@@ -233,6 +233,28 @@ std::string IgnoredFlag(const FitRequest& r) {
   return "";
 }
 
+// InputError for a request naming two simulators, or a flag the chosen one would not read
+// (before anything is written).
+void CheckEveryFlagApplies(const FitRequest& r) {
+  if (!r.fit_backend.empty() && !r.command.empty())
+    throw InputError("fit: --fit-backend and --command are two simulators; give one");
+  if (r.gradient != "fd" && !r.fit_backend.empty())
+    throw InputError("fit --gradient " + r.gradient + ": takes no --fit-backend");
+  if (r.gradient != "fd" && !r.command.empty())
+    throw InputError("fit --gradient " + r.gradient + ": takes no --command");
+  if (!r.backend.empty()) {
+    const std::string runs = !r.command.empty()       ? "--command's program"
+                             : !r.fit_backend.empty() ? "backend " + r.fit_backend
+                             : r.gradient != "fd"     ? "the XPBD model"
+                                                      : "";
+    if (!runs.empty())
+      throw InputError("fit --backend " + r.backend + ": this fit runs " + runs +
+                       ", not an engine scheme; drop --backend");
+  }
+  if (const std::string flag = IgnoredFlag(r); !flag.empty())
+    throw InputError("fit --gradient " + r.gradient + ": " + flag + " does not apply");
+}
+
 }  // namespace
 
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
@@ -240,29 +262,13 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
                       FitDirectorySummary* summary) {
   CheckOutputDirectory(request.out);  // before any simulation: "/proc/x", a file, no permission
   MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made
-  if (!request.fit_backend.empty() && !request.command.empty())
-    throw InputError("fit: --fit-backend and --command are two simulators; give one");
-  if (!request.fit_backend.empty() && request.gradient != "fd")
-    throw InputError("fit --gradient " + request.gradient + ": takes no --fit-backend");
-  if (!request.backend.empty()) {
-    const std::string runs = !request.command.empty()       ? "--command's program"
-                             : !request.fit_backend.empty() ? "backend " + request.fit_backend
-                             : request.gradient != "fd"     ? "the XPBD model"
-                                                            : "";
-    if (!runs.empty())
-      throw InputError("fit --backend " + request.backend + ": this fit runs " + runs +
-                       ", not an engine scheme; drop --backend");
-  }
-  if (const std::string flag = IgnoredFlag(request); !flag.empty())
-    throw InputError("fit --gradient " + request.gradient + ": " + flag + " does not apply");
+  CheckEveryFlagApplies(request);
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
   } else {
     if (!reference)
       throw InputError("fit --gradient " + request.gradient +
                        ": --reference FILE (a trajectory) is required");
-    if (!request.command.empty())
-      throw InputError("fit --gradient " + request.gradient + ": takes no --command");
     GradientFit(request, *config, *reference, cancelled, summary);
   }
   created.Keep();

@@ -232,8 +232,9 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
 // configuration (held to its hash), time span, time step and log step.
 FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& simulation,
                          const fs::path& fit_dir, const FitRerunOptions& options) {
+  const std::string fitted = simulation.value("name", std::string("?"));
   if (!options.backend)
-    throw NotVerified{"a fit of backend '" + simulation.value("name", std::string("?")) +
+    throw NotVerified{"a fit of backend '" + fitted +
                       "' is rerun only through the reviewer's own registry entry "
                       "(--fit-backend NAME), never the command the history records"};
   RecordedConfiguration(simulation, fit_dir);  // the file, held to its hash
@@ -256,7 +257,6 @@ FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& si
   // The reviewer's registry may name the port otherwise; a different name may also be a rerun
   // through another substrate than the one fitted. Not a failure (the rerun's loss is judged
   // either way), but the report says so.
-  const std::string fitted = simulation.value("name", std::string("?"));
   const std::string renamed =
       fitted == options.backend->name ? "" : " (the history fitted backend '" + fitted + "')";
   return Scored(b, RunBackendTrackedSeries(*options.backend, run, b.names, b.values, b.track),
