@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "wcon_units.hpp"
@@ -32,35 +34,63 @@ struct ArrayMeta {
   double fill_value = 0;
 };
 
+// A .zarray's `key`: `rank` whole numbers (as integers, or floats such as 1e15 below 2^63).
+// nlohmann's get<std::vector<std::size_t>>() threw its own "type must be number, but is string"
+// and converted 1e300 to an integer unchecked (UBSan float-cast-overflow).
+std::vector<std::size_t> Dimensions(const json& m, const char* key, std::size_t rank,
+                                    const fs::path& file) {
+  const auto refused = [&] {
+    return InputError(
+        file.string(), 0,
+        std::string(key) + ": expected " + std::to_string(rank) + " whole numbers (dimensions)");
+  };
+  if (!m.contains(key) || !m[key].is_array() || m[key].size() != rank) throw refused();
+  std::vector<std::size_t> sizes;
+  for (const json& v : m[key]) {
+    if (v.is_number_unsigned()) {
+      sizes.push_back(v.get<std::size_t>());
+      continue;
+    }
+    // A whole number written as 1e3 or 1000.0 is one; converted only once it is in range.
+    const double d = v.is_number_float() ? v.get<double>() : -1;
+    if (!(d >= 0 && d < 0x1p63 && d == std::floor(d))) throw refused();
+    sizes.push_back(static_cast<std::size_t>(d));
+  }
+  return sizes;
+}
+
 // The array's .zarray, checked against what this reader can read: `dtype`, C order, no filters,
-// "." separator, zlib or no compressor, `rank` dimensions.
+// "." separator, zlib or no compressor, `rank` dimensions. Every field of another type than
+// zarr's is refused naming the field (json::value() threw nlohmann's type_error, not ours).
 ArrayMeta ReadMeta(const fs::path& array, const char* dtype, std::size_t rank) {
   const fs::path file = array / ".zarray";
   auto fail = [&](const std::string& what) { throw InputError(file.string(), 0, what); };
-  json m;
-  try {
-    m = json::parse(ReadBytes(file));
-  } catch (const json::exception& e) {
-    fail(std::string("not JSON: ") + e.what());
-  }
-  if (m.value("zarr_format", 0) != 2) fail("zarr_format: expected 2");
-  if (m.value("dtype", "") != dtype) fail(std::string("dtype: expected \"") + dtype + "\"");
-  if (m.value("order", "") != "C") fail("order: expected \"C\"");
+  const json m = ParseJsonText(ReadBytes(file), file.string());
+  if (!m.is_object()) fail("expected a JSON object");
+  if (!m.contains("zarr_format") || m["zarr_format"] != 2) fail("zarr_format: expected 2");
+  if (!m.contains("dtype") || m["dtype"] != dtype)
+    fail(std::string("dtype: expected \"") + dtype + "\"");
+  if (!m.contains("order") || m["order"] != "C") fail("order: expected \"C\"");
   if (m.contains("filters") && !m["filters"].is_null()) fail("filters: expected null");
-  if (m.value("dimension_separator", ".") != ".") fail("dimension_separator: expected \".\"");
+  if (m.contains("dimension_separator") && m["dimension_separator"] != ".")
+    fail("dimension_separator: expected \".\"");
   ArrayMeta meta;
-  meta.shape = m.at("shape").get<std::vector<std::size_t>>();
-  meta.chunks = m.at("chunks").get<std::vector<std::size_t>>();
-  if (meta.shape.size() != rank || meta.chunks.size() != rank)
-    fail("shape, chunks: expected " + std::to_string(rank) + " dimensions");
+  meta.shape = Dimensions(m, "shape", rank, file);
+  meta.chunks = Dimensions(m, "chunks", rank, file);
   for (std::size_t c : meta.chunks)
     if (c == 0) fail("chunks: expected positive sizes");
   if (m.contains("compressor") && !m["compressor"].is_null()) {
-    if (m["compressor"].value("id", "") != "zlib") fail("compressor: expected zlib or null");
+    const json& c = m["compressor"];
+    if (!c.is_object() || !c.contains("id") || c["id"] != "zlib")
+      fail("compressor: expected {\"id\": \"zlib\"} or null");
     meta.compressor = "zlib";
   }
   if (m.contains("fill_value") && m["fill_value"].is_number())
     meta.fill_value = m["fill_value"].get<double>();
+  // The fill value becomes an element of dtype: a float's range, else the conversion is undefined.
+  if (std::string(dtype) == "<f4" && std::isfinite(meta.fill_value) &&
+      std::abs(meta.fill_value) > std::numeric_limits<float>::max())
+    fail("fill_value: expected a number within float32's range");
   return meta;
 }
 
@@ -104,13 +134,9 @@ std::vector<T> Read1d(const fs::path& array, const char* dtype) {
 // A .zattrs file's JSON, or an empty object when the file is missing (attributes are optional).
 json ReadAttributes(const fs::path& file) {
   if (!fs::exists(file)) return json::object();
-  try {
-    json a = json::parse(ReadBytes(file));
-    if (!a.is_object()) throw InputError(file.string(), 0, "expected a JSON object");
-    return a;
-  } catch (const json::exception& e) {
-    throw InputError(file.string(), 0, std::string("not JSON: ") + e.what());
-  }
+  json a = ParseJsonText(ReadBytes(file), file.string());
+  if (!a.is_object()) throw InputError(file.string(), 0, "expected a JSON object");
+  return a;
 }
 
 // The factor from body/positions' "units" attribute to micrometres: the contract's unit when it
