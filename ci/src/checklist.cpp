@@ -310,6 +310,22 @@ double NumberOr(const nlohmann::json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
 }
 
+// fit/history.json's string `key` of `j`, `fallback` when `j` is no object or lacks it;
+// InputError naming the field when it is another type (json::value() threw nlohmann's "type must
+// be string, but is number", which reached item 6's detail as it was).
+std::string HistoryString(const nlohmann::json& j, const char* key, const std::string& where,
+                          const std::string& fallback = "") {
+  if (!j.is_object() || !j.contains(key)) return fallback;
+  if (!j[key].is_string())
+    throw InputError("fit/history.json", 0, where + key + ": expected a string");
+  return j[key].get<std::string>();
+}
+
+std::string TargetMetric(const nlohmann::json& targets, std::size_t i,
+                         const std::string& fallback = "") {
+  return HistoryString(targets[i], "metric", "targets[" + std::to_string(i) + "].", fallback);
+}
+
 bool SameNumber(double a, double b) {
   return std::abs(a - b) <= 1e-9 * std::max({1e-300, std::abs(a), std::abs(b)});
 }
@@ -361,9 +377,8 @@ std::string TargetsAgainstScenario(const Evidence& e, const nlohmann::json& targ
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const std::string metric = expected[i].value("metric", std::string());
     const double weight = expected[i].value("weight", 1.0);
-    if (targets[i].value("metric", std::string()) != metric ||
-        !SameNumber(NumberOr(targets[i], "weight"), weight))
-      return "target " + std::to_string(i + 1) + " is " + targets[i].value("metric", "?") +
+    if (TargetMetric(targets, i) != metric || !SameNumber(NumberOr(targets[i], "weight"), weight))
+      return "target " + std::to_string(i + 1) + " is " + TargetMetric(targets, i, "?") +
              " weighted " + FormatNumber(NumberOr(targets[i], "weight"), 6) + ", the manifest's " +
              metric + " weighted " + FormatNumber(weight, 6);
   }
@@ -383,14 +398,15 @@ std::string TargetsAgainstReference(Evidence& e, const nlohmann::json& targets,
   if (!e.reference)
     return "not verified: the directory's reference trajectory, which the targets are measured "
            "on, is missing or unreadable";
-  for (const auto& t : targets) {
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const nlohmann::json& t = targets[i];
     if (!t.is_object() || !t.contains("track")) return "not verified: a target names no track";
     const Track track = Track::FromJson(t["track"], "fit/history.json targets");
     if (!*reference_series)
       *reference_series =
           std::make_shared<const TrackedSeries>(ReadTrackedSeries(*e.reference, track));
     const TrackedSeries& series = **reference_series;
-    const std::string metric = t.value("metric", std::string());
+    const std::string metric = TargetMetric(targets, i);
     const double value = NumberOr(t, "value");
     if (!(NumberOr(t, "weight") > 0))
       return "targets do not match the directory's reference: target " + metric +
@@ -477,7 +493,7 @@ bool SameLoss(double rerun, double claimed, double relative_tolerance) {
 
 bool IsModelFit(const nlohmann::json& h) {
   return h.contains("simulation") && h["simulation"].is_object() &&
-         h["simulation"].value("kind", "") == "xpbd_model";
+         HistoryString(h["simulation"], "kind", "simulation.") == "xpbd_model";
 }
 
 // A gradient fit's loss compares the model with a trajectory: it must be the directory's
@@ -491,7 +507,8 @@ std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::jso
   const nlohmann::json& loss = h["simulation"].contains("loss") ? h["simulation"]["loss"] : none;
   const nlohmann::json& recorded =
       loss.is_object() && loss.contains("reference") ? loss["reference"] : none;
-  if (!recorded.is_object() || recorded.value("fnv1a64", "") != sgd::FileFnv1a64Hex(mine))
+  if (!recorded.is_object() ||
+      HistoryString(recorded, "fnv1a64", "simulation.loss.reference.") != sgd::FileFnv1a64Hex(mine))
     return "the fit's loss reference is not the directory's " + mine.filename().string();
   if (!e.reference)
     return "not verified: the directory's " + mine.filename().string() + " cannot be read";
@@ -575,7 +592,7 @@ double LossWithWeightsOfAtLeastOne(const nlohmann::json& targets,
     const double weight = NumberOr(targets[i], "weight");
     loss += residuals[i] * residuals[i] / std::min(weight, 1.0);
     if (weight < 1)
-      *raised += std::string(raised->empty() ? "" : ", ") + targets[i].value("metric", "?") +
+      *raised += std::string(raised->empty() ? "" : ", ") + TargetMetric(targets, i, "?") +
                  " weighted " + FormatNumber(weight, 6);
   }
   return loss;
@@ -586,9 +603,8 @@ double LossWithWeightsOfAtLeastOne(const nlohmann::json& targets,
 std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
   const nlohmann::json& targets = h.contains("targets") ? h["targets"] : nlohmann::json();
   std::shared_ptr<const TrackedSeries> reference;
-  const std::string kind = h.contains("simulation") && h["simulation"].is_object()
-                               ? h["simulation"].value("kind", "")
-                               : "";
+  const std::string kind =
+      h.contains("simulation") ? HistoryString(h["simulation"], "kind", "simulation.") : "";
   // Runs scored by targets (the engine's, or a named backend's): the targets, run length and
   // weights are held to the directory's reference and the caller's threshold.
   const bool engine_fit = kind == "engine" || kind == "backend";
@@ -644,6 +660,8 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
   if (!h.is_object())
     throw InputError((e.dir / "fit/history.json").string(), 0, "expected an object");
+  if (h.contains("converged") && !h["converged"].is_boolean())
+    throw InputError((e.dir / "fit/history.json").string(), 0, "converged: expected true or false");
   const bool converged = h.value("converged", false);
   const std::size_t iterations =
       h.contains("iterations") && h["iterations"].is_array() ? h["iterations"].size() : 0;

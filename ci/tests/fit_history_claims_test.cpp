@@ -17,11 +17,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // A directory holding only fit/history.json; item 6 of its checklist.
-ChecklistItem ItemSix(const std::string& name, const nlohmann::json& history) {
+ChecklistItem ItemSix(const std::string& name, const nlohmann::json& history,
+                      const ChecklistOptions& options = {}) {
   const fs::path dir = owval::testing::TestScratch(name);
   fs::create_directories(dir / "fit");
   std::ofstream(dir / "fit/history.json") << history.dump(2);
-  const ChecklistReport r = RunChecklist(dir);
+  const ChecklistReport r = RunChecklist(dir, options);
   for (const ChecklistItem& i : r.items)
     if (i.number == 6) return i;
   throw std::runtime_error("no item 6");
@@ -116,6 +117,27 @@ TEST(FitHistoryClaims, LossesWithoutResidualsAreClaimedNotVerified) {
   const ChecklistItem i = ItemSix("no_residuals", h);
   EXPECT_FALSE(i.pass);
   EXPECT_NE(i.detail.find("converged claimed, not verified"), std::string::npos) << i.detail;
+}
+
+// A field of another JSON type than the history's schema is named with what was expected, not
+// reported in nlohmann's words ("[json.exception.type_error.302] type must be string, but is
+// number"; found by fuzz/fuzz_history.cpp).
+TEST(FitHistoryClaims, AFieldOfAnotherTypeIsNamedWithWhatWasExpected) {
+  nlohmann::json h = ConvergedFit();
+  h["converged"] = 1;
+  EXPECT_EQ(ItemSix("converged_number", h).detail,
+            (owval::testing::TestScratch("converged_number") / "fit/history.json").string() +
+                ": converged: expected true or false");
+  h = ConvergedFit();
+  h["simulation"] = {{"kind", 5}};
+  EXPECT_EQ(ItemSix("kind_number", h).detail,
+            "fit/history.json: simulation.kind: expected a string");
+  h["simulation"] = {{"kind", "engine"}};
+  h["targets"] = {{{"metric", 5}, {"weight", 1}}};
+  ChecklistOptions scenario;
+  scenario.scenario_fit_targets = {{{"metric", "period"}, {"weight", 1}}};
+  EXPECT_EQ(ItemSix("metric_number", h, scenario).detail,
+            "fit/history.json: targets[0].metric: expected a string");
 }
 
 }  // namespace

@@ -150,6 +150,9 @@ std::vector<Parameter> FittedParameters(const nlohmann::json& history, const nlo
     Parameter parameter;
     parameter.name = StringMember(p, "name", "a parameter");
     parameter.start = NumberMember(p, "start", "a parameter");
+    // Optional, a boolean when given: value() threw nlohmann's "type must be boolean".
+    if (p.contains("log_space") && !p["log_space"].is_boolean())
+      throw NotVerified{"a parameter's log_space is not a boolean"};
     parameter.log_space = p.value("log_space", false);
     parameters.push_back(parameter);
     values->push_back(NumberMember(best["parameters"], parameter.name.c_str(), "best parameters"));
@@ -232,7 +235,10 @@ FitRerun RerunEngineFit(const nlohmann::json& history, const nlohmann::json& sim
 // configuration (held to its hash), time span, time step and log step.
 FitRerun RerunBackendFit(const nlohmann::json& history, const nlohmann::json& simulation,
                          const fs::path& fit_dir, const FitRerunOptions& options) {
-  const std::string fitted = simulation.value("name", std::string("?"));
+  // Optional (the report names it), but a string when given: value() threw nlohmann's "type must
+  // be string, but is number", which reached the checklist's report as it was.
+  const std::string fitted =
+      simulation.contains("name") ? StringMember(simulation, "name", "simulation") : "?";
   if (!options.backend)
     throw NotVerified{"a fit of backend '" + fitted +
                       "' is rerun only through the reviewer's own registry entry "
