@@ -192,6 +192,15 @@ TEST(SideFiles, MidlineLogReaderNamesTheLineItCannotRead) {
       std::string::npos);
   EXPECT_NE(error(first + "\nnot a log line\n").find(":2: " + expected), std::string::npos);
   EXPECT_NE(error("X:\t1\n").find(":1: " + expected), std::string::npos);
+  // A NUL byte is a byte of its line (gzgets' C string ended there: a line starting with one was
+  // read as "" and indexed before its start).
+  EXPECT_NE(error(first + "\n" + std::string(1, '\0') + "\n").find(":2: " + expected),
+            std::string::npos);
+  // A line with no end (a small gzip bomb's 64 MB of digits) is refused once it is longer than
+  // any log line, not read whole into memory.
+  EXPECT_NE(
+      error(first + "\n" + std::string(std::size_t{3} << 20, '0')).find(":2: line longer than"),
+      std::string::npos);
   fs::remove_all(dir);
 }
 
