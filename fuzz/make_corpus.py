@@ -121,14 +121,163 @@ def wcon_seeds():
           '"y": [[0, 0], [1e2, -0]]}}\n')
 
 
+def pack_zarr(store):
+    """A store directory as fuzz_zarr.cpp's container: "@@ PATH\n" then the file's bytes."""
+    sections = []
+    for directory, _, files in sorted(os.walk(store)):
+        for name in sorted(files):
+            path = os.path.join(directory, name)
+            with open(path, "rb") as f:
+                sections.append(b"@@ " + os.path.relpath(path, store).encode() + b"\n" + f.read())
+    return b"\n".join(sections)
+
+
+def zarr_seeds(owval, text_paths):
+    """Stores written by `owval convert` from the text seeds, and variants another writer of the
+    contract may produce: uncompressed chunks in mm, a missing chunk (the fill value)."""
+    import json
+    import tempfile
+    for path in text_paths:
+        if path.endswith("crlf.txt"):
+            continue
+        with tempfile.TemporaryDirectory() as tmp:
+            store = os.path.join(tmp, "s.zarr")
+            subprocess.run([os.path.abspath(owval), "--quiet", "convert",
+                            os.path.relpath(path, ROOT), store], check=True, cwd=ROOT)
+            name = os.path.splitext(os.path.basename(path))[0]
+            write("zarr", name + ".zarr", pack_zarr(store))
+            if name != "opencl":
+                continue
+            for array in ("body/positions", "body/time", "body/types"):
+                meta_path = os.path.join(store, array, ".zarray")
+                with open(meta_path) as f:
+                    meta = json.load(f)
+                if meta.get("compressor"):
+                    for chunk in os.listdir(os.path.join(store, array)):
+                        if not chunk.startswith("."):
+                            cp = os.path.join(store, array, chunk)
+                            with open(cp, "rb") as f:
+                                raw = zlib.decompress(f.read())
+                            with open(cp, "wb") as f:
+                                f.write(raw)
+                meta["compressor"] = None
+                with open(meta_path, "w") as f:
+                    json.dump(meta, f)
+            with open(os.path.join(store, "body/positions/.zattrs"), "w") as f:
+                json.dump({"units": "mm"}, f)
+            write("zarr", "opencl_raw_mm.zarr", pack_zarr(store))
+            os.remove(os.path.join(store, "body/positions/0.0.0"))
+            write("zarr", "opencl_fill_value.zarr", pack_zarr(store))
+
+
+def backends_seeds():
+    shutil.copy(os.path.join(ROOT, "docs", "owval-backends.example.json"),
+                write("backends", "example.json", ""))
+    write("backends", "command_and_store.json",
+          '{"backends": {\n  "opencl": {\n    "command": "./Sibernetic -no_g -f {config} '
+          'timelimit={time} logstep={log_step} lpath={out}",\n    "working_directory": '
+          '"~/sibernetic",\n    "output": "{out}/position_buffer.txt",\n    "layout": "opencl",\n'
+          '    "store": "/work/shared/reference"},\n  "opencl-recorded": {"store": "recorded"}}}\n')
+    write("backends", "set_and_description.json",
+          '{"backends": {"port": {"command": "port --k {set:k} -o {out}", "layout": "hdf5", '
+          '"output": "{out}/trajectory.h5", "description": "a port", '
+          '"set": {"k": "1.5", "n": 3, "flag": true}}}}\n')
+
+
+# fuzz_history.cpp's reference.txt, whose FNV-1a 64 a gradient fit's loss record must carry.
+HISTORY_REFERENCE = ("0\n20\n0\n20\n0\n20\n1\n1\n2\n2e-05\n20\n"
+                     "5\t5\t5\t2.1\n6\t5.5\t5\t1.1\n1\t1\t1\t3\n19\t1\t1\t3.1\n"
+                     "5.1\t4.95\t5\t2.1\n6.1\t5.45\t5\t1.1\n"
+                     "5.2\t4.9\t5\t2.1\n6.2\t5.4\t5\t1.1\n")
+
+
+def fnv1a64(data):
+    h = 1469598103934665603
+    for c in data:
+        h = ((h ^ c) * 1099511628211) % (1 << 64)
+    return "%016x" % h
+
+
+def history_seeds():
+    """Fit histories as `owval fit` writes them: the engine's, a named backend's, the XPBD
+    model's (its loss reference held to the target's reference.txt, so the checklist reads on)."""
+    import json
+    engine = {
+        "schema": "owval.fit.history/2", "converged": True, "evaluations": 6,
+        "solver": "lm", "stop_reason": "loss below threshold", "wall_s": 1.5,
+        "loss_threshold": 1e-4,
+        "parameters": [{"name": "elasticity_coefficient", "start": 1.62e8, "log_space": True,
+                        "lower": -1e300, "upper": 1e300}],
+        "targets": [{"metric": "period", "value": 7.246e-4, "scale": 7.25e-4, "weight": 1,
+                     "track": {"particle": 0, "axis": "y"}},
+                    {"metric": "half_amplitude", "value": 0.1, "scale": 0.1, "weight": 0.25,
+                     "track": {"particle": 0, "axis": "y"}}],
+        "iterations": [
+            {"iteration": 0, "loss": 0.13, "parameters": {"elasticity_coefficient": 1.62e8},
+             "residuals": [0.36055512754639896, 0.0], "evaluations": 3},
+            {"iteration": 1, "loss": 8.1e-07, "parameters": {"elasticity_coefficient": 2.99e8},
+             "residuals": [0.0009, 0.0], "evaluations": 6}],
+        "final": {"loss": 8.1e-07, "parameters": {"elasticity_coefficient": 2.99e8}},
+        "simulation": {"kind": "engine", "backend": "pcisph",
+                       "configuration": {"file": "configuration.txt",
+                                         "fnv1a64": "0123456789abcdef", "source": "one_sprig"},
+                       "duration_s": 0.0004, "log_step": 20, "integrator": "euler",
+                       "muscles": "auto", "apply_physical_parameters": True, "constants": {}}}
+    write("history", "engine.json", json.dumps(engine, indent=1) + "\n")
+    backend = json.loads(json.dumps(engine))
+    backend["simulation"] = {"kind": "backend", "name": "port", "command": "port -o {out}",
+                             "configuration": engine["simulation"]["configuration"],
+                             "duration_s": 0.0004, "time_step_s": 2e-05, "log_step": 20}
+    write("history", "backend.json", json.dumps(backend, indent=1) + "\n")
+    model = json.loads(json.dumps(engine))
+    model["targets"] = []
+    for it in model["iterations"]:
+        del it["residuals"]
+    model["iterations"][1]["residuals"] = [0.0009]
+    model["iterations"][0]["residuals"] = [0.36055512754639896]
+    model["simulation"] = {"kind": "xpbd_model", "steps": 20,
+                           "configuration": engine["simulation"]["configuration"],
+                           "loss": {"groups": [], "scale": 0.1, "track": {"particle": 0, "axis": "y"},
+                                    "reference": {"file": "reference.txt",
+                                                  "fnv1a64": fnv1a64(HISTORY_REFERENCE.encode())}}}
+    write("history", "xpbd_model.json", json.dumps(model, indent=1) + "\n")
+
+
+def side_files_seeds():
+    """The first lines of Sibernetic's own worm_motion_log.txt (../shared/reference), plain and
+    gzip-compressed, and a line with empty bins."""
+    log = os.path.join(ROOT, "..", "shared", "reference", "worm_alone_0.6s", "worm_motion_log.txt.gz")
+    with gzip.open(log, "rb") as f:
+        lines = f.read().split(b"\n")
+    write("side_files", "two_lines.txt", b"\n".join(lines[:2]) + b"\n")
+    write("side_files", "three_lines.txt.gz", gzip.compress(b"\n".join(lines[:3]) + b"\n", mtime=0))
+    empty = b"\t".join([b"1e-3", b"X:"] + [b"0"] * 97 + [b"1", b"2", b"Y:"] + [b"0"] * 97 +
+                       [b"3", b"4", b"Z:"] + [b"0"] * 97 + [b"5", b"6"])
+    write("side_files", "empty_bins.txt", b"\n" + empty + b"\r\n\n")
+
+
+def targets_seeds():
+    """`owval fit --param` and `--target` values as docs and tests write them."""
+    write("targets", "params.txt", "elasticity_coefficient=1.62e8:log\n"
+          "viscosity=0.1:lin:0:1\nk=2:1:3\n")
+    write("targets", "targets.txt", "period=0.7246e-3:scale=0.725e-3\n"
+          "half_amplitude=0.1:scale=0.1:weight=0.25\nrms=0:ref=reference.h5:scale=1\n"
+          "equilibrium=-3e-2:weight=0\n")
+
+
 def main():
     wcon_seeds()
     text_paths = text_seeds()
     config_seeds()
     zlib_seeds()
     manifest_seeds()
+    backends_seeds()
+    history_seeds()
+    side_files_seeds()
+    targets_seeds()
     if len(sys.argv) > 1:
         hdf5_seeds(sys.argv[1], text_paths)
+        zarr_seeds(sys.argv[1], text_paths)
 
 
 if __name__ == "__main__":
