@@ -35,8 +35,7 @@ declare -A RUNS=(
 targets="${FUZZ_TARGETS:-hdf5 config text zlib_chunk manifest wcon zarr backends history side_files targets}"
 
 cmake --preset fuzz >/dev/null
-# The targets run, named here (the preset's list predates the later targets; a subset builds
-# only what it runs).
+# Only the targets that run are built (FUZZ_TARGETS="text" builds one).
 build_targets=()
 for t in $targets; do build_targets+=(fuzz_"$t"); done
 cmake --build --preset fuzz -j2 --target "${build_targets[@]}"
