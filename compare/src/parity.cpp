@@ -12,6 +12,7 @@
 
 #include "body_gates.hpp"
 #include "closest_approach.hpp"
+#include "held_pairs.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
@@ -330,6 +331,7 @@ class PairReducer {
     if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
     if (!moving_.empty())
       closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first);
+    ObserveHeldPairs(k, a, b);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -363,6 +365,10 @@ class PairReducer {
   }
   const InitialState& initial_state() const { return initial_; }
   const ClosestApproach& closest_approach() const { return closest_; }
+  // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
+  const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
+  const std::optional<internal::HeldPairs>& held_candidate() const { return held_[1]; }
+  double held_spacing_cu() const { return held_spacing_cu_; }
   bool has_moving_particles() const { return !moving_.empty(); }
 
  private:
@@ -388,7 +394,25 @@ class PairReducer {
   std::vector<DriftAccumulator> drift_;
   std::vector<WorstParticle> worst_;  // elastic, liquid, boundary: those the scene has
   InitialState initial_;              // at the reference's first frame, when it is paired
-  ClosestApproach closest_;           // of each run, over the paired frames
+  // Held pairs, of each run over the paired frames: the cap is half the reference's spacing at
+  // its first paired frame (a pair held farther than that is no near-contact), the hold a tenth
+  // of the paired frames, at least three.
+  void ObserveHeldPairs(std::size_t k, const FrameRef& a, const FrameRef& b) {
+    if (moving_.empty()) return;
+    if (k == 0) {
+      held_spacing_cu_ =
+          internal::MedianNearestSpacing(a, moving_, kClosestApproachCell * r_->box_scale_cu);
+      if (!(held_spacing_cu_ > 0)) return;
+      const std::size_t hold = std::max<std::size_t>(3, pairs_.size() / 10);
+      for (auto& h : held_) h.emplace(held_spacing_cu_ / 2, hold);
+    }
+    if (!held_[0]) return;
+    held_[0]->Observe(a, moving_, k);
+    held_[1]->Observe(b, moving_, k);
+  }
+  std::optional<internal::HeldPairs> held_[2];
+  double held_spacing_cu_ = 0;
+  ClosestApproach closest_;  // of each run, over the paired frames
   // The closest-pair search's first cell width, of the box's largest extent (it widens itself).
   static constexpr double kClosestApproachCell = 0.01;
   std::vector<double> cand_time_;
@@ -777,6 +801,75 @@ void GateClosestApproach(const Trajectory& ref, const PairReducer& reduced, cons
   r->gates.push_back(g);
 }
 
+// The candidate's held pairs against the reference's (HeldPairs), kind of pair by kind: the
+// value is the reference's held distance over the candidate's, worst kind, so a candidate that
+// holds a liquid pair k times closer than the reference ever holds one for a tenth of the run
+// measures k. A kind the reference never holds within the cap counts as held at the cap.
+struct HeldWorst {
+  double ratio = 0;
+  int kind = -1;
+};
+HeldWorst WorstHeldKind(const internal::HeldPairs& ref, const internal::HeldPairs& cand) {
+  HeldWorst worst;
+  for (int c = 0; c < internal::kPairKinds; ++c) {
+    const int jc = cand.held()[c].level, jr = std::max(ref.held()[c].level, 0);
+    if (jc < 0) continue;
+    const double ratio = std::exp2(double(jc - jr) / internal::HeldPairs::kLevelsPerOctave);
+    if (ratio > worst.ratio) worst = {ratio, c};
+  }
+  return worst;
+}
+
+std::string HeldDetail(const Trajectory& ref, const Pairs& pairs, const internal::HeldPairs& h,
+                       int kind, const char* who) {
+  const internal::HeldPairs::Held& held = h.held()[kind];
+  char detail[240];
+  if (held.level < 0) {
+    std::snprintf(detail, sizeof detail, "%s: none within the cap", who);
+    return detail;
+  }
+  const std::size_t start = held.end_pair + 1 - h.hold_frames();
+  std::snprintf(detail, sizeof detail,
+                "%s within %.4g cu (particles %zu %s and %zu %s, reference frames %zu to %zu)", who,
+                h.LevelDistanceCu(held.level), held.first, KindName(KindOf(ref.type[held.first])),
+                held.second, KindName(KindOf(ref.type[held.second])), pairs[start].first,
+                pairs[held.end_pair].first);
+  return detail;
+}
+
+void GateHeldPair(const Trajectory& ref, const Pairs& pairs, const PairReducer& reduced,
+                  const ParityOptions& o, ParityReport* r) {
+  if (!reduced.has_moving_particles()) return;
+  const auto& href = reduced.held_reference();
+  const auto& hcand = reduced.held_candidate();
+  Gate g = MakeGate("held_pair",
+                    "per kind of pair, the distance within which the reference holds a pair for a "
+                    "tenth of the paired frames / the candidate's, worst kind",
+                    NAN, o.gates.held_pair, "times closer than the reference holds");
+  if (!href || pairs.size() < href->hold_frames()) {
+    g.detail = "fewer paired frames than a hold (" + std::to_string(pairs.size()) +
+               "), or no particle has a neighbour";
+    r->gates.push_back(g);
+    return;
+  }
+  const HeldWorst worst = WorstHeldKind(*href, *hcand);
+  g.value = worst.ratio;
+  char scope[200];
+  std::snprintf(scope, sizeof scope,
+                "; held = %zu consecutive paired frames, cap %.4g cu (half the reference's median "
+                "spacing, %.4g cu)",
+                href->hold_frames(), href->cap_cu(), reduced.held_spacing_cu());
+  if (worst.kind < 0) {
+    g.detail = std::string("the candidate holds no pair within the cap") + scope;
+  } else {
+    g.detail = std::string(internal::PairKindName(worst.kind)) + ": " +
+               HeldDetail(ref, pairs, *hcand, worst.kind, "candidate") + "; " +
+               HeldDetail(ref, pairs, *href, worst.kind, "reference") + scope;
+  }
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -871,6 +964,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateParticleTypes(ref, cand, &r);
   GateInitialState(ref, reducer, o, &r);
   GateClosestApproach(ref, reducer, o, &r);
+  GateHeldPair(ref, pairs, reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -1041,7 +1135,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "units of the rounding of two 6-significant-digit prints"},
     {"closest_approach_threshold", "--closest-approach-threshold", &G::closest_approach,
      "closest_approach gate: how many times closer than the reference's closest approach two "
-     "of the candidate's particles (one moving) may come"}};
+     "of the candidate's particles (one moving) may come"},
+    {"held_pair_threshold", "--held-pair-threshold", &G::held_pair,
+     "held_pair gate: how many times closer than the reference holds a pair of a kind for a "
+     "tenth of the paired frames the candidate may hold one"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

@@ -35,7 +35,7 @@ TEST(InitialState, Demo1WithOneLiquidParticleOnANeighboursPlaceFromFrameZeroFail
     for (int a = 0; a < 3; ++a) copied.position(f, 300)[a] = copied.position(f, 301)[a];
   const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(), copied, {});
   // Two particles in one place: closest_approach fails too (closest_approach_test.cpp).
-  EXPECT_EQ(r.FailedGates(), "initial_state, closest_approach");
+  EXPECT_EQ(r.FailedGates(), "initial_state, closest_approach, held_pair");
   const Gate& g = *r.gate("initial_state");
   EXPECT_NEAR(g.value, 3555, 1);
   EXPECT_NE(g.detail.find("particle 300 (liquid)"), std::string::npos) << g.detail;

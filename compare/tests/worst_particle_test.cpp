@@ -84,7 +84,7 @@ TEST(WorstParticle, Demo1WithOneLiquidParticleOnANeighboursPlaceFails) {
   strict.gates.worst_particle = {0.04, ThresholdSource::kFlag};
   const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(), copied, strict);
   // Two particles in one place: closest_approach fails too (closest_approach_test.cpp).
-  EXPECT_EQ(r.FailedGates(), "closest_approach, liquid.worst_particle");
+  EXPECT_EQ(r.FailedGates(), "closest_approach, held_pair, liquid.worst_particle");
   EXPECT_NEAR(r.gate("liquid.worst_particle")->value, 0.0471, 5e-4);
 }
 

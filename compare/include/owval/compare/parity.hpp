@@ -23,6 +23,10 @@
 //  - closest_approach: the reference's closest approach of two particles (one moving) over the
 //    candidate's: pressure holds particles apart, so no honest pair comes ten times closer than
 //    the reference's closest ever did (closest_approach.hpp, ParityGates::closest_approach).
+//  - held_pair: per kind of pair, the distance within which the reference holds some pair for a
+//    tenth of the paired frames over the candidate's: an honest near-encounter is brief, a leak
+//    or an edit holds its pair close for the rest of the run (held_pairs.hpp,
+//    ParityGates::held_pair).
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -97,6 +101,18 @@ struct ParityGates {
   // XPBD's liquid, which clumps without Macklin & Mueller 2013's s_corr (the tensile
   // instability), fails at 104, and measures 0.56 with it (docs/checklist.md).
   Threshold closest_approach{10};  // reference distance / candidate distance
+  // Per kind of pair (elastic-liquid, liquid-liquid, ...), the distance within which some pair
+  // stays for a tenth of the paired frames, the reference's over the candidate's (held_pairs.hpp).
+  // A pair held that long is no rare encounter but a pair at rest under the scene's load, so the
+  // held distance is set by pressure, not by chance: in the window, a pair is within d at several
+  // independent looks, each as likely as c·d^(m+1) (closest_approach's law), so two runs of the
+  // same physics give a ratio above k with probability at most 1/(1 + k^(n(m+1))) for n looks:
+  // 1/65 at k = 2 for n = 2, m = 1, and 1/(1 + 2^9) for n = 3, m = 2. Measured honest demo1
+  // reruns (gravity changed by 1e-6, leapfrog) 0.59-1.09, test_energy's ...; a liquid particle
+  // held at 0.1 r0 from its neighbour in demo1 measures 2.59 and at 0.01 r0 26; one held at
+  // 0.3 r0 cannot be told from Sibernetic's own liquid, which holds pairs at 0.26 r0 for 40 ms
+  // (docs/checklist.md, "held_pair").
+  Threshold held_pair{2};  // reference's held distance / candidate's
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
