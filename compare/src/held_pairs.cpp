@@ -129,16 +129,19 @@ double HeldPairs::LevelDistanceCu(int level) const {
   return cap_cu_ * std::exp2(-double(std::max(level, 0)) / kLevelsPerOctave);
 }
 
-void HeldPairs::Observe(const FrameRef& f, const std::vector<std::size_t>& moving,
-                        std::size_t pair_index) {
+ClosestPair HeldPairs::Observe(const FrameRef& f, const std::vector<std::size_t>& moving,
+                               std::size_t pair_index) {
   const Trajectory& t = f.trajectory;
   particles_ = t.particle_count();
+  ClosestPair closest{std::numeric_limits<double>::infinity()};
   ForEachPairWithin(f, moving, cap_cu_, [&](std::size_t a, std::size_t b, double d) {
     Update(a, b, d, PairKind(t.type[a], t.type[b]), pair_index);
+    if (d < closest.distance_cu) closest = {d, a, b};
   });
   most_pairs_ = std::max(most_pairs_, streaks_.size());
   // A pair not within the cap at this frame has ended its runs.
   std::erase_if(streaks_, [&](const auto& entry) { return entry.second.last_pair != pair_index; });
+  return closest;
 }
 
 void HeldPairs::Update(std::size_t first, std::size_t second, double distance_cu, int pair_kind,

@@ -20,6 +20,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "closest_approach.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare::internal {
@@ -54,9 +55,11 @@ class HeldPairs {
 
   HeldPairs(double cap_cu, std::size_t hold_frames) : cap_cu_(cap_cu), hold_frames_(hold_frames) {}
 
-  // Paired frame number `pair_index` (consecutive from 0) of this run.
-  void Observe(const FrameRef& frame, const std::vector<std::size_t>& moving,
-               std::size_t pair_index);
+  // Paired frame number `pair_index` (consecutive from 0) of this run. Returns the frame's
+  // closest pair when it lies within the cap (infinite distance otherwise), which the
+  // closest_approach gate then need not search for again.
+  ClosestPair Observe(const FrameRef& frame, const std::vector<std::size_t>& moving,
+                      std::size_t pair_index);
 
   double LevelDistanceCu(int level) const;  // cap·2^(-level/8); cap for level -1
   const std::array<Held, kPairKinds>& held() const { return held_; }

@@ -224,12 +224,19 @@ struct ClosestApproach {
     return std::isfinite(last_cu) && last_cu > 0 ? 1.5 * last_cu : fallback_cu;
   }
 
+  // `known`: each run's closest pair within the held pairs' cap (HeldPairs::Observe), searched
+  // for here only when there is none (half a demo1 compare was the two searches).
   void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
-               double cell_cu, std::size_t reference_frame_index) {
+               double cell_cu, std::size_t reference_frame_index,
+               const std::array<internal::ClosestPair, 2>& known) {
     const internal::ClosestPair r =
-        internal::FindClosestPair(ref, moving, CellFrom(last_reference_cu, cell_cu));
+        std::isfinite(known[0].distance_cu)
+            ? known[0]
+            : internal::FindClosestPair(ref, moving, CellFrom(last_reference_cu, cell_cu));
     const internal::ClosestPair c =
-        internal::FindClosestPair(cand, moving, CellFrom(last_candidate_cu, cell_cu));
+        std::isfinite(known[1].distance_cu)
+            ? known[1]
+            : internal::FindClosestPair(cand, moving, CellFrom(last_candidate_cu, cell_cu));
     last_reference_cu = r.distance_cu, last_candidate_cu = c.distance_cu;
     if (r.distance_cu < reference.distance_cu)
       reference = r, reference_frame = reference_frame_index;
@@ -329,9 +336,10 @@ class PairReducer {
     for (DriftAccumulator& g : drift_) g.Observe(a, b, ref_.box);
     for (WorstParticle& w : worst_) w.Observe(a, b, pairs_[k].first);
     if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
+    const std::array<internal::ClosestPair, 2> known = ObserveHeldPairs(k, a, b);
     if (!moving_.empty())
-      closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first);
-    ObserveHeldPairs(k, a, b);
+      closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
+                       known);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -397,18 +405,20 @@ class PairReducer {
   // Held pairs, of each run over the paired frames: the cap is half the reference's spacing at
   // its first paired frame (a pair held farther than that is no near-contact), the hold a tenth
   // of the paired frames, at least three.
-  void ObserveHeldPairs(std::size_t k, const FrameRef& a, const FrameRef& b) {
-    if (moving_.empty()) return;
+  // Returns each run's closest pair within the cap (infinite when none, or not tracked).
+  std::array<internal::ClosestPair, 2> ObserveHeldPairs(std::size_t k, const FrameRef& a,
+                                                        const FrameRef& b) {
+    constexpr internal::ClosestPair kNone{std::numeric_limits<double>::infinity()};
+    if (moving_.empty()) return {kNone, kNone};
     if (k == 0) {
       held_spacing_cu_ =
           internal::MedianNearestSpacing(a, moving_, kClosestApproachCell * r_->box_scale_cu);
-      if (!(held_spacing_cu_ > 0)) return;
+      if (!(held_spacing_cu_ > 0)) return {kNone, kNone};
       const std::size_t hold = std::max<std::size_t>(3, pairs_.size() / 10);
       for (auto& h : held_) h.emplace(held_spacing_cu_ / 2, hold);
     }
-    if (!held_[0]) return;
-    held_[0]->Observe(a, moving_, k);
-    held_[1]->Observe(b, moving_, k);
+    if (!held_[0]) return {kNone, kNone};
+    return {held_[0]->Observe(a, moving_, k), held_[1]->Observe(b, moving_, k)};
   }
   std::optional<internal::HeldPairs> held_[2];
   double held_spacing_cu_ = 0;
