@@ -103,15 +103,14 @@ struct ParityGates {
   Threshold closest_approach{10};  // reference distance / candidate distance
   // Per kind of pair (elastic-liquid, liquid-liquid, ...), the distance within which some pair
   // stays for a tenth of the paired frames, the reference's over the candidate's (held_pairs.hpp).
-  // A pair held that long is no rare encounter but a pair at rest under the scene's load, so the
-  // held distance is set by pressure, not by chance: in the window, a pair is within d at several
-  // independent looks, each as likely as c·d^(m+1) (closest_approach's law), so two runs of the
-  // same physics give a ratio above k with probability at most 1/(1 + k^(n(m+1))) for n looks:
-  // 1/65 at k = 2 for n = 2, m = 1, and 1/(1 + 2^9) for n = 3, m = 2. Measured honest demo1
-  // reruns (gravity changed by 1e-6, leapfrog) 0.59-1.09, test_energy's ...; a liquid particle
-  // held at 0.1 r0 from its neighbour in demo1 measures 2.59 and at 0.01 r0 26; one held at
-  // 0.3 r0 cannot be told from Sibernetic's own liquid, which holds pairs at 0.26 r0 for 40 ms
-  // (docs/checklist.md, "held_pair").
+  // A pair held that long is no rare encounter: to stay within d over the window it must be
+  // within d at each of the window's independent looks, each as likely as c·d^(m+1) near contact
+  // (closest_approach's law), so for n looks two runs of the same physics give a ratio above k
+  // with probability 1/(1 + k^(n(m+1))): at k = 2, 1/65 for n = 2, m = 1; 1/513 for n = 3, m = 2.
+  // Measured (docs/checklist.md, "held_pair"): honest reruns of demo1 and test_energy (gravity
+  // changed by 1e-6, leapfrog) 0.59-1.09; a liquid particle held at 0.1 r0 from its neighbour
+  // 2.59-3.08 (demo1, test_energy, the worm), at 0.01 r0 27-32; XPBD's clumping liquid 5.19. One
+  // held at 0.3 r0 passes: Sibernetic's own liquid holds pairs at 0.27-0.31 r0 that long.
   Threshold held_pair{2};  // reference's held distance / candidate's
 };
 
