@@ -160,17 +160,6 @@ TEST(HeldPair, OneSprigsSpringHeldByItsAnchorIsNoNearContact) {
       << g.detail;
 }
 
-TEST(HeldPair, ThresholdIsOneOfTheSettableFields) {
-  bool found = false;
-  for (const GateThresholdField& field : kGateThresholdFields)
-    if (field.member == &ParityGates::held_pair) {
-      found = true;
-      EXPECT_STREQ(field.manifest_key, "held_pair_threshold");
-      EXPECT_STREQ(field.flag, "--held-pair-threshold");
-    }
-  EXPECT_TRUE(found);
-}
-
 TEST(HeldPairs, LadderRunsCountConsecutiveFramesWithinEachLevel) {
   // Three particles in a line; 0 and 1 at 0.1 cu, held for 3 frames, then apart.
   Trajectory t;

@@ -244,12 +244,14 @@ TEST(GateThresholdFields, NewGatesHaveAManifestKeyAndAFlag) {
     const char* flag;
     Threshold ParityGates::*member;
   };
-  for (const Expected& e : {Expected{"worst_particle_threshold", "--worst-particle-threshold",
-                                     &ParityGates::worst_particle},
-                            Expected{"initial_state_threshold", "--initial-state-threshold",
-                                     &ParityGates::initial_state},
-                            Expected{"closest_approach_threshold", "--closest-approach-threshold",
-                                     &ParityGates::closest_approach}}) {
+  for (const Expected& e :
+       {Expected{"worst_particle_threshold", "--worst-particle-threshold",
+                 &ParityGates::worst_particle},
+        Expected{"initial_state_threshold", "--initial-state-threshold",
+                 &ParityGates::initial_state},
+        Expected{"closest_approach_threshold", "--closest-approach-threshold",
+                 &ParityGates::closest_approach},
+        Expected{"held_pair_threshold", "--held-pair-threshold", &ParityGates::held_pair}}) {
     const auto field = std::find_if(
         kGateThresholdFields.begin(), kGateThresholdFields.end(),
         [&](const GateThresholdField& f) { return std::string(f.manifest_key) == e.manifest_key; });
