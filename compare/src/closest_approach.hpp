@@ -7,6 +7,7 @@
 // particle by another, does. Pairs of two boundary particles are left out: walls are built, not
 // simulated.
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "owval/trajectory/frame_source.hpp"
@@ -17,6 +18,14 @@ struct ClosestPair {
   double distance_cu = 0;  // infinite when the frame has no pair with a moving particle
   std::size_t first = 0, second = 0;
 };
+
+// Calls `visit(first, second, distance_cu)` once for every pair within `radius_cu` of `frame`
+// with at least one particle in `moving` (first < second). Positions that are not finite are
+// skipped. The grid search
+// both gates share (cells of `radius_cu`, only particles near the moving ones binned).
+void ForEachPairWithin(const FrameRef& frame, const std::vector<std::size_t>& moving,
+                       double radius_cu,
+                       const std::function<void(std::size_t, std::size_t, double)>& visit);
 
 // Finds the closest pair of `frame` by a uniform grid (cells of `cell_cu`, doubled until a pair
 // lies within one cell), querying from `moving`, the non-boundary particles. Positions that are

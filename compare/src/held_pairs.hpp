@@ -16,7 +16,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -24,13 +23,6 @@
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare::internal {
-
-// Calls `visit(first, second, distance_cu)` once for every pair within `radius_cu` of `frame`
-// with at least one particle in `moving` (first < second). Positions that are not finite are
-// skipped.
-void ForEachPairWithin(const FrameRef& frame, const std::vector<std::size_t>& moving,
-                       double radius_cu,
-                       const std::function<void(std::size_t, std::size_t, double)>& visit);
 
 // The median over `moving` of the distance to the nearest other particle: the scene's spacing
 // (Sibernetic places particles r0 apart). Searches from `start_cu`, doubling. 0 when `moving` is
