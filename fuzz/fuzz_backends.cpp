@@ -4,7 +4,6 @@
 // file, so each input is written to a scratch file first; "~/" paths resolve against a home
 // that does not exist (nothing outside the scratch directory is read).
 #include <filesystem>
-#include <fstream>
 
 #include "fuzz_common.hpp"
 #include "owval/backends/registry.hpp"
@@ -15,10 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
   static const owval::testing::ScratchDirectory scratch("fuzz_backends");
   static const std::filesystem::path path = scratch / "owval-backends.json";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  owval::fuzz::WriteInput(path, data, size);
   owval::backends::RegistryOptions options;
   options.file = path;
   options.current_directory = scratch.path();

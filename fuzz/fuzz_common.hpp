@@ -8,7 +8,10 @@
 // over libFuzzer's limit is a finding.
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <string_view>
 
 #include "owval/base/errors.hpp"
 #include "owval/base/memory_budget.hpp"
@@ -25,6 +28,16 @@ inline void SetUpOnce() {
     return true;
   }();
   (void)done;
+}
+
+// The readers read files: each input (or a part of one) is written to `file` first, replacing it.
+inline void WriteInput(const std::filesystem::path& file, std::string_view bytes) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+inline void WriteInput(const std::filesystem::path& file, const std::uint8_t* data,
+                       std::size_t size) {
+  WriteInput(file, std::string_view(reinterpret_cast<const char*>(data), size));
 }
 
 // Every refusal's message must be what the CLI prints: one line, printable, <= 300 characters.

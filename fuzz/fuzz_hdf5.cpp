@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "fuzz_common.hpp"
 #include "owval/testing/scratch_directory.hpp"
@@ -14,10 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
   static const owval::testing::ScratchDirectory scratch("fuzz_hdf5");
   static const std::filesystem::path path = scratch / "input.h5";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  owval::fuzz::WriteInput(path, data, size);
   try {
     owval::ReadHdf5(path);
   } catch (const owval::InputError& e) {

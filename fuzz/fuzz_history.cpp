@@ -10,7 +10,6 @@
 // is the finding this target looks for, unless the input itself holds those words (a parse
 // error quotes what it read): the detail must name the history's field instead.
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -39,11 +38,6 @@ void CheckNoLibraryMessage(const std::string& text, std::string_view input) {
       __builtin_trap();
 }
 
-void Write(const fs::path& file, const char* data, std::size_t size) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out.write(data, static_cast<std::streamsize>(size));
-}
-
 owval::ci::ChecklistOptions CallerOptions() {
   owval::ci::ChecklistOptions o;
   o.scenario_fit_targets = nlohmann::json::parse(
@@ -66,14 +60,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const fs::path dir = scratch.path();
   static const bool made = [] {
     fs::create_directories(dir / "fit");
-    Write(dir / "reference.txt", kReference, std::char_traits<char>::length(kReference));
+    owval::fuzz::WriteInput(dir / "reference.txt", kReference);
     return true;
   }();
   (void)made;
   static const owval::ci::ChecklistOptions options = CallerOptions();
   const fs::path history = dir / "fit" / "history.json";
   const std::string_view input(reinterpret_cast<const char*>(data), size);
-  Write(history, input.data(), input.size());
+  owval::fuzz::WriteInput(history, input);
   try {
     const owval::ci::ChecklistReport report = owval::ci::RunChecklist(dir, options);
     for (const owval::ci::ChecklistItem& item : report.items)

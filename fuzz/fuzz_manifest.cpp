@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "fuzz_common.hpp"
 #include "owval/scenarios/scenario.hpp"
@@ -17,11 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const fs::path dir = scratch.path();
   static const bool made = fs::create_directories(dir / "scenarios" / "manifests") || true;
   (void)made;
-  {
-    std::ofstream out(dir / "scenarios" / "manifests" / "fuzz.json",
-                      std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  owval::fuzz::WriteInput(dir / "scenarios" / "manifests" / "fuzz.json", data, size);
   try {
     owval::scenarios::LoadScenario("fuzz", dir);
   } catch (const owval::InputError& e) {

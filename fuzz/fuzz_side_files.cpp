@@ -3,7 +3,6 @@
 // means), through ReadWormMotionLog as `owval kinematics` and the checklist's side-file gate read
 // it. The reader reads files, so each input is written to a scratch file first.
 #include <filesystem>
-#include <fstream>
 
 #include "fuzz_common.hpp"
 #include "owval/kinematics/side_files.hpp"
@@ -14,10 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
   static const owval::testing::ScratchDirectory scratch("fuzz_side_files");
   static const std::filesystem::path path = scratch / "worm_motion_log.txt";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  owval::fuzz::WriteInput(path, data, size);
   try {
     owval::kinematics::ReadWormMotionLog(path);
   } catch (const owval::InputError& e) {

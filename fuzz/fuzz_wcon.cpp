@@ -2,7 +2,6 @@
 // counting, the spools and the checks of each time point), through ReadWcon, which reads every
 // time point. The reader reads files, so each input is written to a scratch file first.
 #include <filesystem>
-#include <fstream>
 
 #include "fuzz_common.hpp"
 #include "owval/testing/scratch_directory.hpp"
@@ -13,10 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Removed when the program exits (a crash keeps it, and the input that crashed is saved).
   static const owval::testing::ScratchDirectory scratch("fuzz_wcon");
   static const std::filesystem::path path = scratch / "input.wcon";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  owval::fuzz::WriteInput(path, data, size);
   try {
     owval::ReadWcon(path);
   } catch (const owval::InputError& e) {

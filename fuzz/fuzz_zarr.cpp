@@ -11,7 +11,6 @@
 // store must hold every file the input names); bytes before the first header are ignored.
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -55,8 +54,7 @@ void WriteStore(std::string_view input, const fs::path& store) {
       const fs::path file = store / name;
       std::error_code ec;
       fs::create_directories(file.parent_path(), ec);
-      std::ofstream out(file, std::ios::binary | std::ios::trunc);
-      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      owval::fuzz::WriteInput(file, bytes);
     }
     at = next == std::string_view::npos ? next : next + 1;
   }

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "closest_approach.hpp"
+#include "edited_runs.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/testing/reference_runs.hpp"
 
@@ -29,15 +30,7 @@ Trajectory MovedTowards(const Trajectory& t, std::size_t p, std::size_t q, float
 
 // Particle p put `distance_cu` from particle q (along q -> p) from frame 1 on.
 Trajectory PushedTo(const Trajectory& t, std::size_t p, std::size_t q, double distance_cu) {
-  Trajectory out = t;
-  for (std::size_t f = 1; f < out.frame_count(); ++f) {
-    const float* x = out.position(f, p);
-    const float* y = out.position(f, q);
-    const double d[3] = {double(x[0]) - y[0], double(x[1]) - y[1], double(x[2]) - y[2]};
-    const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int a = 0; a < 3; ++a) out.position(f, p)[a] = float(y[a] + distance_cu * d[a] / norm);
-  }
-  return out;
+  return testing_edits::HeldAt(t, p, q, distance_cu, 1, t.frame_count());
 }
 
 // The closest distance between a moving particle and any other over every frame of `t`.
