@@ -67,7 +67,6 @@ ClosestPair HeldPairs::Observe(const FrameRef& f, const std::vector<std::size_t>
     Update(a, b, d, PairKind(t.type[a], t.type[b]), pair_index);
     if (d < closest.distance_cu) closest = {d, a, b};
   });
-  most_pairs_ = std::max(most_pairs_, streaks_.size());
   // A pair not within the cap at this frame has ended its runs.
   std::erase_if(streaks_, [&](const auto& entry) { return entry.second.last_pair != pair_index; });
   return closest;

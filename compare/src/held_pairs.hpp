@@ -57,7 +57,6 @@ class HeldPairs {
   const std::array<Held, kPairKinds>& held() const { return held_; }
   std::size_t hold_frames() const { return hold_frames_; }
   double cap_cu() const { return cap_cu_; }
-  std::size_t most_pairs_tracked() const { return most_pairs_; }
 
  private:
   struct Streak {
@@ -72,7 +71,6 @@ class HeldPairs {
   std::size_t particles_ = 0;
   std::unordered_map<std::uint64_t, Streak> streaks_;  // pairs within cap at the last frame
   std::array<Held, kPairKinds> held_{};
-  std::size_t most_pairs_ = 0;
 };
 
 }  // namespace owval::compare::internal
