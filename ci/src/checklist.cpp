@@ -41,6 +41,9 @@ struct Evidence {
   std::string track_source;
   // options.caller_reference, opened before any item (unreadable: InputError, exit 2).
   std::unique_ptr<FrameSource> caller_reference;
+  // Item 6's rerun judged at DD001's tolerance as well, when the caller's is looser: what
+  // ChecklistReport::loosened_fit_rerun says of it ("" when no rerun was made).
+  std::string rerun_at_default_tolerance;
 };
 
 using Check = void (*)(Evidence& e, ChecklistItem* item);
@@ -635,10 +638,17 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
   *rerun_detail = "rerun at the best parameters (" + rerun.simulated + "): loss " +
                   FormatNumber(rerun.loss, 6) + ", history says " + FormatNumber(claimed, 6) +
                   " (tolerance " + FormatNumber(tolerance, 3) + " relative)";
-  if (!SameLoss(rerun.loss, claimed, tolerance) ||
-      !SameResiduals(best.contains("residuals") ? best["residuals"] : nlohmann::json(),
-                     rerun.residuals, tolerance))
-    return "the rerun does not reproduce the best iteration's residuals";
+  const nlohmann::json& recorded =
+      best.contains("residuals") ? best["residuals"] : nlohmann::json();
+  const auto reproduces = [&](double relative_tolerance) {
+    return SameLoss(rerun.loss, claimed, relative_tolerance) &&
+           SameResiduals(recorded, rerun.residuals, relative_tolerance);
+  };
+  e.rerun_at_default_tolerance = reproduces(ChecklistOptions{}.fit_rerun_tolerance)
+                                     ? "the rerun reproduces the best iteration at the default too"
+                                     : "at the default the rerun does NOT reproduce the best "
+                                       "iteration's residuals";
+  if (!reproduces(tolerance)) return "the rerun does not reproduce the best iteration's residuals";
   // The rerun's own loss is judged too: the tolerance is the caller's to loosen, never a way
   // for a claimed loss the rerun does not reach to pass.
   if (!engine_fit) {
@@ -1002,6 +1012,18 @@ std::vector<fs::path> EvidenceFiles(const fs::path& directory) {
   return files;
 }
 
+// ChecklistReport::loosened_fit_rerun: the caller's item-6 tolerance when looser than DD001's,
+// and what the rerun gave at the default.
+std::string LoosenedFitRerun(const Evidence& e) {
+  const double given = e.options.fit_rerun_tolerance,
+               default_value = ChecklistOptions{}.fit_rerun_tolerance;
+  if (given <= default_value) return "";
+  return "fit_rerun_tolerance " + FormatNumber(given) + " (caller; default " +
+         FormatNumber(default_value) + "): " +
+         (e.rerun_at_default_tolerance.empty() ? std::string("item 6 made no rerun")
+                                               : e.rerun_at_default_tolerance);
+}
+
 ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
   if (!fs::is_directory(directory))
     throw InputError(directory.string(), 0, "not a directory of PR artifacts");
@@ -1013,10 +1035,12 @@ ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& 
              options.track.value_or(Track{}),
              options.track ? "the caller's, from --scenario or --manifest"
                            : "the default: give --scenario or --manifest for a scenario's",
-             options.caller_reference.empty() ? nullptr : Open(options.caller_reference)};
+             options.caller_reference.empty() ? nullptr : Open(options.caller_reference),
+             {}};
   ChecklistReport r;
   r.directory = directory;
   for (const ItemSpec& spec : Items()) r.items.push_back(Evaluate(e, spec));
+  r.loosened_fit_rerun = LoosenedFitRerun(e);
   JudgeParity(e, &r);
   Decide(&r);
   return r;
@@ -1051,6 +1075,10 @@ std::string ChecklistReport::ToMarkdown() const {
           : failed_at_default_thresholds.empty()
               ? std::string("the candidate passes the defaults too")
               : "at the defaults it FAILS: " + failed_at_default_thresholds);
+  if (!loosened_fit_rerun.empty())
+    s << "\n- ⚠️ **item 6 loosened by the caller** — " << loosened_fit_rerun
+      << " (reported, not blocking: the rerun's own loss is judged against the threshold "
+         "whatever the tolerance)";
   if (!candidate_note.empty()) s << "\n- ℹ️ **candidate** — " << candidate_note;
   s << "\n\nItems 1, 4, 5, 6 and the parity gate are required (else: not ready); 2 and 3 make "
        "the PR reviewable; 7–10 complete it.\n";
@@ -1075,6 +1103,7 @@ nlohmann::json ChecklistReport::ToJson() const {
           {"parity_note", parity_note},
           {"loosened_thresholds", loosened_thresholds},
           {"failed_at_default_thresholds", failed_at_default_thresholds},
+          {"loosened_fit_rerun", loosened_fit_rerun},
           {"candidate_note", candidate_note}};
 }
 

@@ -767,6 +767,33 @@ TEST_F(BackendFit, ALooserRerunToleranceIsTheCallersAndIsReported) {
   const auto j = JudgeWith(d, 0, "--fit-backend mine --fit-rerun-tolerance 1e-6");
   EXPECT_TRUE(ItemPasses(j, 6)) << Item6(j);
   EXPECT_NE(Item6(j).find("(tolerance 1e-06 relative)"), std::string::npos) << Item6(j);
+  // Named beside the loosened gates, with what the rerun gives at DD001's 1e-9.
+  EXPECT_EQ(j["loosened_fit_rerun"],
+            "fit_rerun_tolerance 1e-06 (caller; default 1e-09): the rerun reproduces the best "
+            "iteration at the default too");
+  EXPECT_EQ(JudgeWith(d, 0, "--fit-backend mine")["loosened_fit_rerun"], "");
+}
+
+// A best iteration whose residuals the rerun reproduces to 1e-7 relative, not to 1e-9: item 6
+// passes at the caller's 1e-6, and the report says it would not at the default.
+TEST_F(BackendFit, ALooserRerunToleranceSaysWhatTheDefaultWouldFind) {
+  const fs::path d = CopyWithBackendFit("backend_tolerance_needed");
+  EditJson(d / "fit/history.json", [](nlohmann::json& h) {
+    for (auto& it : h["iterations"]) {
+      if (it["parameters"] != h["final"]["parameters"]) continue;
+      it["residuals"][0] = it["residuals"][0].get<double>() * (1 + 1e-7);
+      double loss = 0;
+      for (const auto& r : it["residuals"]) loss += r.get<double>() * r.get<double>();
+      it["loss"] = loss;
+      h["final"]["loss"] = loss;
+    }
+  });
+  const auto j = JudgeWith(d, 0, "--fit-backend mine --fit-rerun-tolerance 1e-6");
+  EXPECT_TRUE(ItemPasses(j, 6)) << Item6(j);
+  EXPECT_EQ(j["loosened_fit_rerun"],
+            "fit_rerun_tolerance 1e-06 (caller; default 1e-09): at the default the rerun does NOT "
+            "reproduce the best iteration's residuals");
+  FailedItem6(JudgeWith(d, 1, "--fit-backend mine"));
 }
 
 // Bad input: one line, exit 2, no report.
