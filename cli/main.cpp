@@ -74,6 +74,23 @@ const CLI::Validator kNonNegative =
     NumberThat([](double x) { return x >= 0; }, "a number >= 0", "NON-NEGATIVE");
 const CLI::Validator kFraction =
     NumberThat([](double x) { return x >= 0 && x <= 1; }, "a number from 0 to 1", "0..1");
+
+// CLI11's "A excludes B" and "A requires B" in owval's words; "config" is a positional argument.
+std::string UsageLine(const CLI::ParseError& error) {
+  const std::string what = error.what();
+  const auto named = [](const std::string& name) {
+    return name.rfind('-', 0) == 0 ? name : "the argument " + name;
+  };
+  for (const auto& [verb, said] :
+       {std::pair{" excludes ", " cannot be given with "}, std::pair{" requires ", " needs "}}) {
+    const std::size_t at = what.find(verb);
+    if ((dynamic_cast<const CLI::ExcludesError*>(&error) ||
+         dynamic_cast<const CLI::RequiresError*>(&error)) &&
+        at != std::string::npos)
+      return named(what.substr(0, at)) + said + what.substr(at + std::string(verb).size());
+  }
+  return what;
+}
 }  // namespace
 
 bool RegisterCommand(CommandSetUp set_up) {
@@ -144,7 +161,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // CLI11's own text can span lines and echo a whole argument: one short printable line.
-    std::fprintf(stderr, "owval: usage: %s (see --help)\n", owval::OneLine(e.what()).c_str());
+    std::fprintf(stderr, "owval: usage: %s (see --help)\n", owval::OneLine(UsageLine(e)).c_str());
     return owval::kExitBadInput;
   } catch (...) {
     const owval::Failure failure = owval::DescribeFailure(std::current_exception());

@@ -69,8 +69,8 @@ TEST(Cli, RunResumeRefusesTheRunsOwnArguments) {
     const Result r = Owval("run --resume " + dir.string() + " " + given);
     EXPECT_EQ(r.exit_code, 2) << given << ": " << r.err;
     const std::string flag = given.substr(0, given.find(' '));
-    EXPECT_EQ(r.err, "owval: usage: " + (flag == "one_sprig" ? "config" : flag) +
-                         " excludes --resume (see --help)\n");
+    EXPECT_EQ(r.err, "owval: usage: " + (flag == "one_sprig" ? "the argument config" : flag) +
+                         " cannot be given with --resume (see --help)\n");
   }
   EXPECT_FALSE(fs::exists(Scratch() / "other"));
 }
@@ -84,7 +84,7 @@ TEST(Cli, ValidateRefusesTheStabilityRunsFlagsWithoutIt) {
     const Result r = Owval("ci validate " + dir.string() + " " + given);
     EXPECT_EQ(r.exit_code, 2) << given;
     EXPECT_EQ(r.err, "owval: usage: " + given.substr(0, given.find(' ')) +
-                         " requires --stability (see --help)\n");
+                         " needs --stability (see --help)\n");
   }
   EXPECT_FALSE(fs::exists(Scratch() / "run"));
 }
