@@ -6,8 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include <zlib.h>
-
+#include "log_lines.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/kinematics/worm_track.hpp"
@@ -163,68 +162,22 @@ bool ParseLogLine(const std::string& line, std::size_t number, const std::filesy
   return true;
 }
 
-constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
-
-// worm_motion_log.txt[.gz] a line at a time; gzopen reads plain files as they are (Sibernetic's
-// logs are kept .gz).
+// worm_motion_log.txt[.gz] a line at a time (LogLines), each parsed into a time point.
 class MotionLogLines {
  public:
   explicit MotionLogLines(std::filesystem::path path)
-      : path_(std::move(path)), file_(gzopen(path_.c_str(), "rb")) {
-    if (!file_) throw InputError(path_.string(), 0, "cannot open");
-  }
-  ~MotionLogLines() { gzclose(file_); }
-  MotionLogLines(const MotionLogLines&) = delete;
-  MotionLogLines& operator=(const MotionLogLines&) = delete;
+      : lines_(std::move(path), "t, then X:, Y:, Z: each with 99 bin means (mm)") {}
 
   // The next non-blank line's time point; false at the end of the file.
   bool Next(WconTimePoint* point) {
-    while (ReadLine())
-      if (ParseLogLine(line_, number_, path_, point)) return true;
+    while (lines_.Next(&line_))
+      if (ParseLogLine(line_, lines_.number(), lines_.path(), point)) return true;
     return false;
   }
 
  private:
-  // gzread, not gzgets: gzgets' C string ended at a NUL byte, so a line starting with one was
-  // read as "" and its last character read before the string (UBSan, fuzz_side_files).
-  bool ReadLine() {
-    line_.clear();
-    while (true) {
-      if (at_ == block_.size() && !Refill()) break;
-      const std::size_t newline = block_.find('\n', at_);
-      const std::size_t end = newline == std::string::npos ? block_.size() : newline + 1;
-      line_.append(block_, at_, end - at_);
-      at_ = end;
-      if (newline != std::string::npos) break;
-      // A line is 298 numbers (about 4 KB as Sibernetic prints them): a longer one is no log's,
-      // and without a bound a small gzip bomb with no newline was read into one string.
-      if (line_.size() > kMaxLineBytes)
-        throw InputError(path_.string(), number_ + 1,
-                         "line longer than " + std::to_string(kMaxLineBytes) +
-                             " bytes; expected t, then X:, Y:, Z: each with 99 bin means (mm)");
-    }
-    int error = Z_OK;
-    gzerror(file_, &error);
-    if (error != Z_OK && error != Z_STREAM_END)
-      throw InputError(path_.string(), number_ + 1, "corrupt gzip data");
-    if (line_.empty()) return false;
-    ++number_;
-    return true;
-  }
-
-  // The next block of the (decompressed) file; false at its end or on an error (gzerror's).
-  bool Refill() {
-    block_.resize(std::size_t{1} << 14);
-    const int got = gzread(file_, block_.data(), static_cast<unsigned>(block_.size()));
-    block_.resize(got > 0 ? static_cast<std::size_t>(got) : 0);
-    at_ = 0;
-    return got > 0;
-  }
-
-  std::filesystem::path path_;
-  gzFile file_;
-  std::string block_, line_;
-  std::size_t at_ = 0, number_ = 0;  // at_: the next unread byte of block_
+  LogLines lines_;
+  std::string line_;
 };
 
 }  // namespace
