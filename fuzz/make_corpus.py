@@ -244,8 +244,8 @@ def history_seeds():
 
 
 def side_files_seeds():
-    """The first lines of Sibernetic's own worm_motion_log.txt (../shared/reference), plain and
-    gzip-compressed, and a line with empty bins."""
+    """The first lines of Sibernetic's own worm_motion_log.txt and muscles_activity_buffer.txt
+    (../shared/reference), plain and gzip-compressed, and a line with empty bins."""
     log = os.path.join(ROOT, "..", "shared", "reference", "worm_alone_0.6s", "worm_motion_log.txt.gz")
     with gzip.open(log, "rb") as f:
         lines = f.read().split(b"\n")
@@ -254,6 +254,13 @@ def side_files_seeds():
     empty = b"\t".join([b"1e-3", b"X:"] + [b"0"] * 97 + [b"1", b"2", b"Y:"] + [b"0"] * 97 +
                        [b"3", b"4", b"Z:"] + [b"0"] * 97 + [b"5", b"6"])
     write("side_files", "empty_bins.txt", b"\n" + empty + b"\r\n\n")
+    muscles = os.path.join(ROOT, "..", "shared", "reference", "worm_alone_0.6s",
+                           "muscles_activity_buffer.txt")
+    with open(muscles, "rb") as f:
+        rows = f.read().split(b"\n")
+    write("side_files", "muscles_two_lines.txt", b"\n".join(rows[:2]) + b"\n")
+    write("side_files", "muscles_three_lines.txt.gz",
+          gzip.compress(b"\n".join(rows[99:102]) + b"\n", mtime=0))
 
 
 def targets_seeds():

@@ -4,8 +4,10 @@
 #include <memory>
 
 #include "owval/base/errors.hpp"
+#include "owval/engine/muscles.hpp"
 #include "owval/kinematics/baseline.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/muscle_log.hpp"
 #include "owval/kinematics/side_files.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -87,7 +89,31 @@ GateResult SideFileGate(const fs::path& file, FrameSource* candidate, ParsedWcon
   return g;
 }
 
-// Each .wcon, worm_motion_log.txt[.gz] and .zarr store in the directory against the candidate.
+// Sibernetic's muscle activations log against the signal owval computes for the candidate's
+// logged steps (kinematics/muscle_log.hpp: line j is the activations after the step of frame j).
+GateResult MuscleLogGate(const fs::path& file, FrameSource* candidate) {
+  GateResult g{file.filename().string() + " holds owval's muscle signal", false, ""};
+  try {
+    if (!candidate) {
+      g.detail = "no readable candidate trajectory to check it against";
+      return g;
+    }
+    const kinematics::TrackAgreement a = kinematics::CompareMuscleLogWithSignal(
+        file, candidate->header(),
+        [](double step) { return engine::MuscleSimulationSignal(step); });
+    g.pass = a.agrees;
+    g.detail = a.detail;
+  } catch (const std::exception& error) {
+    g.detail = error.what();
+  }
+  return g;
+}
+
+constexpr const char* kMuscleLogs[] = {"muscles_activity_buffer.txt",
+                                       "muscles_activity_buffer.txt.gz"};
+
+// Each .wcon, worm_motion_log.txt[.gz], muscles_activity_buffer.txt[.gz] and .zarr store in the
+// directory against the candidate.
 std::vector<GateResult> SideFileGates(const fs::path& dir, FrameSource* candidate,
                                       ParsedWcon* parsed) {
   std::vector<GateResult> gates;
@@ -96,6 +122,8 @@ std::vector<GateResult> SideFileGates(const fs::path& dir, FrameSource* candidat
     if (fs::exists(dir / log)) files.push_back(dir / log);
   for (const fs::path& f : files)
     gates.push_back(SideFileGate(f, candidate, parsed && parsed->path == f ? parsed : nullptr));
+  for (const char* log : kMuscleLogs)
+    if (fs::exists(dir / log)) gates.push_back(MuscleLogGate(dir / log, candidate));
   for (const fs::path& store : Entries(dir, ".zarr")) gates.push_back(ZarrGate(store, candidate));
   return gates;
 }
@@ -125,8 +153,9 @@ GateResult WconReadable(ParsedWcon& wcon) {
 std::vector<GateResult> SideFileGatesOf(const fs::path& dir, const fs::path& candidate,
                                         ParsedWcon* parsed) {
   std::vector<GateResult> gates;
-  if (Wcons(dir).empty() && Entries(dir, ".zarr").empty() &&
-      !fs::exists(dir / "worm_motion_log.txt") && !fs::exists(dir / "worm_motion_log.txt.gz"))
+  const auto exists = [&](const char* name) { return fs::exists(dir / name); };
+  if (Wcons(dir).empty() && Entries(dir, ".zarr").empty() && !exists("worm_motion_log.txt") &&
+      !exists("worm_motion_log.txt.gz") && !exists(kMuscleLogs[0]) && !exists(kMuscleLogs[1]))
     return gates;  // nothing to hold to the candidate: skip opening it
   std::unique_ptr<FrameSource> frames;
   try {

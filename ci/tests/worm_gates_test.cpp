@@ -8,14 +8,19 @@
 #include <fstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "owval/ci/checklist.hpp"
 #include "owval/ci/gates.hpp"
+#include "owval/engine/muscles.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/muscle_log.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/worm_formats.hpp"
+#include "worm_gates.hpp"
 
 namespace owval::ci {
 namespace {
@@ -227,6 +232,115 @@ TEST(WormGates, ValidateFailsAWormGoingBackwards) {
   EXPECT_EQ(Find(r, "Tier-3 speed")->detail.rfind("-0.08322 mm/s (backwards)", 0), 0u)
       << Find(r, "Tier-3 speed")->detail;
   EXPECT_TRUE(Find(r, "kinematics parity wavelength")->pass);
+  fs::remove_all(dir);
+}
+
+const fs::path kWormRun = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
+
+// Sibernetic's muscles_activity_buffer.txt is owval's MuscleSimulationSignal, to the printed
+// digits. The mapping, from Sibernetic's source (owPhysicsFluidSimulator::simulationStep, commit
+// 8d2df73, the reference's): iteration k runs its physics, then calls
+// MuscleSimulation.run(), whose step counter is k at that call (it starts at 0 and adds its
+// increment, 1.0, after each call), then logs the 96 values when k % log_step == 0, then uploads
+// them for iteration k+1. So line j is iteration k = j·log_step's, and it holds run()'s call
+// number k: MuscleSimulationSignal(j·log_step). The run's log_step is 150 (meta.json: 30,000
+// steps of 2e-5 s, 200 lines).
+TEST(MuscleLogParity, SiberneticsActivationsAreOwvalsSignalToThePrintedDigits) {
+  const fs::path log = kWormRun / "muscles_activity_buffer.txt";
+  if (!fs::exists(log)) {
+    if (std::getenv("OWVAL_REQUIRE_REFERENCE")) FAIL() << "no " << log;
+    GTEST_SKIP() << "no " << log;
+  }
+  const int log_step =
+      nlohmann::json::parse(testing::FileBytes(kWormRun / "meta.json")).at("log_step").get<int>();
+  ASSERT_EQ(log_step, 150);
+  std::ifstream lines(log);
+  std::string line;
+  std::size_t j = 0, differing = 0;
+  while (std::getline(lines, line)) {
+    const double call = double(j) * log_step;
+    const std::string owval = kinematics::FormatMuscleLogLine(engine::MuscleSimulationSignal(call));
+    if (line + "\n" != owval && differing++ < 3)
+      ADD_FAILURE() << "line " << j + 1 << " (call " << call << ")\n  Sibernetic: " << line
+                    << "\n  owval:      " << owval;
+    ++j;
+  }
+  EXPECT_EQ(j, 200u);
+  EXPECT_EQ(differing, 0u) << "lines whose printed activations differ";
+  // The reader takes the same file: 200 lines of 96 values, the largest 0.575's float.
+  kinematics::MuscleLogReader reader(log);
+  kinematics::PrintedActivations values{};
+  double largest = 0;
+  std::size_t read = 0;
+  while (reader.Next(&values)) {
+    ++read;
+    largest = std::max(largest, *std::max_element(values.begin(), values.end()));
+  }
+  EXPECT_EQ(read, 200u);
+  EXPECT_EQ(largest, 0.5749999);
+}
+
+const GateResult* FindGate(const std::vector<GateResult>& gates, const std::string& name) {
+  for (const GateResult& g : gates)
+    if (g.name == name) return &g;
+  return nullptr;
+}
+
+// A candidate directory's muscles_activity_buffer.txt is held to owval's signal at the
+// candidate's logged steps: Sibernetic's own file beside its own run passes; a value moved by two
+// units of its 7th digit, the lines shifted by one, and zeros beside a worm fail.
+TEST(WormGates, SideFilesHoldTheMuscleLogToOwvalsSignal) {
+  const fs::path log = kWormRun / "muscles_activity_buffer.txt";
+  if (!fs::exists(kWorm) || !fs::exists(log)) GTEST_SKIP() << "no " << kWormRun;
+  const fs::path dir = owval::testing::TestScratch("worm_muscles");
+  fs::create_symlink(kWorm, dir / "candidate.txt.gz");
+  const std::string name = "muscles_activity_buffer.txt holds owval's muscle signal";
+  const auto gate = [&](const std::string& text) {
+    std::ofstream(dir / "muscles_activity_buffer.txt", std::ios::binary | std::ios::trunc) << text;
+    const std::vector<GateResult> gates =
+        internal::WormSideFileGates(dir, dir / "candidate.txt.gz");
+    EXPECT_EQ(gates.size(), 1u);
+    const GateResult* g = FindGate(gates, name);
+    return g ? *g : GateResult{name, false, "no such gate"};
+  };
+  const std::string own = testing::FileBytes(log);
+  const GateResult passes = gate(own);
+  EXPECT_TRUE(passes.pass) << passes.detail;
+  EXPECT_EQ(
+      passes.detail.rfind("200 lines; 0 disagree with owval's muscle signal at their steps", 0), 0u)
+      << passes.detail;
+  // Line 101 (step 15,000), muscle 1 (8.723249e-02): its 7th significant digit moved by two.
+  std::string edited = own;
+  std::size_t at = 0;
+  for (int i = 0; i < 100; ++i) at = edited.find('\n', at) + 1;
+  ASSERT_NE(edited[at], '0') << "a non-zero value: " << edited.substr(at, 12);
+  char& digit = edited[at + 7];
+  digit = digit < '8' ? char(digit + 2) : char(digit - 2);
+  const GateResult moved = gate(edited);
+  EXPECT_FALSE(moved.pass);
+  EXPECT_EQ(moved.detail.rfind("200 lines; 1 disagree", 0), 0u) << moved.detail;
+  EXPECT_NE(moved.detail.find("at line 101 (step 15000), muscle 1: "), std::string::npos)
+      << moved.detail;
+  // Shifted by one: line j holds line j+1's values, the last line repeated.
+  std::string shifted = own.substr(own.find('\n') + 1);
+  shifted += own.substr(own.rfind('\n', own.size() - 2) + 1);
+  const GateResult late = gate(shifted);
+  EXPECT_FALSE(late.pass);
+  EXPECT_EQ(late.detail.rfind("200 lines; 199 disagree", 0), 0u) << late.detail;
+  // One line dropped.
+  EXPECT_EQ(gate(shifted.substr(0, shifted.rfind('\n', shifted.size() - 2) + 1)).detail,
+            "199 lines, the trajectory 200 frames");
+  // Zeros: Sibernetic's file for a configuration not named a worm, not for this worm.
+  std::string zeros;
+  for (int i = 0; i < 200; ++i) zeros += kinematics::FormatMuscleLogLine({});
+  const GateResult silent = gate(zeros);
+  EXPECT_FALSE(silent.pass);
+  EXPECT_EQ(silent.detail.rfind("200 lines; 199 disagree", 0), 0u) << silent.detail;
+  // Not a log: the reader's one line, naming file and line.
+  const GateResult garbled = gate(own.substr(0, 100) + "\n");
+  EXPECT_FALSE(garbled.pass);
+  EXPECT_NE(garbled.detail.find("muscles_activity_buffer.txt:1: "), std::string::npos)
+      << garbled.detail;
   fs::remove_all(dir);
 }
 

@@ -119,7 +119,7 @@ class SignalCheck {
       if (fraction > worst_) {
         worst_ = fraction;
         worst_where_ = " at line " + std::to_string(j + 1) + Format(" (step %.0f), muscle ", step) +
-                       std::to_string(m + 1) + Format(": %.7g, the signal %.7g", got[m], e);
+                       std::to_string(m + 1) + Format(": %.7g, the signal %.9g", got[m], e);
       }
     }
     failing_ += failing;

@@ -10,8 +10,10 @@
 #include "owval/base/progress.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/long_run.hpp"
+#include "owval/engine/muscles.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/kinematics/muscle_log.hpp"
 #include "owval/kinematics/worm_track.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -34,19 +36,27 @@ std::string ConfigurationHash(const std::string& source) {
   return hex;
 }
 
-// The writers of the outputs computed from the run's frames: the OME-Zarr (--zarr) and, for a
-// worm, Sibernetic's worm_motion_log.txt and worm.wcon (the formats other OpenWorm tools read),
-// each under the group's temporary name.
+// The writers of the outputs computed from the run's frames: the OME-Zarr (--zarr), for a worm
+// Sibernetic's worm_motion_log.txt and worm.wcon (the formats other OpenWorm tools read), and for
+// a muscle-driven run Sibernetic's muscles_activity_buffer.txt, each under the group's temporary
+// name.
 struct FrameOutputs {
   std::unique_ptr<OmeZarrWriter> zarr;
   std::unique_ptr<kinematics::WormMotionLogWriter> motion_log;
   std::unique_ptr<kinematics::WormWconWriter> wcon;
+  std::unique_ptr<kinematics::MuscleLogWriter> muscles;
+  int log_step = 1;
+  std::size_t frames = 0;
 
   void Append(const FrameRef& frame) {
     const Trajectory& t = frame.trajectory;
     if (zarr) zarr->AppendFrame(t.time_s[frame.frame], t.position(frame.frame, 0));
     if (motion_log) motion_log->Append(t, frame.frame);
     if (wcon) wcon->Append(t, frame.frame);
+    // Frame f is iteration k = f·log_step's state, and the activations logged with it are the
+    // ones computed after iteration k (engine's run loop): MuscleSimulation.run()'s call k.
+    const double step = double(frames++) * double(log_step);
+    if (muscles) muscles->Append(engine::MuscleSimulationSignal(step));
   }
 };
 
@@ -62,8 +72,9 @@ nlohmann::json WconSettings(const RunRequest& r, const std::string& source) {
 // one frame and one Zarr chunk whatever the run's length (and a resumed run's frames are all in
 // the file).
 std::vector<std::string> WriteFrameOutputs(const Trajectory& header, const RunRequest& r,
-                                           const std::string& source, OutputGroup* group) {
-  if (!r.zarr && !kinematics::IsWorm(header)) return {};
+                                           const std::string& source, bool muscles_driven,
+                                           OutputGroup* group) {
+  if (!r.zarr && !kinematics::IsWorm(header) && !muscles_driven) return {};
   const fs::path out = r.out;
   TextReadOptions quiet;
   quiet.quiet = true;
@@ -84,10 +95,17 @@ std::vector<std::string> WriteFrameOutputs(const Trajectory& header, const RunRe
     written.push_back((out / "worm_motion_log.txt").string());
     written.push_back((out / "worm.wcon").string());
   }
+  if (muscles_driven) {
+    writers.muscles = std::make_unique<kinematics::MuscleLogWriter>(
+        group->Stage(out / "muscles_activity_buffer.txt"));
+    writers.log_step = file.log_step;
+    written.push_back((out / "muscles_activity_buffer.txt").string());
+  }
   for (std::size_t f = 0; f < frames->frame_count(); ++f) writers.Append(frames->Frame(f));
   if (writers.zarr) writers.zarr->Commit();
   if (writers.motion_log) writers.motion_log->Commit();
   if (writers.wcon) writers.wcon->Commit();
+  if (writers.muscles) writers.muscles->Commit();
   return written;
 }
 
@@ -158,7 +176,8 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
 void CheckRunOutputs(const RunRequest& r) {
   const fs::path out = r.out;
   for (const fs::path& output : engine::LongRunOutputs(out)) CheckOutputPath(output);
-  for (const char* name : {"worm_motion_log.txt", "worm.wcon", "step_log.json"})
+  for (const char* name :
+       {"worm_motion_log.txt", "worm.wcon", "muscles_activity_buffer.txt", "step_log.json"})
     CheckOutputPath(out / name);
   if (r.zarr) CheckZarrOutput(out / "trajectory.zarr");
 }
@@ -345,7 +364,8 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
   for (const fs::path& output : engine::LongRunOutputs(request.out))
     summary->outputs.push_back((interrupted ? PartialPath(output) : output).string());
   if (!interrupted) {
-    for (const std::string& path : WriteFrameOutputs(seen.header, request, config.source, &outputs))
+    for (const std::string& path : WriteFrameOutputs(seen.header, request, config.source,
+                                                     summary->run.muscles_driven, &outputs))
       summary->outputs.push_back(path);
     if (const std::string path = seen.step_log->FinishInto(&outputs); !path.empty())
       summary->outputs.push_back(path);

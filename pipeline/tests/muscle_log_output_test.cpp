@@ -1,0 +1,106 @@
+// `owval run` of a muscle-driven run writes Sibernetic's muscles_activity_buffer.txt with its
+// other outputs: a short run of Sibernetic's worm configuration writes the lines of the
+// reference's own file byte for byte, a run stopped and resumed writes the same bytes as one run
+// straight through, and a run without muscles writes none.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "owval/base/atomic_output.hpp"
+#include "owval/pipeline/run_directory.hpp"
+#include "owval/scenarios/scenario.hpp"
+#include "owval/testing/scratch_directory.hpp"
+
+namespace owval::pipeline {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kRun = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
+constexpr const char* kLog = "muscles_activity_buffer.txt";
+
+// 451 steps of 2e-5 s (Sibernetic's count: int(0.00903 / 2e-5)), logged every 150 as the
+// reference was: frames after iterations 0, 150, 300 and 450.
+RunRequest ShortWormRun(const fs::path& out) {
+  RunRequest r;
+  r.config = (kRun / "configuration").string();
+  r.time_s = 0.00903;
+  r.log_step = 150;
+  r.out = out.string();
+  r.no_fields = true;
+  return r;
+}
+
+RunDirectorySummary RunInto(const RunRequest& r, RunDirectoryOptions options = {}) {
+  const engine::SiberneticConfig config = scenarios::ResolveConfig(r.config, ".");
+  RunDirectorySummary summary;
+  RunIntoDirectory(config, r, options, &summary);
+  return summary;
+}
+
+// The first `lines` lines of `text`.
+std::string Head(const std::string& text, std::size_t lines) {
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < lines && at != std::string::npos; ++i) {
+    at = text.find('\n', at);
+    if (at != std::string::npos) ++at;
+  }
+  return text.substr(0, at);
+}
+
+bool ReferenceMissing() {
+  if (fs::exists(kRun / kLog) && fs::exists(kRun / "configuration")) return false;
+  if (std::getenv("OWVAL_REQUIRE_REFERENCE")) ADD_FAILURE() << "no " << kRun;
+  return true;
+}
+
+TEST(MuscleLogOutput, AShortWormRunWritesTheReferencesFirstLines) {
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kRun;
+  const fs::path out = owval::testing::TestScratch("muscles_short");
+  const RunDirectorySummary s = RunInto(ShortWormRun(out));
+  ASSERT_TRUE(s.run.muscles_driven);
+  ASSERT_EQ(s.run.frames, 4u);
+  EXPECT_NE(std::find(s.outputs.begin(), s.outputs.end(), (out / kLog).string()), s.outputs.end());
+  const std::string written = ReadWholeFile(out / kLog);
+  EXPECT_EQ(written, Head(ReadWholeFile(kRun / kLog), 4));
+  EXPECT_NE(written.find("6.108888e-03"), std::string::npos);  // line 2 is not all zeros
+}
+
+TEST(MuscleLogOutput, AResumedRunWritesTheSameBytes) {
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kRun;
+  const fs::path straight = owval::testing::TestScratch("muscles_straight");
+  RunInto(ShortWormRun(straight));
+  const fs::path resumed = owval::testing::TestScratch("muscles_resumed");
+  std::atomic<int> polls{0};
+  RunDirectoryOptions stopping;
+  stopping.stop_requested = [&polls] { return ++polls > 200; };  // after 200 steps
+  const RunDirectorySummary first = RunInto(ShortWormRun(resumed), stopping);
+  ASSERT_TRUE(first.run.interrupted);
+  ASSERT_TRUE(first.run.checkpointed);
+  EXPECT_FALSE(fs::exists(resumed / kLog));  // an interrupted run writes no side file
+  RunDirectoryOptions resume;
+  resume.resume = true;
+  const RunDirectorySummary second = RunInto(ShortWormRun(resumed), resume);
+  ASSERT_FALSE(second.run.interrupted);
+  EXPECT_EQ(second.run.first_step, 200u);
+  EXPECT_EQ(ReadWholeFile(resumed / kLog), ReadWholeFile(straight / kLog));
+}
+
+TEST(MuscleLogOutput, ARunWithoutMusclesWritesNone) {
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kRun;
+  const fs::path out = owval::testing::TestScratch("muscles_off");
+  RunRequest r = ShortWormRun(out);
+  r.muscles = "off";
+  r.time_s = 0.0002;  // 10 steps
+  r.log_step = 5;
+  const RunDirectorySummary s = RunInto(r);
+  EXPECT_FALSE(s.run.muscles_driven);
+  EXPECT_TRUE(fs::exists(out / "worm_motion_log.txt"));
+  EXPECT_FALSE(fs::exists(out / kLog));
+}
+
+}  // namespace
+}  // namespace owval::pipeline
