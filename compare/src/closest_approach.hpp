@@ -27,6 +27,13 @@ void ForEachPairWithin(const FrameRef& frame, const std::vector<std::size_t>& mo
                        double radius_cu,
                        const std::function<void(std::size_t, std::size_t, double)>& visit);
 
+// Calls `visit(centre, other, distance_cu)` for every particle within `radius_cu` of each of
+// `centres` (any kind; a pair of two centres is met from both). The same grid, binning only the
+// particles near the centres: what a kernel sum at each centre needs.
+void ForEachNeighbourWithin(const FrameRef& frame, const std::vector<std::size_t>& centres,
+                            double radius_cu,
+                            const std::function<void(std::size_t, std::size_t, double)>& visit);
+
 // Finds the closest pair of `frame` by a uniform grid (cells of `cell_cu`, doubled until a pair
 // lies within one cell), querying from `moving`, the non-boundary particles. Positions that are
 // not finite are skipped (the worst_particle gates see those).
