@@ -13,6 +13,7 @@
 #include "body_gates.hpp"
 #include "closest_approach.hpp"
 #include "held_pairs.hpp"
+#include "liquid_packing.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
@@ -279,6 +280,28 @@ std::vector<std::size_t> GatedPairs(const Pairs& pairs, const Trajectory& ref,
   return gated;
 }
 
+// How tightly each run's liquid is packed (liquid_packing.hpp), per paired frame, reduced to
+// the mean over the paired frames of each summary and the frame where the two runs differ most.
+struct PackingReduction {
+  double support_cu = 0;  // twice the reference's median spacing at its first paired frame
+  std::size_t frames = 0;
+  double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // reference, candidate
+  // The paired frame whose upper quartiles differ most, relatively, and both runs' values there.
+  double worst_frame_gap = -1;
+  std::size_t worst_frame = 0;
+  internal::PackingSummary worst[2];
+
+  void Observe(const internal::PackingSummary& ref, const internal::PackingSummary& cand,
+               std::size_t reference_frame) {
+    ++frames;
+    median_sum[0] += ref.median, median_sum[1] += cand.median;
+    upper_quartile_sum[0] += ref.upper_quartile, upper_quartile_sum[1] += cand.upper_quartile;
+    const double gap = std::abs(cand.upper_quartile / ref.upper_quartile - 1);
+    if (!(gap <= worst_frame_gap))
+      worst_frame_gap = gap, worst_frame = reference_frame, worst[0] = ref, worst[1] = cand;
+  }
+};
+
 // Everything the gates need, reduced frame pair by frame pair in time order (one frame of each
 // trajectory at a time): the tracked series, the per-particle distances, each group's drift,
 // the group centroid distances at the sampled pairs, and the scene gates' measures.
@@ -294,6 +317,8 @@ class PairReducer {
         moving_(MovingParticles(ref)),
         sampled_(pairs.size(), false),
         bodies_(ref, cand, ref_frames, o.gates) {
+    for (std::size_t p : moving_)
+      if (KindOf(ref.type[p]) == ParticleKind::kLiquid) liquid_.push_back(p);
     for (const char* group : {"elastic", "liquid"}) {
       DriftAccumulator g;
       g.d.group = group;
@@ -340,6 +365,7 @@ class PairReducer {
     if (!moving_.empty())
       closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
                        known);
+    ObservePacking(k, a, b);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -378,6 +404,8 @@ class PairReducer {
   const std::optional<internal::HeldPairs>& held_candidate() const { return held_[1]; }
   double held_spacing_cu() const { return held_spacing_cu_; }
   bool has_moving_particles() const { return !moving_.empty(); }
+  bool has_liquid() const { return !liquid_.empty(); }
+  const PackingReduction& packing() const { return packing_; }
 
  private:
   void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
@@ -422,6 +450,18 @@ class PairReducer {
   }
   std::optional<internal::HeldPairs> held_[2];
   double held_spacing_cu_ = 0;
+  // The liquid's packing in each run, with a support of twice the reference's median spacing at
+  // its first paired frame (Sibernetic's h = 2 r0, its particles placed r0 apart).
+  void ObservePacking(std::size_t k, const FrameRef& a, const FrameRef& b) {
+    if (liquid_.empty()) return;
+    if (k == 0) packing_.support_cu = 2 * held_spacing_cu_;
+    if (!(packing_.support_cu > 0)) return;
+    const internal::PackingSummary x = internal::MeasurePacking(a, liquid_, packing_.support_cu);
+    const internal::PackingSummary y = internal::MeasurePacking(b, liquid_, packing_.support_cu);
+    packing_.Observe(x, y, pairs_[k].first);
+  }
+  std::vector<std::size_t> liquid_;  // the reference's liquid particles
+  PackingReduction packing_;
   ClosestApproach closest_;  // of each run, over the paired frames
   // The closest-pair search's first cell width, of the box's largest extent (it widens itself).
   static constexpr double kClosestApproachCell = 0.01;
@@ -880,6 +920,40 @@ void GateHeldPair(const Trajectory& ref, const Pairs& pairs, const PairReducer& 
   r->gates.push_back(g);
 }
 
+// The candidate's liquid packing against the reference's (PackingReduction): the value is
+// |mean_cand / mean_ref - 1| of the liquid's per-frame kernel-sum summaries over the paired
+// frames, the larger of the median's and the upper quartile's.
+void GateLiquidPacking(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  Gate g = MakeGate("liquid_packing",
+                    "|candidate / reference - 1| of the liquid's kernel sum (Wpoly6, every "
+                    "particle a neighbour), its median and upper quartile over the liquid, each "
+                    "averaged over the paired frames; the larger",
+                    NAN, o.gates.liquid_packing, "relative");
+  const PackingReduction& p = reduced.packing();
+  if (!reduced.has_liquid() || p.frames == 0) {
+    g.detail = reduced.has_liquid() ? "no particle has a neighbour" : "the scene has no liquid";
+    r->gates.push_back(g);
+    return;
+  }
+  const double n = double(p.frames);
+  const double median_gap = p.median_sum[1] / p.median_sum[0] - 1;
+  const double quartile_gap = p.upper_quartile_sum[1] / p.upper_quartile_sum[0] - 1;
+  g.value = std::max(std::abs(median_gap), std::abs(quartile_gap));
+  if (std::isnan(median_gap) || std::isnan(quartile_gap)) g.value = INFINITY;
+  char detail[480];
+  std::snprintf(detail, sizeof detail,
+                "mean over %zu paired frames of the liquid's median kernel sum (of one particle "
+                "alone): candidate %.5g, reference %.5g (%+.2f%%); upper quartile: candidate "
+                "%.5g, reference %.5g (%+.2f%%); the frame differing most: reference frame %zu, "
+                "upper quartile candidate %.5g, reference %.5g; support %.4g cu",
+                p.frames, p.median_sum[1] / n, p.median_sum[0] / n, 100 * median_gap,
+                p.upper_quartile_sum[1] / n, p.upper_quartile_sum[0] / n, 100 * quartile_gap,
+                p.worst_frame, p.worst[1].upper_quartile, p.worst[0].upper_quartile, p.support_cu);
+  g.detail = detail;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -975,6 +1049,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateInitialState(ref, reducer, o, &r);
   GateClosestApproach(ref, reducer, o, &r);
   GateHeldPair(ref, pairs, reducer, o, &r);
+  GateLiquidPacking(reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -1148,7 +1223,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "of the candidate's particles (one moving) may come"},
     {"held_pair_threshold", "--held-pair-threshold", &G::held_pair,
      "held_pair gate: how many times closer than the reference holds a pair of a kind for a "
-     "tenth of the paired frames the candidate may hold one"}};
+     "tenth of the paired frames the candidate may hold one"},
+    {"liquid_packing_threshold", "--liquid-packing-threshold", &G::liquid_packing,
+     "liquid_packing gate: the relative gap of the liquid's mean kernel sum (median, upper "
+     "quartile) to the reference's"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

@@ -1,5 +1,6 @@
 #pragma once
-// Edited copies of real runs that the pair gates' tests (closest_approach, held_pair) judge.
+// Edited copies of real runs that the pair gates' tests (closest_approach, held_pair) and the
+// liquid_packing tests judge.
 #include <cmath>
 #include <cstddef>
 
@@ -18,6 +19,21 @@ inline Trajectory HeldAt(const Trajectory& t, std::size_t p, std::size_t q, doub
     const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int a = 0; a < 3; ++a) out.position(f, p)[a] = float(y[a] + distance_cu * d[a] / norm);
   }
+  return out;
+}
+
+// `t` with every moving (elastic, liquid) particle moved `factor` times as far from the box's
+// centre at frames [from, end), the walls left where they are (as a text file edited from frame
+// 1 on, which holds the moving particles only): factor > 1 dilates the scene (a liquid 1% wider
+// is 3% less dense), < 1 compresses it.
+inline Trajectory ScaledAboutTheBoxCentre(const Trajectory& t, double factor, std::size_t from) {
+  Trajectory out = t;
+  const double centre[3] = {(t.box.xmin + t.box.xmax) / 2, (t.box.ymin + t.box.ymax) / 2,
+                            (t.box.zmin + t.box.zmax) / 2};
+  for (std::size_t f = from; f < out.frame_count(); ++f)
+    for (std::size_t p = 0; p < out.particle_count(); ++p)
+      for (int a = 0; a < 3 && KindOf(out.type[p]) != ParticleKind::kBoundary; ++a)
+        out.position(f, p)[a] = float(centre[a] + factor * (out.position(f, p)[a] - centre[a]));
   return out;
 }
 

@@ -27,6 +27,11 @@
 //    tenth of the paired frames over the candidate's: an honest near-encounter is brief, a leak
 //    or an edit holds its pair close for the rest of the run (held_pairs.hpp,
 //    ParityGates::held_pair).
+//  - liquid_packing: the liquid's SPH kernel sum recomputed from positions (every particle a
+//    neighbour), its median and upper quartile over the liquid averaged over the paired frames,
+//    against the reference's: PCISPH holds the liquid at its rest density, and a liquid 3% less
+//    dense moves no particle far enough for the motion gates (liquid_packing.hpp,
+//    ParityGates::liquid_packing). Not applicable when the reference has no liquid.
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".
@@ -112,6 +117,23 @@ struct ParityGates {
   // 2.59-3.08 (demo1, test_energy, the worm), at 0.01 r0 27-32; XPBD's clumping liquid 5.19. One
   // held at 0.3 r0 passes: Sibernetic's own liquid holds pairs at 0.27-0.31 r0 that long.
   Threshold held_pair{2};  // reference's held distance / candidate's
+  // The liquid's packing from positions alone (liquid_packing.hpp): at each liquid particle the
+  // Wpoly6 kernel sum over every particle within h (twice the reference's median spacing at its
+  // first paired frame: Sibernetic's h = 2 r0), its median and upper quartile over the liquid
+  // (the bulk, not the free surface) averaged over the paired frames; the value is the larger
+  // relative gap of the candidate's means to the reference's. PCISPH exists to hold the liquid
+  // at its rest density: Sibernetic's own demo1 liquid has a per-frame median density of
+  // 1045-1078 kg/m^3 (0.52% sd over frames 125-499; demo1_density_diag), and this statistic
+  // varies by 0.44% sd over the same frames, so a mean over hundreds of frames of the same
+  // physics differs by a fraction of that once the chaos has diverged. A liquid dilated by 1%
+  // is 3% less dense: its kernel sum drops 2.3-3.0% (the particle's own term does not dilate).
+  // Measured (docs/checklist.md, "liquid_packing"): honest PCISPH reruns (gravity changed by
+  // 1e-6) of demo1 0.37-0.56% (six), demo1_1s 0.19%, test_energy 0.0003%, and test_energy's
+  // leapfrog 0.66%; Sibernetic's runs dilated by 1% from frame 1 on 2.35-2.95% (demo1,
+  // demo1_1s, test_energy, the worm), compressed by 1% 2.59%; dilated by 0.3% 0.75-0.90%, which
+  // passes (within what honest runs differ by). demo1's leapfrog reruns fail (8.0%, 21.5%): their
+  // liquid leaves the cube (and fails 10 other gates); so does XPBD's liquid, 5-11% less packed.
+  Threshold liquid_packing{0.01};  // relative gap of the mean kernel sum, larger summary
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an

@@ -1,0 +1,45 @@
+#include "liquid_packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "closest_approach.hpp"
+
+namespace owval::compare::internal {
+namespace {
+
+// The q-th quantile of `values` (0 <= q <= 1), by the nearest rank; reorders them.
+double Quantile(std::vector<double>& values, double q) {
+  const auto rank = std::size_t(std::lround(q * double(values.size() - 1)));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(rank), values.end());
+  return values[rank];
+}
+
+bool Finite(const float* x) {
+  return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+}
+
+}  // namespace
+
+PackingSummary MeasurePacking(const FrameRef& frame, const std::vector<std::size_t>& liquid,
+                              double support_cu) {
+  const Trajectory& t = frame.trajectory;
+  std::vector<double> sum(t.particle_count(), 0.0);
+  const double support_squared = support_cu * support_cu;
+  // Wpoly6(r) / Wpoly6(0) = (1 - r^2/h^2)^3, summed at each liquid particle over its neighbours.
+  ForEachNeighbourWithin(frame, liquid, support_cu, [&](std::size_t centre, std::size_t, double d) {
+    const double u = 1 - d * d / support_squared;
+    sum[centre] += u * u * u;
+  });
+  std::vector<double> of_liquid;
+  of_liquid.reserve(liquid.size());
+  for (std::size_t i : liquid)
+    if (Finite(t.position(frame.frame, i))) of_liquid.push_back(1 + sum[i]);  // 1: itself
+  if (of_liquid.empty()) return {};
+  PackingSummary s;
+  s.upper_quartile = Quantile(of_liquid, 0.75);
+  s.median = Quantile(of_liquid, 0.5);
+  return s;
+}
+
+}  // namespace owval::compare::internal
