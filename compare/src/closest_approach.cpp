@@ -14,6 +14,9 @@ using Cell = std::array<std::int64_t, 3>;
 struct Binned {
   Cell cell;
   std::size_t particle;
+  // Its position, read in cell order without a cache miss a candidate (test_energy's 30,000
+  // liquid particles lie far apart in the frame's array).
+  float x[3];
   bool operator<(const Binned& other) const { return cell < other.cell; }
 };
 
@@ -92,7 +95,7 @@ std::vector<Binned> BinNearMoving(const FrameRef& f, const std::vector<std::size
     if (!Finite(x)) continue;
     bool near = true;
     for (int a = 0; a < 3; ++a) near = near && x[a] >= low[a] && x[a] <= high[a];
-    if (near && blocks.Near(x)) bins.push_back({CellOf(x, radius_cu), p});
+    if (near && blocks.Near(x)) bins.push_back({CellOf(x, radius_cu), p, {x[0], x[1], x[2]}});
   }
   std::sort(bins.begin(), bins.end());
   return bins;
@@ -103,10 +106,11 @@ std::vector<Binned> BinNearMoving(const FrameRef& f, const std::vector<std::size
 namespace {
 
 // Calls `visit(centre, other, distance_cu)` for every finite particle within `radius_cu` of each
-// finite particle of `centres` (itself excepted).
-template <typename Visit>
+// finite particle of `centres`, except where `skip(centre, other)` (asked before the distance is
+// computed: pairs met twice are skipped once at no cost).
+template <typename Skip, typename Visit>
 void VisitNeighbours(const FrameRef& f, const std::vector<std::size_t>& centres, double radius_cu,
-                     const Visit& visit) {
+                     const Skip& skip, const Visit& visit) {
   if (!(radius_cu > 0)) return;
   const Trajectory& t = f.trajectory;
   const std::vector<Binned> bins = BinNearMoving(f, centres, radius_cu);
@@ -118,14 +122,14 @@ void VisitNeighbours(const FrameRef& f, const std::vector<std::size_t>& centres,
     // Cells sorted by x, y, z: the three cells of one (x, y) column are one range of the bins.
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto lo =
-            std::lower_bound(bins.begin(), bins.end(), Binned{{c[0] + dx, c[1] + dy, c[2] - 1}, 0});
+        const auto lo = std::lower_bound(bins.begin(), bins.end(),
+                                         Binned{{c[0] + dx, c[1] + dy, c[2] - 1}, 0, {}});
         const auto hi =
-            std::upper_bound(lo, bins.end(), Binned{{c[0] + dx, c[1] + dy, c[2] + 1}, 0});
+            std::upper_bound(lo, bins.end(), Binned{{c[0] + dx, c[1] + dy, c[2] + 1}, 0, {}});
         for (auto it = lo; it != hi; ++it) {
           const std::size_t p = it->particle;
-          if (p == i) continue;
-          const float* y = t.position(f.frame, p);
+          if (p == i || skip(i, p)) continue;
+          const float* y = it->x;
           const double ex = double(y[0]) - x[0], ey = double(y[1]) - x[1], ez = double(y[2]) - x[2];
           const double squared = ex * ex + ey * ey + ez * ez;
           if (squared <= radius_squared) visit(i, p, std::sqrt(squared));
@@ -139,17 +143,24 @@ void VisitNeighbours(const FrameRef& f, const std::vector<std::size_t>& centres,
 void ForEachPairWithin(const FrameRef& f, const std::vector<std::size_t>& moving, double radius_cu,
                        const std::function<void(std::size_t, std::size_t, double)>& visit) {
   const Trajectory& t = f.trajectory;
-  VisitNeighbours(f, moving, radius_cu, [&](std::size_t i, std::size_t p, double d) {
-    // A pair of two moving particles is met from both: counted from the lower index.
-    if (p < i && KindOf(t.type[p]) != ParticleKind::kBoundary) return;
-    visit(std::min(i, p), std::max(i, p), d);
-  });
+  VisitNeighbours(
+      f, moving, radius_cu,
+      // A pair of two moving particles is met from both: counted from the lower index.
+      [&](std::size_t i, std::size_t p) {
+        return p < i && KindOf(t.type[p]) != ParticleKind::kBoundary;
+      },
+      [&](std::size_t i, std::size_t p, double d) { visit(std::min(i, p), std::max(i, p), d); });
 }
 
 void ForEachNeighbourWithin(const FrameRef& frame, const std::vector<std::size_t>& centres,
                             double radius_cu,
                             const std::function<void(std::size_t, std::size_t, double)>& visit) {
-  VisitNeighbours(frame, centres, radius_cu, visit);
+  std::vector<char> is_centre(frame.trajectory.particle_count(), 0);
+  for (std::size_t i : centres) is_centre[i] = 1;
+  // A pair of two centres is met from both: visited from the higher index.
+  VisitNeighbours(
+      frame, centres, radius_cu,
+      [&](std::size_t i, std::size_t p) { return p > i && is_centre[p]; }, visit);
 }
 
 ClosestPair FindClosestPair(const FrameRef& frame, const std::vector<std::size_t>& moving,

@@ -27,9 +27,10 @@ void ForEachPairWithin(const FrameRef& frame, const std::vector<std::size_t>& mo
                        double radius_cu,
                        const std::function<void(std::size_t, std::size_t, double)>& visit);
 
-// Calls `visit(centre, other, distance_cu)` for every particle within `radius_cu` of each of
-// `centres` (any kind; a pair of two centres is met from both). The same grid, binning only the
-// particles near the centres: what a kernel sum at each centre needs.
+// Calls `visit(centre, other, distance_cu)` once for every pair within `radius_cu` with at least
+// one particle in `centres` (`other` of any kind; a pair of two centres once, `centre` the higher
+// index). The same grid, binning only the particles near the centres: what a kernel sum at each
+// centre needs, adding each pair's share to both ends.
 void ForEachNeighbourWithin(const FrameRef& frame, const std::vector<std::size_t>& centres,
                             double radius_cu,
                             const std::function<void(std::size_t, std::size_t, double)>& visit);

@@ -26,10 +26,12 @@ PackingSummary MeasurePacking(const FrameRef& frame, const std::vector<std::size
   const Trajectory& t = frame.trajectory;
   std::vector<double> sum(t.particle_count(), 0.0);
   const double support_squared = support_cu * support_cu;
-  // Wpoly6(r) / Wpoly6(0) = (1 - r^2/h^2)^3, summed at each liquid particle over its neighbours.
-  ForEachNeighbourWithin(frame, liquid, support_cu, [&](std::size_t centre, std::size_t, double d) {
+  // Wpoly6(r) / Wpoly6(0) = (1 - r^2/h^2)^3, each pair's share added to both ends' sums (only
+  // the liquid's are read).
+  ForEachNeighbourWithin(frame, liquid, support_cu, [&](std::size_t a, std::size_t b, double d) {
     const double u = 1 - d * d / support_squared;
-    sum[centre] += u * u * u;
+    const double w = u * u * u;
+    sum[a] += w, sum[b] += w;
   });
   std::vector<double> of_liquid;
   of_liquid.reserve(liquid.size());
