@@ -86,7 +86,8 @@ TEST(LiquidPackingParity, Demo1CompressedByOnePercentFails) {
 TEST(LiquidPackingParity, Demo1DilatedByAThirdOfAPercentCannotBeToldApart) {
   OWVAL_REQUIRE_DEMO1();
   // The stated limit: 0.75% in the kernel sum, within what honest reruns differ by.
-  const Gate& g = *Demo1ScaledFromFrameOne(1.003).gate("liquid_packing");
+  const ParityReport r = Demo1ScaledFromFrameOne(1.003);
+  const Gate& g = *r.gate("liquid_packing");
   EXPECT_EQ(g.status, GateStatus::kPass) << g.value << ": " << g.detail;
   EXPECT_NEAR(g.value, 0.0075, 0.0005);
 }
@@ -109,11 +110,13 @@ TEST(LiquidPackingParity, AnHonestPerturbedRerunPassesAndTheSameDilatedFails) {
   OWVAL_REQUIRE_DEMO1();
   const Trajectory& demo1 = *testing::SiberneticDemo1Run();
   const Trajectory rerun = HonestDemo1Rerun(0.05);  // 125 frames
-  const Gate& honest = *CompareTrajectories(demo1, rerun, {}).gate("liquid_packing");
+  const ParityReport honest_report = CompareTrajectories(demo1, rerun, {});
+  const Gate& honest = *honest_report.gate("liquid_packing");
   EXPECT_EQ(honest.status, GateStatus::kPass) << honest.value << ": " << honest.detail;
   EXPECT_GT(honest.value, 1e-3);  // diverged: not the reference's own frames
-  const Gate& dilated = *CompareTrajectories(demo1, ScaledAboutTheBoxCentre(rerun, 1.01, 1), {})
-                             .gate("liquid_packing");
+  const ParityReport dilated_report =
+      CompareTrajectories(demo1, ScaledAboutTheBoxCentre(rerun, 1.01, 1), {});
+  const Gate& dilated = *dilated_report.gate("liquid_packing");
   EXPECT_EQ(dilated.status, GateStatus::kFail) << dilated.value << ": " << dilated.detail;
 }
 
