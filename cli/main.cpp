@@ -78,18 +78,15 @@ const CLI::Validator kFraction =
 // CLI11's "A excludes B" and "A requires B" in owval's words; "config" is a positional argument.
 std::string UsageLine(const CLI::ParseError& error) {
   const std::string what = error.what();
-  const auto named = [](const std::string& name) {
-    return name.rfind('-', 0) == 0 ? name : "the argument " + name;
-  };
-  for (const auto& [verb, said] :
-       {std::pair{" excludes ", " cannot be given with "}, std::pair{" requires ", " needs "}}) {
-    const std::size_t at = what.find(verb);
-    if ((dynamic_cast<const CLI::ExcludesError*>(&error) ||
-         dynamic_cast<const CLI::RequiresError*>(&error)) &&
-        at != std::string::npos)
-      return named(what.substr(0, at)) + said + what.substr(at + std::string(verb).size());
-  }
-  return what;
+  const bool excludes = dynamic_cast<const CLI::ExcludesError*>(&error) != nullptr;
+  const std::string verb = excludes                                          ? " excludes "
+                           : dynamic_cast<const CLI::RequiresError*>(&error) ? " requires "
+                                                                             : "";
+  const std::size_t at = verb.empty() ? std::string::npos : what.find(verb);
+  if (at == std::string::npos) return what;
+  const std::string first = what.substr(0, at);
+  return (first.rfind('-', 0) == 0 ? first : "the argument " + first) +
+         (excludes ? " cannot be given with " : " needs ") + what.substr(at + verb.size());
 }
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "worm_gates.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 
 #include "owval/base/errors.hpp"
@@ -30,21 +31,31 @@ std::vector<fs::path> Entries(const fs::path& dir, const char* extension) {
 
 std::vector<fs::path> Wcons(const fs::path& dir) { return Entries(dir, ".wcon"); }
 
-GateResult ZarrGate(const fs::path& store, FrameSource* candidate) {
-  GateResult g{store.filename().string() + " describes the candidate", false, ""};
+// A side file held to the candidate: `compare` measures the agreement; no candidate, or a file
+// the comparison cannot read, fails the gate with the reason.
+GateResult AgreementGate(const std::string& name, FrameSource* candidate,
+                         const std::function<kinematics::TrackAgreement(FrameSource&)>& compare) {
+  GateResult g{name, false, ""};
   try {
     if (!candidate) {
       g.detail = "no readable candidate trajectory to check it against";
       return g;
     }
-    OmeZarrReader zarr(store);
-    const kinematics::TrackAgreement a = kinematics::CompareWithTrajectory(zarr, *candidate);
+    const kinematics::TrackAgreement a = compare(*candidate);
     g.pass = a.agrees;
     g.detail = a.detail;
   } catch (const std::exception& error) {
     g.detail = error.what();
   }
   return g;
+}
+
+GateResult ZarrGate(const fs::path& store, FrameSource* candidate) {
+  return AgreementGate(store.filename().string() + " describes the candidate", candidate,
+                       [&](FrameSource& frames) {
+                         OmeZarrReader zarr(store);
+                         return kinematics::CompareWithTrajectory(zarr, frames);
+                       });
 }
 
 // A .wcon parsed once (quick-test's readability gate and its side-file gate both read it), or
@@ -69,44 +80,25 @@ ParsedWcon ParseWcon(const fs::path& path) {
 // one time point, whatever the run's length). `parsed`: the file's reader when quick-test has
 // parsed it already, else null.
 GateResult SideFileGate(const fs::path& file, FrameSource* candidate, ParsedWcon* parsed) {
-  GateResult g{file.filename().string() + " describes the candidate", false, ""};
-  try {
-    if (!candidate) {
-      g.detail = "no readable candidate trajectory to check it against";
-      return g;
-    }
-    if (parsed && !parsed->reader) throw InputError(parsed->error);
-    const kinematics::TrackAgreement a =
-        parsed ? kinematics::CompareWconWithTrajectory(*parsed->reader, *candidate)
-        : file.extension() == ".wcon"
-            ? kinematics::CompareWconWithTrajectory(file, *candidate)
-            : kinematics::CompareWormMotionLogWithTrajectory(file, *candidate);
-    g.pass = a.agrees;
-    g.detail = a.detail;
-  } catch (const std::exception& error) {
-    g.detail = error.what();
-  }
-  return g;
+  return AgreementGate(
+      file.filename().string() + " describes the candidate", candidate, [&](FrameSource& frames) {
+        if (parsed && !parsed->reader) throw InputError(parsed->error);
+        return parsed ? kinematics::CompareWconWithTrajectory(*parsed->reader, frames)
+               : file.extension() == ".wcon"
+                   ? kinematics::CompareWconWithTrajectory(file, frames)
+                   : kinematics::CompareWormMotionLogWithTrajectory(file, frames);
+      });
 }
 
 // Sibernetic's muscle activations log against the signal owval computes for the candidate's
 // logged steps (kinematics/muscle_log.hpp: line j is the activations after the step of frame j).
 GateResult MuscleLogGate(const fs::path& file, FrameSource* candidate) {
-  GateResult g{file.filename().string() + " holds owval's muscle signal", false, ""};
-  try {
-    if (!candidate) {
-      g.detail = "no readable candidate trajectory to check it against";
-      return g;
-    }
-    const kinematics::TrackAgreement a = kinematics::CompareMuscleLogWithSignal(
-        file, candidate->header(),
-        [](double step) { return engine::MuscleSimulationSignal(step); });
-    g.pass = a.agrees;
-    g.detail = a.detail;
-  } catch (const std::exception& error) {
-    g.detail = error.what();
-  }
-  return g;
+  return AgreementGate(file.filename().string() + " holds owval's muscle signal", candidate,
+                       [&](FrameSource& frames) {
+                         return kinematics::CompareMuscleLogWithSignal(
+                             file, frames.header(),
+                             [](double step) { return engine::MuscleSimulationSignal(step); });
+                       });
 }
 
 constexpr const char* kMuscleLogs[] = {"muscles_activity_buffer.txt",
