@@ -104,7 +104,8 @@ OutputGroup::~OutputGroup() {
   for (Member& m : members_) internal::ForgetTemporary(&m.signal_slot);
   if (committed_) return;
   std::error_code ignored;
-  for (const Member& m : members_) fs::remove_all(m.temporary, ignored);
+  for (const Member& m : members_)
+    if (!m.temporary.empty()) fs::remove_all(m.temporary, ignored);
 }
 
 void OutputGroup::Adopt(AtomicOutput* finished) {
@@ -127,6 +128,13 @@ fs::path OutputGroup::TemporaryOf(const fs::path& destination) const {
   return {};
 }
 
+void OutputGroup::Retire(const fs::path& destination, bool is_ours) {
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(destination, error);
+  const bool file = fs::is_regular_file(status) || fs::is_symlink(status);
+  if (file || (fs::is_directory(status) && is_ours)) members_.push_back({fs::path(), destination});
+}
+
 void OutputGroup::Commit() {
   if (members_.empty()) {
     committed_ = true;
@@ -144,7 +152,7 @@ void OutputGroup::Commit() {
   std::error_code error;
   for (const Member& m : members_) RefuseSpecialFileOutput(m.destination);
   for (const Member& m : members_)
-    if (fs::is_directory(fs::symlink_status(m.destination, error)) &&
+    if (!m.temporary.empty() && fs::is_directory(fs::symlink_status(m.destination, error)) &&
         !fs::is_directory(fs::symlink_status(m.temporary, error)))
       throw InputError(m.destination.string(), 0, "is a directory; expected a file to write");
   const fs::path marker = CommitMarkerPath(directory);
@@ -156,6 +164,7 @@ void OutputGroup::Commit() {
       fs::remove(m.destination, error);
   }
   for (Member& m : members_) {
+    if (m.temporary.empty()) continue;  // retired
     fs::rename(m.temporary, m.destination, error);
     internal::ForgetTemporary(&m.signal_slot);
     if (error)  // the marker stays: the set in place is incomplete and readers say so

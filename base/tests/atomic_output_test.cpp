@@ -120,6 +120,42 @@ TEST(OutputGroup, AnUncommittedGroupRemovesItsTemporaries) {
   EXPECT_EQ(CountEntries(dir), 0u);
 }
 
+// A rerun that writes fewer files than the run before it: the earlier run's extra file goes with
+// the commit, not before it, and a directory goes only when the caller says it is its own.
+TEST(OutputGroup, CommitRemovesRetiredOutputsAndOnlyThen) {
+  const fs::path dir = Fresh("group_retire");
+  std::ofstream(dir / "a.txt") << "old a";
+  std::ofstream(dir / "stale.txt") << "earlier run";
+  fs::create_directory(dir / "users_store");
+  fs::create_directory(dir / "owval_store");
+  OutputGroup group;
+  std::ofstream(group.Stage(dir / "a.txt")) << "new a";
+  group.Retire(dir / "stale.txt");
+  group.Retire(dir / "users_store");
+  group.Retire(dir / "owval_store", true);
+  group.Retire(dir / "never_written.txt");
+  EXPECT_EQ(FileBytes(dir / "stale.txt"), "earlier run");  // nothing changes before the commit
+  EXPECT_TRUE(fs::exists(dir / "owval_store"));
+  group.Commit();
+  EXPECT_EQ(FileBytes(dir / "a.txt"), "new a");
+  EXPECT_FALSE(fs::exists(dir / "stale.txt"));
+  EXPECT_FALSE(fs::exists(dir / "owval_store"));
+  EXPECT_TRUE(fs::is_directory(dir / "users_store"));
+  EXPECT_EQ(CountEntries(dir), 2u);  // a.txt and users_store: no marker, no temporary
+}
+
+TEST(OutputGroup, AnUncommittedGroupKeepsWhatItWouldRetire) {
+  const fs::path dir = Fresh("group_retire_uncommitted");
+  std::ofstream(dir / "stale.txt") << "earlier run";
+  {
+    OutputGroup group;
+    std::ofstream(group.Stage(dir / "a.txt")) << "new a";
+    group.Retire(dir / "stale.txt");
+  }
+  EXPECT_EQ(FileBytes(dir / "stale.txt"), "earlier run");
+  EXPECT_EQ(CountEntries(dir), 1u);
+}
+
 // A commit that stops between its renames (here: a member whose temporary is missing) leaves
 // the marker, and readers refuse the files it names instead of pairing new with old.
 TEST(OutputGroup, AnInterruptedCommitMakesReadersRefuseItsFiles) {

@@ -1,5 +1,6 @@
 #include "owval/pipeline/run_directory.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +25,12 @@
 namespace owval::pipeline {
 namespace {
 namespace fs = std::filesystem;
+
+// The files a run writes besides its trajectories, each only when it applies (a worm, muscles,
+// an adaptive scheme), and the OME-Zarr store (--zarr).
+constexpr const char* kSideFiles[] = {"worm_motion_log.txt", "worm.wcon",
+                                      "muscles_activity_buffer.txt", "step_log.json"};
+constexpr const char* kZarrStore = "trajectory.zarr";
 
 // FNV-1a 64 of the configuration file's bytes: identifies the input in WCON provenance.
 std::string ConfigurationHash(const std::string& source) {
@@ -84,8 +91,8 @@ std::vector<std::string> WriteFrameOutputs(const Trajectory& header, const RunRe
   FrameOutputs writers;
   std::vector<std::string> written;
   if (r.zarr) {
-    writers.zarr = std::make_unique<OmeZarrWriter>(group->Stage(out / "trajectory.zarr"), file);
-    written.push_back((out / "trajectory.zarr").string());
+    writers.zarr = std::make_unique<OmeZarrWriter>(group->Stage(out / kZarrStore), file);
+    written.push_back((out / kZarrStore).string());
   }
   if (kinematics::IsWorm(file)) {
     writers.motion_log = std::make_unique<kinematics::WormMotionLogWriter>(
@@ -176,10 +183,25 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
 void CheckRunOutputs(const RunRequest& r) {
   const fs::path out = r.out;
   for (const fs::path& output : engine::LongRunOutputs(out)) CheckOutputPath(output);
-  for (const char* name :
-       {"worm_motion_log.txt", "worm.wcon", "muscles_activity_buffer.txt", "step_log.json"})
-    CheckOutputPath(out / name);
-  if (r.zarr) CheckZarrOutput(out / "trajectory.zarr");
+  for (const char* name : kSideFiles) CheckOutputPath(out / name);
+  if (r.zarr) CheckZarrOutput(out / kZarrStore);
+}
+
+// An earlier run's side files that this run does not write leave with its commit: a muscle log
+// beside a `--muscles off` run's trajectory would be read as this run's (checklist item 3).
+// A Zarr store goes only when owval wrote it. So do the partial trajectories of an abandoned
+// interrupted run (its checkpoint removed to start afresh); a resumed run's writers remove
+// their own once they have read them.
+void RetireEarlierOutputs(const fs::path& out, const std::vector<std::string>& written,
+                          bool resumed, OutputGroup* group) {
+  const auto wrote = [&written](const fs::path& path) {
+    return std::find(written.begin(), written.end(), path.string()) != written.end();
+  };
+  for (const char* name : kSideFiles)
+    if (!wrote(out / name)) group->Retire(out / name);
+  if (!wrote(out / kZarrStore)) group->Retire(out / kZarrStore, IsOwvalZarrStore(out / kZarrStore));
+  if (!resumed)
+    for (const fs::path& output : engine::LongRunOutputs(out)) group->Retire(PartialPath(output));
 }
 
 // `path` as one shell word, quoted only when it has to be (the hint is pasted as written).
@@ -369,6 +391,7 @@ void RunIntoDirectory(const engine::SiberneticConfig& config, const RunRequest& 
       summary->outputs.push_back(path);
     if (const std::string path = seen.step_log->FinishInto(&outputs); !path.empty())
       summary->outputs.push_back(path);
+    RetireEarlierOutputs(request.out, summary->outputs, o.resume, &outputs);
     outputs.Commit();
   }
   if (seen.monitor)

@@ -1,13 +1,14 @@
 // `owval run` of a muscle-driven run writes Sibernetic's muscles_activity_buffer.txt with its
 // other outputs: a short run of Sibernetic's worm configuration writes the lines of the
 // reference's own file byte for byte, a run stopped and resumed writes the same bytes as one run
-// straight through, and a run without muscles writes none.
+// straight through, and a run without muscles writes none (nor leaves an earlier run's).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "owval/base/atomic_output.hpp"
@@ -100,6 +101,26 @@ TEST(MuscleLogOutput, ARunWithoutMusclesWritesNone) {
   EXPECT_FALSE(s.run.muscles_driven);
   EXPECT_TRUE(fs::exists(out / "worm_motion_log.txt"));
   EXPECT_FALSE(fs::exists(out / kLog));
+}
+
+// A rerun into the same directory with the muscles off: the first run's log would otherwise be
+// read as the second's (checklist item 3 and `ci validate` check it against the trajectory).
+TEST(MuscleLogOutput, ARerunWithoutMusclesRemovesTheEarlierLog) {
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kRun;
+  const fs::path out = owval::testing::TestScratch("muscles_rerun_off");
+  RunRequest r = ShortWormRun(out);
+  r.time_s = 0.0002;  // 10 steps
+  r.log_step = 5;
+  ASSERT_TRUE(RunInto(r).run.muscles_driven);
+  ASSERT_TRUE(fs::exists(out / kLog));
+  std::ofstream(out / "notes.txt") << "the user's own file";
+  r.muscles = "off";
+  const RunDirectorySummary s = RunInto(r);
+  EXPECT_FALSE(s.run.muscles_driven);
+  EXPECT_FALSE(fs::exists(out / kLog));
+  EXPECT_TRUE(fs::exists(out / "worm_motion_log.txt"));
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));  // only the names owval writes
+  EXPECT_FALSE(fs::exists(CommitMarkerPath(out)));
 }
 
 }  // namespace

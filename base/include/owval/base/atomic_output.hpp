@@ -113,11 +113,16 @@ class OutputGroup {
   std::filesystem::path Stage(const std::filesystem::path& destination);
   // The temporary that will become `destination`; empty when it is not a member.
   std::filesystem::path TemporaryOf(const std::filesystem::path& destination) const;
+  // An older output of the same command that this set replaces by nothing: Commit() removes it
+  // with the older files of the members, under the same marker. A rerun that writes fewer files
+  // than the run before it (a muscle log, then none) leaves no file from that run beside its own.
+  // A directory is removed only when `is_ours` says it may be.
+  void Retire(const std::filesystem::path& destination, bool is_ours = false);
   void Commit();
 
  private:
   struct Member {
-    std::filesystem::path temporary, destination;
+    std::filesystem::path temporary, destination;  // temporary empty: retired, nothing renamed
     int signal_slot = -1;
   };
   std::vector<Member> members_;
