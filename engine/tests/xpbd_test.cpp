@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "kernels/kernels.hpp"
 #include "owval/base/errors.hpp"
@@ -185,6 +186,48 @@ PhysicsConstants OneDensityProjection() {
   k.xpbd.substeps = 1;        // one projection
   k.xpbd.density_passes = 1;  // in the split scheme's one correction per step
   return k;
+}
+
+// A 3 × 3 × 3 cube of liquid particles at Sibernetic's lattice spacing r0 = h/2, at rest.
+SiberneticConfig LiquidLattice() {
+  SiberneticConfig c;
+  c.source = "lattice";
+  c.box = {0, 40, 0, 40, 0, 40};
+  const float r0 = float(PhysicsConstants{}.r0_cu);
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        c.position.push_back({20 + x * r0, 20 + y * r0, 20 + z * r0, 1.1f});
+  c.velocity.assign(c.position.size(), {0, 0, 0, 0});
+  return c;
+}
+
+// The rest density the constraint must hold to keep PCISPH's packing is Sibernetic's ρ0 plus the
+// self term, and the initial lattice, the derived default's source, reads below it. By hand, in
+// units of the self term m·W(0)/s³ = m·315/(64π (h s)³) (207.53 kg/m³): the centre of the cube
+// has 6 neighbours at r0, 12 at √2 r0 and 8 at √3 r0, where Wpoly6's shape (1 − r²/h²)³ is
+// (3/4)³, (1/2)³ and (1/4)³, so Sibernetic's sum (no self term) reads 6·27/64 + 12/8 + 8/64 =
+// 4.15625 (862.5 kg/m³, as its own density log of demo1's initial liquid,
+// ../shared/reference/demo1_density_diag: 862.54) and the constraint's sum 5.15625.
+TEST(XpbdSolver, SiberneticTargetIsRho0PlusTheSelfTermAndTheLatticeReadsBelowIt) {
+  const PhysicsConstants k = Quiet();
+  const SiberneticConfig lattice = LiquidLattice();
+  const double h = float(k.h_cu), s = float(k.simulation_scale), m = float(k.mass_kg);
+  const double self = m * 315 / (64 * std::numbers::pi * h * h * h * s * s * s);
+  ASSERT_NEAR(self, 207.53, 0.01);
+  EXPECT_NEAR(SiberneticTargetDensityOf(k), 1000 + self, 1e-9 * self);
+  Xpbd<double> solver(lattice, k, 1);
+  EXPECT_NEAR(solver.sibernetic_target_density(), 1000 + self, 1e-9 * self);
+  EXPECT_NE(solver.parameters().find("sibernetic_target_density = 1207.5"), std::string::npos);
+  // The derived default: the constraint's sum on the initial liquid with 20 or more listed
+  // neighbours, here only the centre (a face's centre lists 17).
+  EXPECT_NEAR(solver.rest_density(), 5.15625 * self, 1e-5 * self);
+  solver.Step();  // step 0 moves nothing; the shared density phase is Sibernetic's estimator
+  EXPECT_NEAR(solver.Density()[13], 4.15625 * self, 1e-4 * self);
+  EXPECT_LT(solver.Density()[13], 1000);  // so PCISPH compresses the lattice
+  PhysicsConstants set = k;               // a set rest density replaces the derived one
+  set.xpbd.rest_density = SiberneticTargetDensityOf(k);
+  EXPECT_EQ(Xpbd<double>(lattice, set, 1).rest_density(), set.xpbd.rest_density);
 }
 
 TEST(XpbdSolver, DensityConstraintOnTwoParticlesMovesThemByTheHandComputedAmount) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -37,6 +38,14 @@ SphConstants ForceConstants(const SphConstants& k, const PhysicsConstants::Xpbd&
 }
 
 }  // namespace
+
+double SiberneticTargetDensityOf(const PhysicsConstants& constants) {
+  // The floats every phase uses (SphConstants); W(0) = 315/(64π h³) in cu⁻³.
+  const SphConstants k = SphConstants::From(constants);
+  const double h = k.h_cu, s = k.scale;
+  const double self_term = double(k.mass_kg) / (s * s * s) * Wpoly6Coefficient(h) * std::pow(h, 6);
+  return double(k.rest_density) + self_term;
+}
 
 int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants) {
   const PhysicsConstants::Xpbd& p = constants.xpbd;
@@ -159,6 +168,7 @@ Xpbd<T>::Xpbd(const SiberneticConfig& config, const PhysicsConstants& constants,
   RefreshLists();
   const double h = k_.h_cu, s = k_.scale;  // the float values every phase uses
   rest_density_ = parameters_.rest_density > 0 ? parameters_.rest_density : DerivedRestDensity();
+  sibernetic_target_density_ = SiberneticTargetDensityOf(constants);
   density_compliance_ = DensityComplianceOf(config, constants);
   kernel_ = {T(h), T(h * h), T(constants.mass_kg / (rest_density_ * s * s * s)),
              T(Wpoly6Coefficient(h)), T(SpikyGradientCoefficient(h))};
@@ -895,7 +905,8 @@ std::string Xpbd<T>::parameters() const {
     << (parameters_.density_compliance > 0 ? "" : " (derived)")
     << ", bond_compliance_scale = " << parameters_.bond_compliance_scale
     << ", rest_density = " << rest_density_ << (parameters_.rest_density > 0 ? "" : " (derived)")
-    << ", floor_restitution = " << parameters_.floor_restitution
+    << ", sibernetic_target_density = " << std::setprecision(9) << sibernetic_target_density_
+    << std::setprecision(6) << ", floor_restitution = " << parameters_.floor_restitution
     << ", muscle_strength = " << parameters_.muscle_strength
     << ", viscosity = " << parameters_.viscosity
     << ", surface_tension = " << parameters_.surface_tension

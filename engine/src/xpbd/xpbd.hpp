@@ -64,6 +64,16 @@ int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants
 // velocity scale and the derived α is 0.
 double DensityComplianceOf(const SiberneticConfig& config, const PhysicsConstants& constants);
 
+// What the density constraint's estimator reads where Sibernetic's reads ρ0 (kg/m³): ρ0 +
+// m·W(0)/s³. Sibernetic's density sums m·Wpoly6 over the particle's 32-slot list *without* a
+// self term (floored at the self term, sphFluid.cl:473-510 and 869-925), and PCISPH raises
+// pressure until that sum reads ρ0; the constraint sums the same list *with* the self term, so
+// the packing PCISPH drives the liquid to reads ρ0 + m·W(0)/s³ in it (demo1: 1000 + 207.53;
+// the initial lattice reads 862.5 in Sibernetic's sum, 1070.1 in the constraint's). Not the
+// default (docs/xpbd.md, "The rest density PCISPH targets"): `--set xpbd_rest_density=` this
+// value, printed in the run's scheme_parameters as sibernetic_target_density.
+double SiberneticTargetDensityOf(const PhysicsConstants& constants);
+
 template <typename T>
 class Xpbd final : public Solver {
  public:
@@ -93,6 +103,9 @@ class Xpbd final : public Solver {
 
   // The rest density the density constraints use (kg/m³), derived or set.
   double rest_density() const { return rest_density_; }
+  // SiberneticTargetDensityOf(constants): the rest density at which the constraint holds the
+  // packing PCISPH drives the liquid to (kg/m³).
+  double sibernetic_target_density() const { return sibernetic_target_density_; }
   // The density constraint's compliance (s²/cu²), derived or set.
   double density_compliance() const { return density_compliance_; }
   // Positions in the solver's scalar (cu), for tests.
@@ -171,7 +184,7 @@ class Xpbd final : public Solver {
   // lanes too (density_lanes.hpp).
   std::optional<BondLanes> bond_lanes_;
   bool moving_block_ = false;  // the moving particles are rows [first, first + count)
-  double rest_density_ = 0, density_compliance_ = 0;
+  double rest_density_ = 0, sibernetic_target_density_ = 0, density_compliance_ = 0;
   DensityKernel<T> kernel_{};
   // [MM13]'s s_corr (xpbd_tensile_correction; off by default) and, per particle, its part of a
   // density pass's Δp, Σ_j s_corr·V0∇W (it does not depend on the pass's Δλ).
