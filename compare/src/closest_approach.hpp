@@ -7,9 +7,9 @@
 // particle by another, does. Pairs of two boundary particles are left out: walls are built, not
 // simulated.
 #include <cstddef>
-#include <functional>
 #include <vector>
 
+#include "neighbour_grid.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::compare::internal {
@@ -19,21 +19,7 @@ struct ClosestPair {
   std::size_t first = 0, second = 0;
 };
 
-// Calls `visit(first, second, distance_cu)` once for every pair within `radius_cu` of `frame`
-// with at least one particle in `moving` (first < second). Positions that are not finite are
-// skipped. The grid search
-// both gates share (cells of `radius_cu`, only particles near the moving ones binned).
-void ForEachPairWithin(const FrameRef& frame, const std::vector<std::size_t>& moving,
-                       double radius_cu,
-                       const std::function<void(std::size_t, std::size_t, double)>& visit);
-
-// Calls `visit(centre, other, distance_cu)` once for every pair within `radius_cu` with at least
-// one particle in `centres` (`other` of any kind; a pair of two centres once, `centre` the higher
-// index). The same grid, binning only the particles near the centres: what a kernel sum at each
-// centre needs, adding each pair's share to both ends.
-void ForEachNeighbourWithin(const FrameRef& frame, const std::vector<std::size_t>& centres,
-                            double radius_cu,
-                            const std::function<void(std::size_t, std::size_t, double)>& visit);
+// The pair searches (ForEachPairWithin, ForEachNeighbourWithin) are neighbour_grid.hpp's.
 
 // Finds the closest pair of `frame` by a uniform grid (cells of `cell_cu`, doubled until a pair
 // lies within one cell), querying from `moving`, the non-boundary particles. Positions that are

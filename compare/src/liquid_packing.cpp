@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "closest_approach.hpp"
+#include "neighbour_grid.hpp"
 
 namespace owval::compare::internal {
 namespace {
