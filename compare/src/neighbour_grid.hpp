@@ -53,22 +53,29 @@ class NeighbourGrid {
     std::int64_t x, y;
     std::uint32_t first_run, end_run;
   };
-  struct Range {
-    std::uint32_t begin, end;
+  // The slots of one column's cells z - 1, z and z + 1 (one stretch in a column sorted by z):
+  // [bound[0], bound[1]), [bound[1], bound[2]) and [bound[2], bound[3]).
+  struct Stretch {
+    std::uint32_t bound[4];
   };
-  using Ranges = std::array<Range, 9>;  // the columns dx = -1..1, dy = -1..1, three cells each
+  struct Neighbourhood {  // of one cell: the columns dx = -1..1, dy = -1..1, three cells each
+    Cell cell;
+    std::array<Stretch, 9> columns;
+  };
   using Around = std::array<std::uint32_t, 9>;  // the same columns' indices, kNone: empty
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  static constexpr double kSlack = 1e-9;
 
   static bool Finite(const float* x) {
     return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
   }
   void IndexColumns();
   std::uint32_t FindColumn(std::int64_t x, std::int64_t y) const;
-  Range CellsAround(std::uint32_t column, std::int64_t z) const;
+  Stretch CellsAround(std::uint32_t column, std::int64_t z) const;
+  Neighbourhood NeighbourhoodOfCell(const Cell& c, std::uint32_t column);
   Around ColumnsAround(std::int64_t x, std::int64_t y) const;
   const Around& ColumnsAround(std::uint32_t column);
-  const Ranges& RangesAround(std::size_t centre, const float* x);
+  const Neighbourhood& NeighbourhoodOf(std::size_t centre, const float* x);
 
   const Trajectory& trajectory_;
   std::size_t frame_;
@@ -79,14 +86,14 @@ class NeighbourGrid {
   std::vector<Column> columns_;      // in run order
   std::vector<std::uint32_t> column_table_;     // columns_' indices by (x, y), open addressing
   std::vector<std::uint32_t> run_of_particle_;  // kNone: not binned
-  // Computed when first asked, each column's neighbours and each cell's ranges: a query
+  // Computed when first asked, each column's neighbours and each cell's stretches: a query
   // particle shares them with the others in its column or cell (test_energy's liquid column
   // holds ~30 particles, a cell of h ~8).
   std::vector<Around> columns_around_;
   std::vector<std::uint8_t> columns_around_known_;
-  std::vector<Ranges> ranges_;
-  std::vector<std::uint8_t> ranges_known_;
-  Ranges scratch_{};  // a centre outside every run (never, for a finite centre)
+  std::vector<std::uint32_t> neighbourhood_of_run_;  // kNone: not yet computed
+  std::vector<Neighbourhood> neighbourhoods_;
+  Neighbourhood scratch_{};  // of a centre outside every run (never, for a finite centre)
 };
 
 template <typename Skip, typename Visit>
@@ -94,11 +101,32 @@ void NeighbourGrid::VisitNeighbours(const std::vector<std::size_t>& centres, con
                                     const Visit& visit) {
   if (slots_.empty()) return;
   const double radius_squared = radius_cu_ * radius_cu_;
+  // A cell is searched unless none of its particles can pass the distance test below: its box
+  // lies farther than the radius. Its box from its index: a particle y in cell k - 1 has
+  // y < k * cell, one in cell k + 1 y >= (k + 1) * cell up to y's rounding; the slack (1e-9 of
+  // the coordinates) covers that rounding and the test's own, some 1e-16 of them, so a skipped
+  // particle would never have been visited and the visits keep their order.
+  const double reach_squared = radius_squared * (1 + kSlack);
   for (std::size_t i : centres) {
     const float* x = trajectory_.position(frame_, i);
     if (!Finite(x)) continue;
-    for (const Range& range : RangesAround(i, x))
-      for (std::uint32_t s = range.begin; s != range.end; ++s) {
+    const Neighbourhood& n = NeighbourhoodOf(i, x);
+    double gap_squared[3][3];  // axis, offset -1, 0, +1: the nearest a cell there can be
+    for (int a = 0; a < 3; ++a) {
+      const double slack = kSlack * (std::abs(double(x[a])) + radius_cu_);
+      const double below = x[a] - double(n.cell[a]) * radius_cu_ - slack;
+      const double above = double(n.cell[a] + 1) * radius_cu_ - x[a] - slack;
+      gap_squared[a][0] = below > 0 ? below * below : 0;
+      gap_squared[a][1] = 0;
+      gap_squared[a][2] = above > 0 ? above * above : 0;
+    }
+    for (int c = 0; c < 9; ++c) {
+      const double across = gap_squared[0][c / 3] + gap_squared[1][c % 3];
+      if (across > reach_squared) continue;
+      const std::uint32_t* bound = n.columns[std::size_t(c)].bound;
+      const std::uint32_t first = across + gap_squared[2][0] > reach_squared ? bound[1] : bound[0];
+      const std::uint32_t last = across + gap_squared[2][2] > reach_squared ? bound[2] : bound[3];
+      for (std::uint32_t s = first; s < last; ++s) {
         const Slot& slot = slots_[s];
         const std::size_t p = slot.particle;
         if (p == i || skip(i, p)) continue;
@@ -107,6 +135,7 @@ void NeighbourGrid::VisitNeighbours(const std::vector<std::size_t>& centres, con
         const double squared = ex * ex + ey * ey + ez * ez;
         if (squared <= radius_squared) visit(i, p, std::sqrt(squared));
       }
+    }
   }
 }
 
