@@ -264,6 +264,9 @@ const NeighbourGrid::Neighbourhood& NeighbourGrid::NeighbourhoodOf(std::size_t c
     const Cell c = CellOf(x, radius_cu_);
     return scratch_ = NeighbourhoodOfCell(c, FindColumn(c[0], c[1]));
   }
+  // A cell of one particle (most, at held_pair's radius) is asked once: nothing kept.
+  if (runs_[run + 1].begin - runs_[run].begin == 1)
+    return scratch_ = NeighbourhoodOfCell(runs_[run].cell, runs_[run].column);
   if (neighbourhood_of_run_[run] == kNone) {
     neighbourhood_of_run_[run] = std::uint32_t(neighbourhoods_.size());
     neighbourhoods_.push_back(NeighbourhoodOfCell(runs_[run].cell, runs_[run].column));
