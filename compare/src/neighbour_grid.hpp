@@ -10,8 +10,9 @@
 // columns dx = -1..1, dy = -1..1, within a column the bins in their sorted order): the gates'
 // sums and their first-found ties depend on it, and `owval compare --json` prints them at full
 // precision. What is cached (each cell's nine column ranges, computed once for every query
-// particle in it) and templated (the visitor, called ~10^6 times a frame on test_energy) leaves
-// that order as it was.
+// particle in it), templated (the visitor, called ~10^6 times a frame on test_energy), packed
+// (the sort's key) and skipped (cells beyond the radius) leaves that order as it was
+// (docs/benchmarks.md, "pair search as one grid type").
 #include <array>
 #include <cmath>
 #include <cstddef>
