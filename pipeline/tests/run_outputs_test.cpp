@@ -1,7 +1,11 @@
-// `owval run` of a muscle-driven run writes Sibernetic's muscles_activity_buffer.txt with its
-// other outputs: a short run of Sibernetic's worm configuration writes the lines of the
-// reference's own file byte for byte, a run stopped and resumed writes the same bytes as one run
-// straight through, and a run without muscles writes none (nor leaves an earlier run's).
+// What `owval run` leaves in its output directory besides the trajectories.
+// - A muscle-driven run writes Sibernetic's muscles_activity_buffer.txt with its other outputs: a
+//   short run of Sibernetic's worm configuration writes the lines of the reference's own file
+//   byte for byte, a run stopped and resumed writes the same bytes as one run straight through,
+//   and a run without muscles writes none (nor leaves an earlier run's).
+// - A run into a directory an earlier run wrote leaves only its own outputs there: the earlier
+//   run's OME-Zarr store, and the partial trajectories of an interrupted run whose checkpoint was
+//   removed to start afresh, go with the new run's commit; a user's own files stay.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,25 +19,33 @@
 #include "owval/pipeline/run_directory.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/trajectory/writer.hpp"
 
 namespace owval::pipeline {
 namespace {
 namespace fs = std::filesystem;
 
 const fs::path kRun = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
+const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/configuration";
 constexpr const char* kLog = "muscles_activity_buffer.txt";
 
-// 451 steps of 2e-5 s (Sibernetic's count: int(0.00903 / 2e-5)), logged every 150 as the
-// reference was: frames after iterations 0, 150, 300 and 450.
-RunRequest ShortWormRun(const fs::path& out) {
+// A positions-only run of `config` for `time_s` into `out`.
+RunRequest ShortRun(const fs::path& config, double time_s, int log_step, const fs::path& out) {
   RunRequest r;
-  r.config = (kRun / "configuration").string();
-  r.time_s = 0.00903;
-  r.log_step = 150;
+  r.config = config.string();
+  r.time_s = time_s;
+  r.log_step = log_step;
   r.out = out.string();
   r.no_fields = true;
   return r;
 }
+
+// 451 steps of 2e-5 s (Sibernetic's count: int(0.00903 / 2e-5)), logged every 150 as the
+// reference was: frames after iterations 0, 150, 300 and 450.
+RunRequest ShortWormRun(const fs::path& out) {
+  return ShortRun(kRun / "configuration", 0.00903, 150, out);
+}
+RunRequest ShortDemo1Run(const fs::path& out) { return ShortRun(kDemo1, 0.002, 20, out); }
 
 RunDirectorySummary RunInto(const RunRequest& r, RunDirectoryOptions options = {}) {
   const engine::SiberneticConfig config = scenarios::ResolveConfig(r.config, ".");
@@ -121,6 +133,42 @@ TEST(MuscleLogOutput, ARerunWithoutMusclesRemovesTheEarlierLog) {
   EXPECT_TRUE(fs::exists(out / "worm_motion_log.txt"));
   EXPECT_TRUE(fs::exists(out / "notes.txt"));  // only the names owval writes
   EXPECT_FALSE(fs::exists(CommitMarkerPath(out)));
+}
+
+bool Demo1Missing() {
+  if (fs::exists(kDemo1)) return false;
+  if (std::getenv("OWVAL_REQUIRE_REFERENCE")) ADD_FAILURE() << "no " << kDemo1;
+  return true;
+}
+
+TEST(RerunOutputs, ARunWithoutZarrRemovesTheEarlierRunsStore) {
+  if (Demo1Missing()) GTEST_SKIP() << "no " << kDemo1;
+  const fs::path out = owval::testing::TestScratch("rerun_zarr");
+  RunRequest r = ShortDemo1Run(out);
+  r.zarr = true;
+  RunInto(r);
+  ASSERT_TRUE(fs::is_directory(out / "trajectory.zarr"));
+  fs::create_directory(out / "my_notes");
+  r.zarr = false;
+  RunInto(r);
+  EXPECT_FALSE(fs::exists(out / "trajectory.zarr"));
+  EXPECT_TRUE(fs::is_directory(out / "my_notes"));
+  EXPECT_TRUE(fs::exists(out / "position_buffer.txt"));
+}
+
+TEST(RerunOutputs, AFreshRunRemovesAnAbandonedRunsPartialTrajectories) {
+  if (Demo1Missing()) GTEST_SKIP() << "no " << kDemo1;
+  const fs::path out = owval::testing::TestScratch("rerun_partial");
+  RunDirectoryOptions stopping;
+  int polls = 0;
+  stopping.stop_requested = [&polls] { return ++polls > 50; };
+  ASSERT_TRUE(RunInto(ShortDemo1Run(out), stopping).run.interrupted);
+  ASSERT_TRUE(fs::exists(PartialPath(out / "trajectory.h5")));
+  fs::remove_all(out / "checkpoint");  // the user starts afresh
+  ASSERT_FALSE(RunInto(ShortDemo1Run(out)).run.interrupted);
+  EXPECT_FALSE(fs::exists(PartialPath(out / "trajectory.h5")));
+  EXPECT_FALSE(fs::exists(PartialPath(out / "position_buffer.txt")));
+  EXPECT_TRUE(fs::exists(out / "trajectory.h5"));
 }
 
 }  // namespace
