@@ -15,10 +15,6 @@ double Quantile(std::vector<double>& values, double q) {
   return values[rank];
 }
 
-bool Finite(const float* x) {
-  return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
-}
-
 }  // namespace
 
 PackingSummary MeasurePacking(const FrameRef& frame, const std::vector<std::size_t>& liquid,

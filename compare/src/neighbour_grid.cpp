@@ -24,10 +24,6 @@ Cell CellOf(const float* x, double cell_cu) {
           std::int64_t(std::floor(x[2] / cell_cu))};
 }
 
-bool Finite(const float* x) {
-  return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
-}
-
 // Which blocks of the query particles' bounding box (padded by the radius) hold a query
 // particle or touch one that does: a particle within the radius of a query particle lies in such
 // a block, since blocks are at least the radius wide. demo1's liquid spreads over the whole

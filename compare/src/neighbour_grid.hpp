@@ -23,6 +23,11 @@
 
 namespace owval::compare::internal {
 
+// A position the gates can measure: none of its coordinates NaN or infinite.
+inline bool Finite(const float* x) {
+  return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+}
+
 class NeighbourGrid {
  public:
   // Bins the finite particles of `frame` that may lie within `radius_cu` of a finite particle of
@@ -67,9 +72,6 @@ class NeighbourGrid {
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
   static constexpr double kSlack = 1e-9;
 
-  static bool Finite(const float* x) {
-    return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
-  }
   void IndexColumns();
   std::uint32_t FindColumn(std::int64_t x, std::int64_t y) const;
   Stretch CellsAround(std::uint32_t column, std::int64_t z) const;

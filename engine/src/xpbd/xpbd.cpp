@@ -42,9 +42,8 @@ SphConstants ForceConstants(const SphConstants& k, const PhysicsConstants::Xpbd&
 double SiberneticTargetDensityOf(const PhysicsConstants& constants) {
   // The floats every phase uses (SphConstants); W(0) = 315/(64π h³) in cu⁻³.
   const SphConstants k = SphConstants::From(constants);
-  const double h = k.h_cu, s = k.scale;
-  const double self_term = double(k.mass_kg) / (s * s * s) * Wpoly6Coefficient(h) * std::pow(h, 6);
-  return double(k.rest_density) + self_term;
+  const double s = k.scale;
+  return double(k.rest_density) + double(k.mass_kg) / (s * s * s) * Wpoly6(double(k.h_cu), 0.0);
 }
 
 int SubstepsOf(const SiberneticConfig& config, const PhysicsConstants& constants) {
