@@ -11,18 +11,13 @@
 namespace owval::cli {
 namespace {
 
-void Report(const ci::GateReport& report) {
-  std::cout << report.ToText();
-  if (!report.pass()) SetExitCode(1);
-}
-
 struct StabilityArgs {
   ci::StreamedStabilityOptions options;
   std::string duration;
   std::string scenario = (SharedReference() / "demo1/configuration").string();
 };
 
-void RunStability(StabilityArgs& a) {
+void RunStability(StabilityArgs& a, bool json) {
   ci::StreamedStabilityOptions& o = a.options;
   if (o.out.empty()) throw InputError("owval ci validate --stability: give --out DIR");
   o.duration_s = ci::ParseDuration(a.duration, "--stability");
@@ -34,17 +29,20 @@ void RunStability(StabilityArgs& a) {
   };
   const ci::GateReport report = ci::StreamedStability(config, o);
   progress.Finish();
-  Report(report);
+  PrintReport(report, json, &ci::GateReport::ToText);
 }
 
 void SetUp(CLI::App& app) {
   CLI::App* group = app.add_subcommand("ci", "CI gates over an artifact directory");
   group->require_subcommand(1);
   auto dir = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
   CLI::App* quick =
       group->add_subcommand("quick-test", "Runs completed: trajectories exist, parse, no NaN");
   AddInput(quick, "directory", dir.get())->check(CLI::ExistingDirectory);
-  quick->callback([dir] { Report(ci::QuickTest(*dir)); });
+  AddJsonFlag(quick, json.get(), "the gates");
+  quick->callback(
+      [dir, json] { PrintReport(ci::QuickTest(*dir), *json, &ci::GateReport::ToText); });
   CLI::App* validate =
       group->add_subcommand("validate", "Stability, incompressibility and parity gates");
   // Checked in the callback, not here: a check here runs before CLI11 names an unknown flag, so
@@ -71,15 +69,16 @@ void SetUp(CLI::App& app) {
   auto reference = std::make_shared<std::string>();
   validate->add_option("--reference", *reference, "Trajectory the directory's reference must be")
       ->check(GivenName());
-  validate->callback([dir, stability, reference] {
+  AddJsonFlag(validate, json.get(), "the gates");
+  validate->callback([dir, stability, reference, json] {
     if (!stability->duration.empty() && !dir->empty())
       throw InputError("owval ci validate: give DIRECTORY or --stability TIME, not both ('" + *dir +
                        "' given with --stability)");
-    if (!stability->duration.empty()) return RunStability(*stability);
+    if (!stability->duration.empty()) return RunStability(*stability, *json);
     if (dir->empty()) throw InputError("owval ci validate: give DIRECTORY or --stability TIME");
     if (!std::filesystem::is_directory(*dir))
       throw InputError("owval ci validate: directory: Directory does not exist: " + *dir);
-    Report(ci::Validate(*dir, {}, *reference));
+    PrintReport(ci::Validate(*dir, {}, *reference), *json, &ci::GateReport::ToText);
   });
 }
 

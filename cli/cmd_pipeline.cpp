@@ -9,7 +9,7 @@
 namespace owval::cli {
 namespace {
 
-void RunPipeline(pipeline::Options& o) {
+void RunPipeline(pipeline::Options& o, bool json) {
   if (o.out_dir.empty()) o.out_dir = std::filesystem::path("reports") / o.scenario;
   o.quiet = QuietMode();
   o.on_phase = [](const std::string& line) {
@@ -17,7 +17,11 @@ void RunPipeline(pipeline::Options& o) {
   };
   pipeline::Summary summary;
   pipeline::Run(o, &summary);
-  std::cout << "report: " << summary.index_html.string() << "\n" << summary.checklist.ToMarkdown();
+  if (json)
+    std::cout << summary.ToJson().dump(2) << "\n";
+  else
+    std::cout << "report: " << summary.index_html.string() << "\n"
+              << summary.checklist.ToMarkdown();
   SetExitCode(summary.exit_code());
 }
 
@@ -36,10 +40,12 @@ void SetUp(CLI::App& app) {
                  " of the candidate: pcisph, xpbd or wcsph; xpbd: phase 5 runs owval gradcheck");
   cmd->add_option("--max-video-frames", o->max_video_frames,
                   "Frames in sxs.mp4, evenly spaced (0: every frame)");
-  cmd->callback([o, integrator] {
+  auto json = std::make_shared<bool>(false);
+  AddJsonFlag(cmd, json.get(), "the phases, parity and checklist");
+  cmd->callback([o, integrator, json] {
     o->integrator = *integrator == "leapfrog" ? engine::Integrator::kLeapfrog
                                               : engine::Integrator::kSemiImplicitEuler;
-    RunPipeline(*o);
+    RunPipeline(*o, *json);
   });
 }
 

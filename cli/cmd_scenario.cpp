@@ -19,11 +19,19 @@ void SetUp(CLI::App& app) {
   auto a = std::make_shared<ScenarioArgs>();
   CLI::App* cmd = app.add_subcommand("scenario", "Built-in scenarios: list, show, generate");
   cmd->require_subcommand(1);
-  cmd->add_subcommand("list", "List built-in scenarios")->callback([] {
+  auto json = std::make_shared<bool>(false);
+  CLI::App* list = cmd->add_subcommand("list", "List built-in scenarios");
+  AddJsonFlag(list, json.get(), "[{\"name\", \"description\"}, ...]");
+  list->callback([json] {
+    nlohmann::json listed = nlohmann::json::array();
     for (const std::string& name : scenarios::ListScenarios(DataDir())) {
       const scenarios::Scenario s = scenarios::LoadScenario(name, DataDir());
-      std::cout << name << "\t" << s.description << "\n";
+      if (*json)
+        listed.push_back({{"name", name}, {"description", s.description}});
+      else
+        std::cout << name << "\t" << s.description << "\n";
     }
+    if (*json) std::cout << listed.dump(2) << "\n";
   });
   CLI::App* show = cmd->add_subcommand("show", "Print a scenario's manifest");
   AddInput(show, "name", &a->name);

@@ -101,6 +101,16 @@ std::string GateReport::ToText() const {
   return s.str();
 }
 
+nlohmann::json GateReport::ToJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const GateResult& g : gates) {
+    nlohmann::json gate = {{"name", g.name}, {"pass", g.pass}, {"detail", g.detail}};
+    if (!g.measured.is_null()) gate["measured"] = g.measured;
+    list.push_back(std::move(gate));
+  }
+  return {{"pass", pass()}, {"gates", list}};
+}
+
 GateReport QuickTest(const fs::path& dir) {
   GateReport r;
   bool worm = false;
@@ -159,18 +169,26 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
     const std::string which = c == &ref_checks ? "reference" : "candidate";
     r.gates.push_back(Run(which + " stability", [&](GateResult* g) {
       g->pass = c->stability.pass();
-      g->detail = c->stability.ToJson().dump();
+      g->measured = c->stability.ToJson();
+      g->detail = g->measured.dump();
     }));
   }
   if (cand_checks.incompressibility) {
     r.gates.push_back(Run("candidate incompressibility", [&](GateResult* g) {
       g->pass = cand_checks.incompressibility->pass();
-      g->detail = cand_checks.incompressibility->ToJson().dump();
+      g->measured = cand_checks.incompressibility->ToJson();
+      g->detail = g->measured.dump();
     }));
   }
   r.gates.push_back(Run("parity", [&](GateResult* g) {
     const compare::ParityReport p = compare::CompareFrameSources(*ref, *cand, parity);
     g->pass = p.pass();
+    nlohmann::json gates = nlohmann::json::array();
+    for (const compare::Gate& gate : p.gates) gates.push_back(compare::ToJson(gate));
+    g->measured = {{"subject", p.subject},
+                   {"paired_frames", p.frames.size()},
+                   {"failing_frames", p.failing_frames.size()},
+                   {"gates", gates}};
     g->detail = p.subject + ": " + std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
                 std::to_string(p.frames.size()) + " frames within the frame gate";
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();

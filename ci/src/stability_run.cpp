@@ -39,6 +39,8 @@ GateReport StreamedStability(const engine::SiberneticConfig& config,
     const engine::RunSummary s = engine::RunToFiles(config, run, files);
     const compare::StabilityReport& r = monitor->report();
     gate.pass = r.pass();
+    gate.measured = r.ToJson();
+    gate.measured["steps"] = s.steps;
     gate.detail = std::to_string(s.steps) + " steps, " + r.ToJson().dump();
   } catch (const SimulationError& e) {
     gate.detail = e.what();

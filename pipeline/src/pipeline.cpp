@@ -256,6 +256,18 @@ std::string Summary::BriefReport() const {
   return s;
 }
 
+nlohmann::json Summary::ToJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Phase& p : phases)
+    list.push_back({{"name", p.name}, {"applicable", p.applicable}, {"summary", p.summary}});
+  return {{"report", index_html.string()},
+          {"exit_code", exit_code()},
+          {"prediction_holds", prediction_holds},
+          {"phases", list},
+          {"parity", parity.ToJson()},
+          {"checklist", checklist.ToJson()}};
+}
+
 void Run(const Options& options, Summary* summary) {
   *summary = Summary{};
   Context c(options, summary);

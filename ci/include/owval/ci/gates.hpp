@@ -7,22 +7,36 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "owval/compare/parity.hpp"
 
 namespace owval::ci {
 
 struct GateResult {
+  GateResult() = default;
+  GateResult(std::string name, bool pass, std::string detail)
+      : name(std::move(name)), pass(pass), detail(std::move(detail)) {}
+
   std::string name;
   bool pass = false;
   std::string detail;
+  // The gate's figures as structured data where it has a report of its own (stability,
+  // incompressibility: their ToJson; the parity gate: its gates), else null. --json prints it
+  // so that a script reads the numbers instead of parsing `detail`.
+  nlohmann::json measured;
 };
 
 struct GateReport {
   std::vector<GateResult> gates;
-  bool pass() const;
+  bool pass() const;  // every gate passes, and there is at least one
   std::string ToText() const;
+  // {"pass": bool, "gates": [{"name", "pass", "detail"[, "measured"]}, ...]}: what ToText says,
+  // for scripts.
+  nlohmann::json ToJson() const;
 };
 
 GateReport QuickTest(const std::filesystem::path& directory);

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "owval/ci/checklist.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/engine/run.hpp"
@@ -61,6 +63,10 @@ struct Summary {
   // 0 when the checklist is ready (or incomplete but not blocking) and parity passes, else 1.
   int exit_code() const;
   std::string BriefReport() const;
+  // {"report": index.html's path, "exit_code", "prediction_holds", "phases": [{"name",
+  // "applicable", "summary"}], "parity": ParityReport::ToJson, "checklist":
+  // ChecklistReport::ToJson}: what `owval pipeline --json` prints.
+  nlohmann::json ToJson() const;
 };
 
 // Runs every phase. InputError for an unknown scenario or unusable candidate, before anything is
