@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <string_view>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
@@ -14,6 +15,8 @@
 
 namespace owval::engine {
 namespace {
+
+constexpr char kStateDumpPrefix[] = "owval_nan_dump_step";
 
 // Moving particles must start inside the box (within float rounding of its faces). Boundary
 // particles never move and only need a cell: Sibernetic's hash truncates toward zero, so a wall
@@ -104,7 +107,7 @@ class MemorySink : public FrameSink {
 // Writes the solver's state into dir (atomically) and returns the file's path; "" without dir.
 std::string DumpState(const Solver& solver, std::size_t step, const std::filesystem::path& dir) {
   if (dir.empty()) return "";
-  const std::filesystem::path path = dir / ("owval_nan_dump_step" + std::to_string(step) + ".txt");
+  const std::filesystem::path path = StateDumpPath(dir, step);
   std::ostringstream out;
   out << "# owval engine (" << solver.name() << ") state at step " << step
       << ": index x y z type vx vy vz density pressure\n";
@@ -178,6 +181,20 @@ void Checkpoint(const Solver& solver, std::size_t frames, FrameSink* sink, bool 
 }
 
 }  // namespace
+
+std::filesystem::path StateDumpPath(const std::filesystem::path& dir, std::size_t step) {
+  return dir / (kStateDumpPrefix + std::to_string(step) + ".txt");
+}
+
+bool IsStateDumpName(const std::filesystem::path& file) {
+  const std::string name = file.filename().string();
+  const std::string_view prefix(kStateDumpPrefix), suffix(".txt");
+  if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+      !name.ends_with(suffix))
+    return false;
+  const std::string step = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return step.find_first_not_of("0123456789") == std::string::npos;
+}
 
 RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameSink* sink) {
   RunSummary sum;

@@ -191,7 +191,7 @@ void CheckRunOutputs(const RunRequest& r) {
 // beside a `--muscles off` run's trajectory would be read as this run's (checklist item 3).
 // A Zarr store goes only when owval wrote it. So do the partial trajectories of an abandoned
 // interrupted run (its checkpoint removed to start afresh); a resumed run's writers remove
-// their own once they have read them.
+// their own once they have read them. So do earlier failed runs' state dumps.
 void RetireEarlierOutputs(const fs::path& out, const std::vector<std::string>& written,
                           bool resumed, OutputGroup* group) {
   const auto wrote = [&written](const fs::path& path) {
@@ -202,6 +202,12 @@ void RetireEarlierOutputs(const fs::path& out, const std::vector<std::string>& w
   if (!wrote(out / kZarrStore)) group->Retire(out / kZarrStore, IsOwvalZarrStore(out / kZarrStore));
   if (!resumed)
     for (const fs::path& output : engine::LongRunOutputs(out)) group->Retire(PartialPath(output));
+  // An earlier failed run's state dump: this run completed, so the directory no longer holds a
+  // failure to look into (and a dump beside a good trajectory reads as this run's).
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(out, ec))
+    if (entry.is_regular_file(ec) && engine::IsStateDumpName(entry.path()))
+      group->Retire(entry.path());
 }
 
 // `path` as one shell word, quoted only when it has to be (the hint is pasted as written).

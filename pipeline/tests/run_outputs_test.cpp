@@ -5,7 +5,8 @@
 //   and a run without muscles writes none (nor leaves an earlier run's).
 // - A run into a directory an earlier run wrote leaves only its own outputs there: the earlier
 //   run's OME-Zarr store, and the partial trajectories of an interrupted run whose checkpoint was
-//   removed to start afresh, go with the new run's commit; a user's own files stay.
+//   removed to start afresh, go with the new run's commit; a user's own files stay. So does an
+//   earlier failed run's state dump.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +17,8 @@
 #include <string>
 
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/pipeline/run_directory.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/testing/scratch_directory.hpp"
@@ -169,6 +172,43 @@ TEST(RerunOutputs, AFreshRunRemovesAnAbandonedRunsPartialTrajectories) {
   EXPECT_FALSE(fs::exists(PartialPath(out / "trajectory.h5")));
   EXPECT_FALSE(fs::exists(PartialPath(out / "position_buffer.txt")));
   EXPECT_TRUE(fs::exists(out / "trajectory.h5"));
+}
+
+// Two liquid particles at one point: the pressure's direction is 0/0 at the first integration.
+engine::SiberneticConfig TwoLiquidParticlesAtOnePoint() {
+  engine::SiberneticConfig c;
+  c.source = "two_particles";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 50, 50, 1.1f}, {50, 50, 50, 1.1f}};
+  c.velocity.assign(2, {0, 0, 0, 0});
+  return c;
+}
+
+TEST(RerunOutputs, ACompletedRunRemovesAnEarlierFailedRunsStateDump) {
+  const fs::path out = owval::testing::TestScratch("rerun_dump");
+  RunRequest r = ShortRun("two_particles", 10 * 2e-5, 1, out);
+  RunDirectorySummary failed;
+  EXPECT_THROW(RunIntoDirectory(TwoLiquidParticlesAtOnePoint(), r, {}, &failed), SimulationError);
+  ASSERT_TRUE(fs::exists(engine::StateDumpPath(out, 1)));
+  std::ofstream(out / "owval_nan_dump_step1.txt.notes") << "mine\n";
+  std::ofstream(out / "owval_nan_dump_stepX.txt") << "mine\n";
+  engine::SiberneticConfig apart = TwoLiquidParticlesAtOnePoint();
+  apart.position[1][0] = 60;
+  RunDirectorySummary completed;
+  RunIntoDirectory(apart, r, {}, &completed);
+  EXPECT_FALSE(fs::exists(engine::StateDumpPath(out, 1)));
+  EXPECT_TRUE(fs::exists(out / "owval_nan_dump_step1.txt.notes"));
+  EXPECT_TRUE(fs::exists(out / "owval_nan_dump_stepX.txt"));
+  EXPECT_TRUE(fs::exists(out / "trajectory.h5"));
+}
+
+TEST(RerunOutputs, AStateDumpsNameIsRecognisedOnlyInItsOwnForm) {
+  EXPECT_TRUE(engine::IsStateDumpName(engine::StateDumpPath("d", 0)));
+  EXPECT_TRUE(engine::IsStateDumpName(engine::StateDumpPath("d", 123456)));
+  for (const char* other :
+       {"owval_nan_dump_step.txt", "owval_nan_dump_step1.txt.gz", "owval_nan_dump_step-1.txt",
+        "xowval_nan_dump_step1.txt", "owval_nan_dump_step1a.txt", "position_buffer.txt"})
+    EXPECT_FALSE(engine::IsStateDumpName(other)) << other;
 }
 
 }  // namespace

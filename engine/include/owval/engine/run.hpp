@@ -112,6 +112,12 @@ struct RunSummary {
 // message).
 RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameSink* sink);
 
+// The state dump a run that fails at `step` writes into `dir`: owval_nan_dump_step<step>.txt.
+std::filesystem::path StateDumpPath(const std::filesystem::path& dir, std::size_t step);
+// Whether `file`'s name is a state dump's (StateDumpPath's form, any step): an earlier failed
+// run's dump in a directory a later run completes in is that run's to remove.
+bool IsStateDumpName(const std::filesystem::path& file);
+
 // The same with every frame kept in memory (tests, fits, short runs): memory grows with frames.
 Trajectory Run(const SiberneticConfig& config, const RunOptions& options,
                RunSummary* summary = nullptr);
