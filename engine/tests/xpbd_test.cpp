@@ -359,6 +359,126 @@ TEST(XpbdMembrane, APointThatCrossedATriangleGoesBackToItsPlaneAndPushesTheCorne
   EXPECT_EQ(a3[2], 0.0);
 }
 
+// Σ r × Δr over particles that moved from `start` to `moved` (equal masses): the change of
+// angular momentum a projection makes.
+template <std::size_t N>
+Vec3<double> TorqueOf(const std::array<Vec3<double>, N>& start,
+                      const std::array<const Vec3<double>*, N>& moved) {
+  Vec3<double> torque{0, 0, 0};
+  for (std::size_t k = 0; k < N; ++k) {
+    const Vec3<double>& r = start[k];
+    const Vec3<double> d{(*moved[k])[0] - r[0], (*moved[k])[1] - r[1], (*moved[k])[2] - r[2]};
+    torque[0] += r[1] * d[2] - r[2] * d[1];
+    torque[1] += r[2] * d[0] - r[0] * d[2];
+    torque[2] += r[0] * d[1] - r[1] * d[0];
+  }
+  return torque;
+}
+
+TEST(XpbdMembrane, APointThatCrossedAnEdgeGoesBackThroughItAlongTheLineFromItsClosestPoint) {
+  // The edge a = 0, b = 4x̂; q = (1, −0.3, −0.4) crossed it (side −1): its closest point is
+  // e = (1, 0, 0), t = 1/4, β = (3/4, 1/4), |q − e| = 0.5, û = (0, −0.6, −0.8). With d = 0.1:
+  // C = −0.5 − 0.1, Δλ = 0.6/(1 + 9/16 + 1/16) = 0.6/1.625; q −= Δλ·û, corner k += β_k·Δλ·û.
+  Vec3<double> q{1, -0.3, -0.4}, a{0, 0, 0}, b{4, 0, 0};
+  const std::array<Vec3<double>, 3> start{q, a, b};
+  double lambda = 0;
+  const double dlambda = 0.6 / 1.625;
+  EXPECT_NEAR(ProjectPointOffEdge(&q, &a, &b, 1.0, 1.0, 1.0, -1.0, 0.1, 0.0, &lambda), dlambda,
+              1e-15);
+  EXPECT_NEAR(lambda, dlambda, 1e-15);
+  const Vec3<double> u{0, -0.6, -0.8};
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_NEAR(q[axis], start[0][axis] - dlambda * u[axis], 1e-15) << axis;
+    EXPECT_NEAR(a[axis], 0.75 * dlambda * u[axis], 1e-15) << axis;
+    EXPECT_NEAR(b[axis], start[2][axis] + 0.25 * dlambda * u[axis], 1e-15) << axis;
+    // Equal masses: the three moves sum to zero (momentum conserved).
+    EXPECT_NEAR(q[axis] - start[0][axis] + a[axis] + b[axis] - start[2][axis], 0, 1e-15);
+    // q now sits d on the kept side of the moved edge's point (1 − t)·a + t·b, on the same line.
+    EXPECT_NEAR(q[axis] - (0.75 * a[axis] + 0.25 * b[axis]), -0.1 * u[axis], 1e-15) << axis;
+  }
+  // No torque: the corners' moves act at e, on q's line. By hand about the origin (a's move
+  // has no arm): q × (−Δλû) = −Δλ·(0, 0.8, −0.6), b × (Δλû/4) = Δλ·(0, 0.8, −0.6).
+  const Vec3<double> torque = TorqueOf<3>(start, {&q, &a, &b});
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(torque[axis], 0, 1e-15) << axis;
+  // A fixed edge (w = 0) takes nothing: q goes the whole 0.6 along −û.
+  Vec3<double> r{1, -0.3, -0.4}, a2{0, 0, 0}, b2{4, 0, 0};
+  double mu = 0;
+  ProjectPointOffEdge(&r, &a2, &b2, 1.0, 0.0, 0.0, -1.0, 0.1, 0.0, &mu);
+  EXPECT_NEAR(r[1], -0.3 + 0.6 * 0.6, 1e-15);
+  EXPECT_NEAR(r[2], -0.4 + 0.6 * 0.8, 1e-15);
+  EXPECT_EQ(a2, (Vec3<double>{0, 0, 0}));
+}
+
+TEST(XpbdMembrane, APointThatCrossedAVertexGoesBackThroughIt) {
+  // v = (2, 1, 0); q = v + (−0.3, −0.4, 0) crossed it: |q − v| = 0.5, û = (−0.6, −0.8, 0),
+  // d = 0.1: Δλ = 0.6/(1 + 1) = 0.3, q −= 0.3û, v += 0.3û.
+  Vec3<double> q{1.7, 0.6, 0}, v{2, 1, 0};
+  const std::array<Vec3<double>, 2> start{q, v};
+  double lambda = 0;
+  EXPECT_NEAR(ProjectPointOffVertex(&q, &v, 1.0, 1.0, -1.0, 0.1, 0.0, &lambda), 0.3, 1e-15);
+  EXPECT_NEAR(q[0], 1.7 + 0.18, 1e-15);
+  EXPECT_NEAR(q[1], 0.6 + 0.24, 1e-15);
+  EXPECT_NEAR(v[0], 2 - 0.18, 1e-15);
+  EXPECT_NEAR(v[1], 1 - 0.24, 1e-15);
+  EXPECT_EQ(q[2], 0);
+  // Now d past the vertex on the kept side: q − v = 0.1·(0.6, 0.8, 0) = −d·û.
+  EXPECT_NEAR(q[0] - v[0], 0.06, 1e-15);
+  EXPECT_NEAR(q[1] - v[1], 0.08, 1e-15);
+  // Momentum and angular momentum (about the origin, v off it) conserved.
+  EXPECT_NEAR(q[0] - start[0][0] + v[0] - start[1][0], 0, 1e-15);
+  EXPECT_NEAR(q[1] - start[0][1] + v[1] - start[1][1], 0, 1e-15);
+  const Vec3<double> torque = TorqueOf<2>(start, {&q, &v});
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(torque[axis], 0, 1e-15) << axis;
+}
+
+TEST(XpbdMembrane, EdgeAndVertexContactsLeaveAPointOnItsSideAlone) {
+  // Kept side (side +1) and farther than d: nothing moves, λ untouched.
+  Vec3<double> q{1, -0.3, -0.4}, a{0, 0, 0}, b{4, 0, 0};
+  double lambda = 0;
+  EXPECT_EQ(ProjectPointOffEdge(&q, &a, &b, 1.0, 1.0, 1.0, 1.0, 0.1, 0.0, &lambda), 0.0);
+  EXPECT_EQ(q, (Vec3<double>{1, -0.3, -0.4}));
+  EXPECT_EQ(b, (Vec3<double>{4, 0, 0}));
+  EXPECT_EQ(lambda, 0.0);
+  Vec3<double> v{1, 0.5, 0};
+  EXPECT_EQ(ProjectPointOffVertex(&q, &v, 1.0, 1.0, 1.0, 0.1, 0.0, &lambda), 0.0);
+  EXPECT_EQ(v, (Vec3<double>{1, 0.5, 0}));
+  // Beyond the edge's end (t = 1.25) the edge is no contact: the vertex's.
+  Vec3<double> beyond{5, -0.3, -0.4};
+  EXPECT_EQ(ProjectPointOffEdge(&beyond, &a, &b, 1.0, 1.0, 1.0, -1.0, 0.1, 0.0, &lambda), 0.0);
+  EXPECT_EQ(beyond[0], 5);
+  // On its side but within d (0.05 of the edge): pushed out to d, along the same line.
+  Vec3<double> near{1, 0, 0.05};
+  EXPECT_NEAR(ProjectPointOffEdge(&near, &a, &b, 1.0, 0.0, 0.0, 1.0, 0.1, 0.0, &lambda), 0.05,
+              1e-15);
+  EXPECT_NEAR(near[2], 0.1, 1e-15);
+}
+
+TEST(XpbdMembrane, EdgeContactComplianceSoftensAndVanishingComplianceIsTheContact) {
+  // The first test's edge with α̃: Δλ = 0.6/(1.625 + α̃) from λ = 0; α̃ → 0 gives the hard
+  // contact's 0.6/1.625 and q at d past the edge.
+  const auto dlambda_with = [](double alpha_tilde, Vec3<double>* q_out) {
+    Vec3<double> q{1, -0.3, -0.4}, a{0, 0, 0}, b{4, 0, 0};
+    double lambda = 0;
+    const double dlambda =
+        ProjectPointOffEdge(&q, &a, &b, 1.0, 1.0, 1.0, -1.0, 0.1, alpha_tilde, &lambda);
+    *q_out = q;
+    return dlambda;
+  };
+  Vec3<double> q;
+  EXPECT_NEAR(dlambda_with(1.625, &q), 0.6 / 3.25, 1e-15);  // half the hard correction
+  const double hard = dlambda_with(0, &q);
+  EXPECT_NEAR(hard, 0.6 / 1.625, 1e-15);
+  double previous_gap = 1;
+  for (double alpha_tilde : {1e-2, 1e-4, 1e-6, 1e-9}) {
+    Vec3<double> soft;
+    const double gap = hard - dlambda_with(alpha_tilde, &soft);
+    EXPECT_NEAR(gap, hard * alpha_tilde / (1.625 + alpha_tilde), 1e-15) << alpha_tilde;
+    EXPECT_LT(gap, previous_gap);
+    previous_gap = gap;
+    EXPECT_NEAR(soft[2], q[2], alpha_tilde) << alpha_tilde;  // q's place tends to the contact's
+  }
+}
+
 // Three elastic particles forming one membrane triangle in the plane z = 50 and one liquid
 // particle above it, 0.5 cu off its corner a in x and y (Sibernetic's distance to a, z dropped
 // and the type codes' difference kept, √(0.25 + 0.25 + 1) = 1.22 cu < r0: the triangle acts on
@@ -429,6 +549,80 @@ TEST(XpbdSolver, MembraneConstraintKeepsTheLiquidOnItsSideAndPushesTheTriangleBa
     solver.Step();
   }
   EXPECT_LT(x[0][2], 49);  // the triangle was carried away by the liquid
+}
+
+// Two membrane triangles folded at a right angle along the edge u = (50, 50, 50), v = (50, 50,
+// 53): A = (u, v, w1) in the plane y = 50 toward w1 = (53, 50, 50), B = (u, v, w2) in x = 50
+// toward w2 = (50, 53, 50). One liquid particle inside the fold, at (50.4, 50.4, 51), heading
+// out through the edge at 0.8 cu per step in −x and −y (Sibernetic's distance to u and v, z
+// dropped, √(0.32 + 1) = 1.15 cu < r0: both triangles act on it).
+SiberneticConfig LiquidInsideAFold() {
+  SiberneticConfig c;
+  c.source = "fold";
+  c.box = {0, 100, 0, 100, 0, 100};
+  c.position = {{50, 50, 50, 2.1f},
+                {50, 50, 53, 2.1f},
+                {53, 50, 50, 2.1f},
+                {50, 53, 50, 2.1f},
+                {50.4f, 50.4f, 51, 1.1f}};
+  c.velocity.assign(5, {0, 0, 0, 0});
+  c.connection.assign(4 * 32, {-1, 0, 0, 0});
+  c.membranes = {{0, 1, 2}, {0, 1, 3}};
+  c.particle_mem_index.assign(4 * 7, -1);
+  c.particle_mem_index[0] = 0, c.particle_mem_index[1] = 1;  // u: A, B
+  c.particle_mem_index[7] = 0, c.particle_mem_index[8] = 1;  // v: A, B
+  c.particle_mem_index[14] = 0;                              // w1: A
+  c.particle_mem_index[21] = 1;                              // w2: B
+  return c;
+}
+
+TEST(XpbdSolver, MembraneConstraintHoldsLiquidLeavingThroughAFoldsEdge) {
+  SiberneticConfig config = LiquidInsideAFold();
+  const PhysicsConstants k = MembraneConstants(1);
+  const double s = float(k.simulation_scale), dt = float(k.time_step_s);
+  const float speed = float(0.8 * s / dt);  // m/s: 0.8 cu per step
+  config.velocity[4] = {-speed, -speed, 0, 0};
+  Xpbd<double> solver(config, k, 1);
+  solver.Step();  // step 0 moves nothing
+  solver.Step();
+  // Predicted to (49.6, 49.6, 51): past both planes, its projections outside both triangles, so
+  // no triangle contact; the edge's: closest point e = (50, 50, 51), t = 1/3, β = (2/3, 1/3),
+  // |q − e| = 0.4√2, û = −(1, 1, 0)/√2, C = −0.4√2 − d, Δλ = (0.4√2 + d)/(1 + 4/9 + 1/9);
+  // q −= Δλ·û, u += (2/3)·Δλ·û, v += (1/3)·Δλ·û.
+  const double step = double(speed) * dt / s;  // the float velocity's step, cu
+  const double predicted = double(50.4f) - step, gap = (50 - predicted) * std::sqrt(2.0);
+  const double clearance = double(float(k.r0_cu)) / 1000;
+  const double dlambda = (gap + clearance) / (14.0 / 9), along = dlambda / std::sqrt(2.0);
+  const auto& x = solver.exact_positions();
+  EXPECT_NEAR(x[4][0], predicted + along, 1e-9);
+  EXPECT_NEAR(x[4][1], predicted + along, 1e-9);
+  EXPECT_NEAR(x[4][2], 51, 1e-9);
+  EXPECT_NEAR(x[0][0], 50 - 2 * along / 3, 1e-9);
+  EXPECT_NEAR(x[0][1], 50 - 2 * along / 3, 1e-9);
+  EXPECT_NEAR(x[1][0], 50 - along / 3, 1e-9);
+  EXPECT_EQ(x[2], (Vec3<double>{53, 50, 50}));  // the far corners take nothing
+  EXPECT_EQ(x[3], (Vec3<double>{50, 53, 50}));
+  // Inside the fold again, d past the moved edge's point (2/3)·u + (1/3)·v along −û.
+  EXPECT_NEAR(x[4][0] - (2 * x[0][0] + x[1][0]) / 3, clearance / std::sqrt(2.0), 1e-9);
+  // Momentum: the liquid's, now shared with the edge's corners.
+  for (int frame = 0; frame < 20; ++frame) {
+    const auto v = solver.velocities();
+    double momentum[3] = {0, 0, 0};
+    for (int i = 0; i < 5; ++i) momentum[0] += v[i].x, momentum[1] += v[i].y, momentum[2] += v[i].z;
+    EXPECT_NEAR(momentum[0], -speed, 1e-6 * speed) << frame;
+    EXPECT_NEAR(momentum[1], -speed, 1e-6 * speed) << frame;
+    EXPECT_NEAR(momentum[2], 0, 1e-6 * speed) << frame;
+    // The liquid stays inside the fold: on the +y side of A's plane or the +x side of B's.
+    const auto side = [&](int a, int b, int c) {
+      const Vec3<double> ab{x[b][0] - x[a][0], x[b][1] - x[a][1], x[b][2] - x[a][2]};
+      const Vec3<double> ac{x[c][0] - x[a][0], x[c][1] - x[a][1], x[c][2] - x[a][2]};
+      const Vec3<double> aq{x[4][0] - x[a][0], x[4][1] - x[a][1], x[4][2] - x[a][2]};
+      return (ab[1] * ac[2] - ab[2] * ac[1]) * aq[0] + (ab[2] * ac[0] - ab[0] * ac[2]) * aq[1] +
+             (ab[0] * ac[1] - ab[1] * ac[0]) * aq[2];
+    };
+    EXPECT_TRUE(side(0, 1, 2) > 0 || side(0, 1, 3) < 0) << frame;
+    solver.Step();
+  }
 }
 
 TEST(XpbdSolver, MembranePassMovesOnlyTheLiquid) {

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 
 namespace owval::engine::internal {
 
@@ -88,6 +90,30 @@ struct TensileCorrection {
   }
 };
 
+// How far outside its triangle (in barycentric weight) a projection still counts as over it:
+// rounding on an edge that two triangles share.
+inline constexpr double kBarycentricSlack = 1e-4;
+
+// The barycentric weights β (of a, b, c) of q's projection onto the plane of the triangle a, b, c,
+// from ab = b − a, ac = c − a, aq = q − a (aq = β_b·ab + β_c·ac + a normal part); true when the
+// projection falls inside the triangle within kBarycentricSlack (false for a degenerate
+// triangle: NaN weights).
+template <typename T>
+bool ProjectionIsOverTriangle(const Vec3<T>& ab, const Vec3<T>& ac, const Vec3<T>& aq, T beta[3]) {
+  const T d00 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  const T d01 = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+  const T d11 = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+  const T d20 = aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2];
+  const T d21 = aq[0] * ac[0] + aq[1] * ac[1] + aq[2] * ac[2];
+  const T det = d00 * d11 - d01 * d01;  // |ab × ac|²
+  beta[1] = (d11 * d20 - d01 * d21) / det;
+  beta[2] = (d00 * d21 - d01 * d20) / det;
+  beta[0] = T(1) - beta[1] - beta[2];
+  for (int k = 0; k < 3; ++k)
+    if (!(beta[k] >= -T(kBarycentricSlack))) return false;  // not over the triangle (or NaN)
+  return true;
+}
+
 // A point kept on one side of a triangle's plane [MMC16; Müller et al. 2007, PBD §4, the
 // triangle-point collision with the plane's normal held fixed over the projection]:
 // C = side·n̂·(q − a) − thickness ≥ 0, n̂ = (b − a)×(c − a)/|·|, side = ±1 the side q keeps.
@@ -103,8 +129,6 @@ struct TensileCorrection {
 // kBarycentricSlack (rounding on a shared edge) is no contact; inside the slack the weights are
 // clamped at 0 and renormalised. A contact (compliance 0) and an inequality: nothing moves while
 // C ≥ 0. Returns Δλ (0 when nothing moved, the triangle is degenerate or q is not over it).
-inline constexpr double kBarycentricSlack = 1e-4;
-
 template <typename T>
 T ProjectPointOffTriangle(Vec3<T>* q, Vec3<T>* a, Vec3<T>* b, Vec3<T>* c, T wq, T wa, T wb, T wc,
                           T side, T thickness) {
@@ -118,17 +142,8 @@ T ProjectPointOffTriangle(Vec3<T>* q, Vec3<T>* a, Vec3<T>* b, Vec3<T>* c, T wq, 
   const Vec3<T> n{side * normal[0] / length, side * normal[1] / length, side * normal[2] / length};
   const T constraint = n[0] * aq[0] + n[1] * aq[1] + n[2] * aq[2] - thickness;
   if (!(constraint < 0)) return 0;
-  // Barycentric weights of q's projection: aq = β_b·ab + β_c·ac + (normal part).
-  const T d00 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-  const T d01 = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
-  const T d11 = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
-  const T d20 = aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2];
-  const T d21 = aq[0] * ac[0] + aq[1] * ac[1] + aq[2] * ac[2];
-  const T det = d00 * d11 - d01 * d01;  // |ab × ac|², > 0 here
-  T beta[3] = {0, (d11 * d20 - d01 * d21) / det, (d00 * d21 - d01 * d20) / det};
-  beta[0] = T(1) - beta[1] - beta[2];
-  for (T weight : beta)
-    if (!(weight >= -T(kBarycentricSlack))) return 0;  // not over the triangle (or NaN)
+  T beta[3];
+  if (!ProjectionIsOverTriangle(ab, ac, aq, beta)) return 0;
   T sum = 0;
   for (T& weight : beta) sum += weight = std::max(weight, T(0));
   for (T& weight : beta) weight /= sum;  // sum ≥ 1: the unclamped weights add to 1
@@ -143,6 +158,75 @@ T ProjectPointOffTriangle(Vec3<T>* q, Vec3<T>* a, Vec3<T>* b, Vec3<T>* c, T wq, 
     for (int k = 0; k < 3; ++k) (*corner[k])[axis] -= w[k] * beta[k] * dlambda * n[axis];
   }
   return dlambda;
+}
+
+// A point kept off a point of the membrane that lies on an edge or at a vertex, for a liquid
+// particle that left through the membrane where no triangle lies under it [Müller et al. 2007,
+// PBD §4; Bridson, Fedkiw, Anderson 2002, *Robust treatment of collisions, contact and friction
+// for cloth animation*, SIGGRAPH, §7: point-edge and point-vertex proximity next to point-
+// triangle]. The membrane point is e = Σ_k β_k·corner_k with fixed weights (1 − t, t) for the
+// closest point of an edge, 1 for a vertex; C = side·|q − e| − thickness ≥ 0, side = +1 while q
+// is on the side it is kept on, −1 once it has crossed (the caller decides, from the triangles'
+// planes). Gradients side·û for q and −β_k·side·û for corner k, û = (q − e)/|q − e|:
+// Δλ = (−C − α̃λ)/(w_q + Σ_k w_k β_k² + α̃) [MMC16 eq. 18], q += w_q·Δλ·side·û, corner k −=
+// w_k·β_k·Δλ·side·û. The moves act on the line through q and e, so with equal masses the
+// reaction Σ β_k·(corner moves) acts at e on q's line of action: momentum and angular momentum
+// are conserved (Σ r × Δr = Δλ·side·(q − e) × û = 0). α̃ = 0 is the contact the solver uses (the
+// triangle contact's, hard); α̃ > 0 the compliant form. Accumulates λ, returns Δλ (0 when C ≥ 0,
+// q lies on e, or the denominator is 0).
+template <typename T, std::size_t N>
+T ProjectPointOffMembranePoint(Vec3<T>* q, const std::array<Vec3<T>*, N>& corner,
+                               const std::array<T, N>& beta, T wq, const std::array<T, N>& w,
+                               T side, T thickness, T alpha_tilde, T* lambda) {
+  Vec3<T> offset = *q;  // q − e
+  for (std::size_t k = 0; k < N; ++k)
+    for (int axis = 0; axis < 3; ++axis) offset[axis] -= beta[k] * (*corner[k])[axis];
+  const T distance = Norm(offset);
+  if (!(distance > 0)) return 0;
+  const T constraint = side * distance - thickness;
+  if (!(constraint < 0)) return 0;
+  T denominator = wq + alpha_tilde;
+  for (std::size_t k = 0; k < N; ++k) denominator += w[k] * beta[k] * beta[k];
+  if (!(denominator > 0)) return 0;
+  const T dlambda = (-constraint - alpha_tilde * *lambda) / denominator;
+  *lambda += dlambda;
+  for (int axis = 0; axis < 3; ++axis) {
+    const T step = dlambda * side * offset[axis] / distance;
+    (*q)[axis] += wq * step;
+    for (std::size_t k = 0; k < N; ++k) (*corner[k])[axis] -= w[k] * beta[k] * step;
+  }
+  return dlambda;
+}
+
+// The closest point of the edge a–b to q as the edge's parameter t (e = a + t·(b − a)),
+// unclamped: t outside [0, 1] means a vertex is closer than any point inside the edge. NaN for
+// a degenerate edge.
+template <typename T>
+T EdgeParameterOf(const Vec3<T>& q, const Vec3<T>& a, const Vec3<T>& b) {
+  const Vec3<T> ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const T length2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  if (!(length2 > 0)) return std::numeric_limits<T>::quiet_NaN();
+  return ((q[0] - a[0]) * ab[0] + (q[1] - a[1]) * ab[1] + (q[2] - a[2]) * ab[2]) / length2;
+}
+
+// The point-edge contact: q kept off the closest point of the edge a–b, shared by (1 − t, t).
+// Only where that point lies inside the edge (0 ≤ t ≤ 1; beyond an end the vertex contact acts):
+// returns 0 otherwise.
+template <typename T>
+T ProjectPointOffEdge(Vec3<T>* q, Vec3<T>* a, Vec3<T>* b, T wq, T wa, T wb, T side, T thickness,
+                      T alpha_tilde, T* lambda) {
+  const T t = EdgeParameterOf(*q, *a, *b);
+  if (!(t >= 0 && t <= 1)) return 0;
+  return ProjectPointOffMembranePoint<T, 2>(q, {a, b}, {T(1) - t, t}, wq, {wa, wb}, side, thickness,
+                                            alpha_tilde, lambda);
+}
+
+// The point-vertex contact: q kept off the vertex v.
+template <typename T>
+T ProjectPointOffVertex(Vec3<T>* q, Vec3<T>* v, T wq, T wv, T side, T thickness, T alpha_tilde,
+                        T* lambda) {
+  return ProjectPointOffMembranePoint<T, 1>(q, {v}, {T(1)}, wq, {wv}, side, thickness, alpha_tilde,
+                                            lambda);
 }
 
 }  // namespace owval::engine::internal

@@ -16,7 +16,9 @@
 //     a membrane constraint in every projection pass instead: each liquid particle near a
 //     membrane triangle (Sibernetic's selection, found once per step at x(t)) is kept on the side
 //     of the triangle's plane it was on at x(t), the correction shared with the triangle's
-//     corners (projections.hpp, ProjectPointOffTriangle).
+//     corners (projections.hpp, ProjectPointOffTriangle); one that crossed where no triangle
+//     lies under it is kept off the nearest edge or vertex [BFA02] (ProjectPointOffEdge,
+//     ProjectPointOffVertex).
 // Split (xpbd_density_passes = m > 0, the default): the n substeps hold only the bonds (predict,
 // bonds, v = (p − x)·s/h); after every n/m of them one correction of H = dt/m projects the
 // density constraints and walls, v += Δp·s/H, wall contacts' velocity. m = 0: the scheme above.
@@ -30,6 +32,8 @@
 //   [IAGT10] M. Ihmsen et al. Boundary handling and adaptive time-stepping for PCISPH. 2010.
 //   [M19]   M. Macklin, K. Storey, M. Lu, P. Terdiman, N. Chentanez, S. Jeschke, M. Müller.
 //           Small steps in physics simulation. SCA 2019.
+//   [BFA02] R. Bridson, R. Fedkiw, J. Anderson. Robust treatment of collisions, contact and
+//           friction for cloth animation. SIGGRAPH 2002 (point-edge and point-vertex contacts).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -157,6 +161,11 @@ class Xpbd final : public Solver {
   void WallVelocity(std::int32_t i, const Vec3<T>& predicted, T restitution);
   void InteractWithMembranes();
   void FindMembraneContacts();
+  struct MembraneFeature;
+  void FindMembraneFeatures(std::int32_t liquid, std::uint32_t triangles_begin);
+  void MeasureCornerDistances(const Float4& x, std::uint32_t begin, std::uint32_t end);
+  bool AddFeatureOwners(const Float4& x, int corner, int other_corner);
+  bool FeatureCrossed(const MembraneFeature& feature) const;
   void ProjectMembranes();
   double DerivedRestDensity() const;
   // The step's neighbour lists (grid_.Refresh), reciprocal ones under xpbd_reciprocal_lists.
@@ -228,6 +237,23 @@ class Xpbd final : public Solver {
     T side;
   };
   std::vector<MembraneContact> membrane_contacts_;
+  // xpbd_membranes = 1: an edge (corners[1] ≥ 0) or a vertex (corners[1] = −1) of the liquid
+  // particle's triangles, within r0 of it at the step's start, that it must not leave through
+  // where no triangle lies under it. `owners` (a range of membrane_feature_owners_) are the
+  // membrane's triangles meeting there, each with the side of its plane the particle was on;
+  // `triangles` (a range of membrane_contacts_) are the particle's own triangle contacts.
+  struct MembraneFeature {
+    std::int32_t liquid;
+    std::array<int, 2> corners;
+    std::uint32_t owners_begin, owners_end, triangles_begin, triangles_end;
+  };
+  std::vector<MembraneFeature> membrane_features_;
+  std::vector<MembraneContact> membrane_feature_owners_;
+  std::vector<std::uint64_t> feature_scratch_;  // FindMembraneFeatures' edges seen
+  // MeasureCornerDistances: per particle, the visit that last measured it and its distance².
+  std::vector<std::uint64_t> corner_visit_;
+  std::vector<double> corner_distance2_;
+  std::uint64_t corner_visit_stamp_ = 0;
   mutable internal::OutputDensity output_density_;  // for Density()
   std::size_t step_ = 0;
   PhaseClock<kPhaseCount> clock_{
