@@ -127,6 +127,16 @@ Trajectory Lattice(int side, float spacing) {
   return t;
 }
 
+TEST(NeighbourGrid, FindsEveryPairWhenACellHoldsMoreThanOneBatch) {
+  // Cells five spacings wide hold 125 particles, a column's three cells 375: more than the 64
+  // candidates a batch takes (VisitBatch), so batches begin and end inside cells.
+  const Trajectory t = Lattice(12, 0.25f);
+  for (double radius_cu : {1.25, 1.1}) {
+    ExpectPairsAsEveryPair({t, 0}, radius_cu);
+    ExpectNeighboursAsEveryPair({t, 0}, radius_cu);
+  }
+}
+
 TEST(NeighbourGrid, KeepsPairsAtExactlyTheRadiusOnTheCellsFaces) {
   // Neighbours a cell apart and on the cells' faces: the cell boxes' slack must not drop them.
   // 0.3 is not a float: some lattice pairs fall just inside the radius, some just outside.
