@@ -21,7 +21,7 @@ void SetUp(CLI::App& app) {
   cmd->require_subcommand(1);
   auto json = std::make_shared<bool>(false);
   CLI::App* list = cmd->add_subcommand("list", "List built-in scenarios");
-  AddJsonFlag(list, json.get(), "[{\"name\", \"description\"}, ...]");
+  AddJsonFlag(list, json.get(), "the scenarios (name and description)");
   list->callback([json] {
     nlohmann::json listed = nlohmann::json::array();
     for (const std::string& name : scenarios::ListScenarios(DataDir())) {
