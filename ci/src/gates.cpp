@@ -183,12 +183,10 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
   r.gates.push_back(Run("parity", [&](GateResult* g) {
     const compare::ParityReport p = compare::CompareFrameSources(*ref, *cand, parity);
     g->pass = p.pass();
-    nlohmann::json gates = nlohmann::json::array();
-    for (const compare::Gate& gate : p.gates) gates.push_back(compare::ToJson(gate));
     g->measured = {{"subject", p.subject},
                    {"paired_frames", p.frames.size()},
                    {"failing_frames", p.failing_frames.size()},
-                   {"gates", gates}};
+                   {"gates", compare::ToJson(p.gates)}};
     g->detail = p.subject + ": " + std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
                 std::to_string(p.frames.size()) + " frames within the frame gate";
     if (!g->pass) g->detail += "; failed gates: " + p.FailedGates();

@@ -90,6 +90,12 @@ nlohmann::json ToJson(const Gate& g) {
           {"detail", g.detail}};
 }
 
+nlohmann::json ToJson(const std::vector<Gate>& gates) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Gate& g : gates) list.push_back(ToJson(g));
+  return list;
+}
+
 std::string GatesMarkdownTable(const std::vector<Gate>& gates) {
   std::ostringstream s;
   s << "| gate | measures | value | threshold | source | result |\n|---|---|---|---|---|---|\n";

@@ -1104,8 +1104,6 @@ nlohmann::json ParityReport::ToJson() const {
           d.has_pose ? nlohmann::json{d.final_body_extent_ratio[0], d.final_body_extent_ratio[1],
                                       d.final_body_extent_ratio[2]}
                      : nlohmann::json()}});
-  nlohmann::json gates_json = nlohmann::json::array();
-  for (const Gate& g : gates) gates_json.push_back(compare::ToJson(g));
   return {{"subject", subject},
           {"scale_cu", scale},
           {"scale_given", scale_given},
@@ -1113,7 +1111,7 @@ nlohmann::json ParityReport::ToJson() const {
           {"box_scale_cu", box_scale_cu},
           {"paired_frames", paired_frames},
           {"common_window_s", {common_window_start_s, common_window_end_s}},
-          {"gates", gates_json},
+          {"gates", compare::ToJson(gates)},
           {"failed_gates", FailedGates()},
           {"frames", frames_json},
           {"failing_frames", failing_frames},

@@ -90,6 +90,14 @@ struct TensileCorrection {
   }
 };
 
+// (ab × ac)·aq for ab = b − a, ac = c − a, aq = q − a: its sign is the side of the triangle a, b,
+// c's plane q is on (0 on the plane, or a degenerate triangle).
+template <typename T>
+T SideOfPlane(const Vec3<T>& ab, const Vec3<T>& ac, const Vec3<T>& aq) {
+  return (ab[1] * ac[2] - ab[2] * ac[1]) * aq[0] + (ab[2] * ac[0] - ab[0] * ac[2]) * aq[1] +
+         (ab[0] * ac[1] - ab[1] * ac[0]) * aq[2];
+}
+
 // How far outside its triangle (in barycentric weight) a projection still counts as over it:
 // rounding on an edge that two triangles share.
 inline constexpr double kBarycentricSlack = 1e-4;

@@ -44,11 +44,9 @@ SphConstants ForceConstants(const SphConstants& k, const PhysicsConstants::Xpbd&
 double SideOf(const Float4& x, const std::array<int, 3>& triangle,
               std::span<const Float4> position) {
   const Float4 &a = position[triangle[0]], &b = position[triangle[1]], &c = position[triangle[2]];
-  const double ab[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
-  const double ac[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
-  const double ax[3] = {double(x.x) - a.x, double(x.y) - a.y, double(x.z) - a.z};
-  return (ab[1] * ac[2] - ab[2] * ac[1]) * ax[0] + (ab[2] * ac[0] - ab[0] * ac[2]) * ax[1] +
-         (ab[0] * ac[1] - ab[1] * ac[0]) * ax[2];
+  return SideOfPlane<double>({double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z},
+                             {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z},
+                             {double(x.x) - a.x, double(x.y) - a.y, double(x.z) - a.z});
 }
 
 // Whether x lies over the triangle's side of its edge u–v: its offset from u, along the
@@ -1008,10 +1006,7 @@ bool Xpbd<T>::FeatureCrossed(const MembraneFeature& feature) const {
   for (std::uint32_t o = feature.owners_begin; o < feature.owners_end; ++o) {
     const MembraneContact& owner = membrane_feature_owners_[o];
     offsets(owner.corners, &ab, &ac, &aq);
-    const T side = (ab[1] * ac[2] - ab[2] * ac[1]) * aq[0] +
-                   (ab[2] * ac[0] - ab[0] * ac[2]) * aq[1] +
-                   (ab[0] * ac[1] - ab[1] * ac[0]) * aq[2];
-    if (!(owner.side * side < 0)) return false;
+    if (!(owner.side * SideOfPlane(ab, ac, aq) < 0)) return false;
   }
   T beta[3];
   for (std::uint32_t c = feature.triangles_begin; c < feature.triangles_end; ++c) {

@@ -43,6 +43,8 @@ std::string FailedGateNames(const std::vector<Gate>& gates);
 bool AllApplicablePass(const std::vector<Gate>& gates);
 
 nlohmann::json ToJson(const Gate& gate);
+// The gates as a JSON array, in order (each as ToJson(gate)).
+nlohmann::json ToJson(const std::vector<Gate>& gates);
 // Rows "gate | measures | value | threshold | source | result" as Markdown.
 std::string GatesMarkdownTable(const std::vector<Gate>& gates);
 // Aligned plain-text rows for a terminal.
