@@ -8,11 +8,16 @@
 
 namespace owval::cli {
 
-inline void AddBackendFlags(CLI::App* cmd, backends::BackendSelection* selection, bool with_cache) {
-  cmd->add_option("--backends", selection->file,
-                  "Backends file (else ./owval-backends.json, else "
-                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md")
+// --backends FILE; `of` says what the command takes from it (" of --fit-backend").
+inline void AddBackendsFileFlag(CLI::App* cmd, std::string* file, const std::string& of = "") {
+  cmd->add_option("--backends", *file,
+                  "Backends file" + of +
+                      " (else ./owval-backends.json, else $XDG_CONFIG_HOME/owval/backends.json); "
+                      "docs/backends.md")
       ->check(GivenName());
+}
+inline void AddBackendFlags(CLI::App* cmd, backends::BackendSelection* selection, bool with_cache) {
+  AddBackendsFileFlag(cmd, &selection->file);
   if (!with_cache) return;
   cmd->add_option("--cache", selection->cache.directory,
                   "Run cache directory (default $XDG_CACHE_HOME/owval or ~/.cache/owval)")

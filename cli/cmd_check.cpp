@@ -1,5 +1,6 @@
 // owval check stability|incompressibility TRAJ: physical sanity gates (exit 1 on violation).
 #include "command.hpp"
+#include "owval/base/format.hpp"
 #include "owval/compare/stability.hpp"
 #include "resolve.hpp"
 
@@ -35,7 +36,7 @@ void SetUp(CLI::App& app) {
   check->require_subcommand(1);
   auto args = std::make_shared<CheckArgs>();
   CLI::App* stability =
-      check->add_subcommand("stability", "NaN/Inf, box escapes, kinetic blow-up, density range");
+      check->add_subcommand("stability", compare::DescribeStability(args->stability));
   AddInput(stability, "trajectory", &args->path);
   stability
       ->add_option("--box-tolerance", args->stability.box_tolerance_cu,
@@ -56,7 +57,9 @@ void SetUp(CLI::App& app) {
       ->add_option("--rest-density", args->incompressibility.rest_density, "rho0 (kg/m^3)")
       ->check(Positive());
   incompressible
-      ->add_option("--limit", args->incompressibility.limit, "Allowed deviation (default 0.01)")
+      ->add_option(
+          "--limit", args->incompressibility.limit,
+          "Allowed deviation (default " + FormatNumber(args->incompressibility.limit) + ")")
       ->check(Positive());
   AddJsonFlag(incompressible, &args->json);
   incompressible->callback([args] { RunIncompressibility(*args); });

@@ -2,7 +2,9 @@
 #include <iomanip>
 #include <iostream>
 
+#include "backend_flags.hpp"
 #include "command.hpp"
+#include "owval/base/format.hpp"
 #include "owval/pipeline/checklist_request.hpp"
 
 namespace owval::cli {
@@ -56,12 +58,10 @@ void SetUp(CLI::App& app) {
                   "Item 6: rerun a fit of a named backend through this entry of YOUR registry "
                   "(--backends), never the command the history records")
       ->check(GivenName());
-  cmd->add_option("--backends", r.backends_file,
-                  "Backends file of --fit-backend (else ./owval-backends.json, else "
-                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md")
-      ->check(GivenName());
+  AddBackendsFileFlag(cmd, &r.backends_file, " of --fit-backend");
   cmd->add_option("--fit-rerun-tolerance", r.fit_rerun_tolerance,
-                  "Item 6: relative tolerance of the rerun's residuals and loss (default 1e-9)")
+                  "Item 6: relative tolerance of the rerun's residuals and loss (default " +
+                      FormatNumber(r.fit_rerun_tolerance) + ")")
       ->check(Positive());
   AddMarkdownOut(cmd, &r.markdown, "the comment");
   AddJsonFlag(cmd, &args->json, "the checklist");

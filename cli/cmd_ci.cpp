@@ -5,6 +5,7 @@
 #include "command.hpp"
 #include "owval/ci/gates.hpp"
 #include "owval/ci/stability_run.hpp"
+#include "owval/compare/stability.hpp"
 #include "resolve.hpp"
 #include "run_flags.hpp"
 
@@ -53,10 +54,9 @@ void SetUp(CLI::App& app) {
   auto stability = std::make_shared<StabilityArgs>();
   CLI::Option* streamed = validate->add_option(
       "--stability", stability->duration,
-      "Instead: run --scenario for this simulated time (10s, 500ms) and apply "
-      "the stability gate to every frame as it is produced (NaN, escapes, "
-      "kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid particles "
-      "outside)");
+      "Instead: run --scenario for this simulated time (10s, 500ms) and apply the stability "
+      "gate to every frame as it is produced (" +
+          compare::DescribeStability(compare::LongRunStabilityOptions()) + ")");
   validate
       ->add_option(
           "--scenario", stability->scenario,

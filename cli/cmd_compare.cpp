@@ -15,24 +15,16 @@ struct CompareArgs {
   bool json = false;
 };
 
+// The gates themselves are said by each threshold's flag (compare::kGateThresholdFields), so a
+// new gate's help cannot be missing here.
 const char* kGatesHelp =
-    "Gates (each printed with value, threshold and source; flags override a --manifest's "
-    "\"gates\", which override the defaults given with each flag): frames: |cand-ref|/reference "
-    "range of the tracked scalar at each gated frame, frames.position: of its particle's (or "
-    "centroid's) 3-D position on the same scale; initial_state: the candidate's first frame is "
-    "the reference's, to the printed precision; period and half_amplitude: relative gaps, "
-    "applied only when both signals have --min-crossings upward mean crossings (else n/a); per "
-    "group (elastic, liquid): centroid_distance (max over time), extent (max |extent difference| "
-    "per axis), final_distance (last frame), fractions of the box; particle_distance.initial/"
-    "mean/final of moving particles; per kind (elastic, liquid, boundary): worst_particle, one "
-    "particle's largest distance, of the box. window, sampling, sampling.oscillation and "
-    "time_base: the paired frames cover the reference, often enough to resolve its oscillation, "
-    "at evenly spaced times (frames pair only where their times meet). Worms (both runs): "
-    "worm.centre_of_mass (of the box), "
-    "worm.span, worm.cross_section_diameter and worm.ring_diameter (relative). Liquid over an "
-    "elastic sheet (demo2): "
-    "liquid.fraction_above_membrane difference. Both runs are measured over their common time "
-    "window only.";
+    "Gates: each printed with value, threshold and source; flags override a --manifest's "
+    "\"gates\", which override the defaults given with each flag, and each threshold's flag "
+    "above says what its gate measures (docs/checklist.md has the table). period and "
+    "half_amplitude apply only when both signals have --min-crossings upward mean crossings; "
+    "worm.* when both runs are worms; liquid.fraction_above_membrane for liquid over an elastic "
+    "sheet (demo2); liquid_packing when the reference has liquid; else n/a. Both runs are "
+    "measured over their common time window only, and frames pair only where their times meet.";
 
 void RunCompare(CompareArgs& a) {
   backends::CompareRequest& r = a.request;

@@ -1,12 +1,13 @@
 // owval fit: phase 5, parameters fitted by an optimiser with the convergence history saved.
 #include <iostream>
 
+#include "backend_flags.hpp"
 #include "command.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/base/stop_signals.hpp"
 #include "owval/pipeline/fit_directory.hpp"
-#include "resolve.hpp"
 #include "run_flags.hpp"
 
 namespace owval::cli {
@@ -14,7 +15,7 @@ namespace {
 
 struct FitArgs {
   pipeline::FitRequest request;
-  std::string config, reference;
+  std::string config;
   TrackFlags track;
   bool json = false;
 };
@@ -23,25 +24,12 @@ void RunFit(FitArgs& a) {
   pipeline::FitRequest& r = a.request;
   r.track = a.track.Over(Track{});
   r.quiet = QuietMode();
-  r.reference_file = a.reference;
-  const bool engine_runs = r.gradient != "fd" || r.command.empty();
-  const engine::SiberneticConfig config =
-      engine_runs ? ResolveConfig(a.config) : engine::SiberneticConfig{};
-  // Read frame by frame by the fit, up to the fitted time (an fd fit reads none).
-  const std::unique_ptr<FrameSource> reference =
-      a.reference.empty() || r.gradient == "fd" ? nullptr : OpenTrajectoryArgument(a.reference);
   pipeline::FitDirectorySummary summary;
   {
     const StopSignals signals;  // the fit stops after its current iteration, history kept
-    pipeline::FitIntoDirectory(r, &config, reference.get(), StopRequested, &summary);
+    pipeline::FitNamedIntoDirectory(r, a.config, DataDir(), StopRequested, &summary);
   }
-  if (a.json) {
-    std::cout << summary.history.dump(2) << "\n";
-  } else {
-    std::cout << summary.brief << "\n";
-    for (const auto& [name, value] : summary.values)
-      std::cout << "  " << name << " = " << value << "\n";
-  }
+  std::cout << (a.json ? summary.history.dump(2) + "\n" : summary.ToText());
   if (!summary.converged) SetExitCode(kExitGateFailed);
 }
 
@@ -69,12 +57,10 @@ void SetUp(CLI::App& app) {
                   "Fit this named command backend instead (--backends; each parameter as "
                   "{set:NAME}): owval checklist --fit-backend can rerun it, a --command fit not")
       ->check(GivenName());
-  cmd->add_option("--backends", a->request.backends_file,
-                  "Backends file of --fit-backend (else ./owval-backends.json, else "
-                  "$XDG_CONFIG_HOME/owval/backends.json); docs/backends.md")
-      ->check(GivenName());
-  cmd->add_option("--threshold", a->request.threshold,
-                  "Stop when the loss is below this (default 1e-4)")
+  AddBackendsFileFlag(cmd, &a->request.backends_file, " of --fit-backend");
+  cmd->add_option(
+         "--threshold", a->request.threshold,
+         "Stop when the loss is below this (default " + FormatNumber(a->request.threshold) + ")")
       ->check(NonNegative());
   cmd->add_option("--max-iterations", a->request.max_iterations, "Iteration cap");
   cmd->add_option("--learning-rate", a->request.learning_rate,
@@ -93,7 +79,7 @@ void SetUp(CLI::App& app) {
                   "pass, Ceres L-BFGS) or model-fd (the same L-BFGS and model, central "
                   "differences instead of the reverse pass: the comparison run)")
       ->check(CLI::IsMember({"fd", "analytic", "model-fd"}));
-  cmd->add_option("--reference", a->reference,
+  cmd->add_option("--reference", a->request.reference_file,
                   "analytic: trajectory the loss compares with (frames paired by step)")
       ->check(GivenName());
   cmd->add_option("--loss-group", a->request.loss_groups,

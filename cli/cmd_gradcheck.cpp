@@ -1,6 +1,8 @@
 // owval gradcheck [KERNEL...|all]: the XPBD substrate's backward kernels against central
 // differences (engine/src/xpbd/gradcheck.cpp); -o writes fd_tests.json (checklist item 7).
 #include "command.hpp"
+#include "owval/base/format.hpp"
+#include "owval/engine/gradient.hpp"
 #include "owval/pipeline/gradcheck_request.hpp"
 
 namespace owval::cli {
@@ -17,11 +19,11 @@ void SetUp(CLI::App& app) {
   r.shared_reference = SharedReference();
   CLI::App* cmd = app.add_subcommand(
       "gradcheck", "XPBD backward kernels against central differences in double (issue 14)");
-  cmd->footer(
-      "Kernels: all, sph_density, forces, predict, density_projection, bond_projection, "
-      "bond_projection_jacobi, box, velocity, velocity_correction, step, reverse. Each runs at eps "
-      "= 1e-3 and its own eps; a test "
-      "passes at relative error <= --tolerance. Exit 1 when any test fails.");
+  std::string kernels = "all";
+  for (const std::string& name : engine::GradCheckKernels()) kernels += ", " + name;
+  cmd->footer("Kernels: " + kernels +
+              ". Each runs at eps = 1e-3 and its own eps; a test passes at relative error <= "
+              "--tolerance. Exit 1 when any test fails.");
   cmd->add_option("kernels", r.options.kernels, "Kernels to check (default all)")
       ->check(GivenName());
   cmd->add_option("--directions", r.options.directions, "Random directions per kernel and eps")
@@ -45,8 +47,9 @@ void SetUp(CLI::App& app) {
       ->check(CLI::Range(0, 1000));
   cmd->add_option("--alpha-density", r.options.end_to_end_alpha_density,
                   "Density compliance of the end-to-end test (s^2/cu^2, >= 0; 0 is a value, a "
-                  "rigid constraint, as in bench gradient; default 4e-8: at the model's own "
-                  "value demo1's 100-step loss is chaotic, docs/xpbd.md)")
+                  "rigid constraint, as in bench gradient; default " +
+                      FormatNumber(r.options.end_to_end_alpha_density) +
+                      ": at the model's own value demo1's 100-step loss is chaotic, docs/xpbd.md)")
       ->check(NonNegative());
   cmd->add_option("-o,--out,--output", r.output, "Write fd_tests.json here")->check(OutputPath());
   AddJsonFlag(cmd, &a->json);

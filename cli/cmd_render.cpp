@@ -33,7 +33,7 @@ void Print(const render::VideoSummary& s, const std::string& out, bool json) {
 void AddCommon(CLI::App* cmd, RenderArgs* a, const std::string& out_help, bool video) {
   pipeline::RenderRequest& r = a->request;
   AddOut(cmd, &r.out, out_help + " (required)");
-  cmd->add_option("--size", r.size, "WIDTHxHEIGHT of the whole frame (default 1280x720)");
+  cmd->add_option("--size", r.size, "WIDTHxHEIGHT of the whole frame (default " + r.size + ")");
   cmd->add_option("--view", r.view,
                   "auto (worm for worm trajectories, else iso), iso, side, top, front, or worm "
                   "(camera on the worm, following its centroid, liquid translucent)")

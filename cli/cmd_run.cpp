@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "owval/base/stop_signals.hpp"
+#include "owval/compare/stability.hpp"
 #include "owval/engine/solver.hpp"
 #include "owval/pipeline/run_directory.hpp"
 #include "run_flags.hpp"
@@ -94,9 +95,9 @@ void SetUp(CLI::App& app) {
   // `--resume DIR --time 5` ran the checkpoint's own time and said nothing.
   for (CLI::Option* flag : run_flags) resume->excludes(flag);
   cmd->add_flag("--stability", a->options.stability,
-                "Apply the long-run stability gate to every frame as it is produced (NaN, "
-                "escapes, kinetic blow-up, density 700-1300 kg/m^3 with at most 1% of liquid "
-                "particles outside): exit 1 when it fails");
+                "Apply the long-run stability gate to every frame as it is produced (" +
+                    compare::DescribeStability(compare::LongRunStabilityOptions()) +
+                    "): exit 1 when it fails");
   cmd->footer(
       "Exit codes: 0 done, 1 simulation failed (NaN: state dump in --out) or --stability gate "
       "failed, 2 bad input, 130 (SIGINT) or 143 (SIGTERM) interrupted (partial trajectory "

@@ -1184,26 +1184,34 @@ std::vector<Gate> SampledFrameGates(FrameSource& reference, FrameSource& candida
 
 using G = ParityGates;
 const std::vector<GateThresholdField> kGateThresholdFields = {
-    {"frame_threshold", "--threshold", &G::frame, "frames gate"},
-    {"period_gap_threshold", "--period-gap", &G::period_gap, "period gate"},
-    {"amplitude_gap_threshold", "--amplitude-gap", &G::amplitude_gap, "half_amplitude gate"},
+    {"frame_threshold", "--threshold", &G::frame,
+     "frames gate: |cand - ref| / the reference's range of the tracked scalar at each gated "
+     "frame; frames.position: of its particle's (or centroid's) 3-D position on the same scale"},
+    {"period_gap_threshold", "--period-gap", &G::period_gap,
+     "period gate: the relative gap of the tracked signal's periods"},
+    {"amplitude_gap_threshold", "--amplitude-gap", &G::amplitude_gap,
+     "half_amplitude gate: the relative gap of the half-amplitudes"},
     {"min_crossings", "--min-crossings", &G::min_crossings,
      "Upward crossings both signals need for the oscillation gates"},
     {"centroid_distance_threshold", "--centroid-threshold", &G::centroid_distance,
-     "centroid_distance gates, fraction of the box"},
+     "centroid_distance gates (elastic, liquid): the group centroids' largest distance over "
+     "time, fraction of the box"},
     {"extent_threshold", "--extent-threshold", &G::extent,
-     "extent gates, fraction of the box extent"},
+     "extent gates (elastic, liquid): the largest |extent difference| per axis, fraction of "
+     "the box extent"},
     {"final_distance_threshold", "--final-threshold", &G::final_distance,
-     "final_distance gates, fraction of the box"},
+     "final_distance gates (elastic, liquid): the centroids' distance at the last frame, "
+     "fraction of the box"},
     {"particle_distance_threshold", "--particle-threshold", &G::particle_distance,
-     "particle_distance gates, fraction of the box"},
+     "particle_distance.initial/mean/final gates: the moving particles' distances, fraction "
+     "of the box"},
     {"worst_particle_threshold", "--worst-particle-threshold", &G::worst_particle,
      "worst_particle gates (elastic, liquid, boundary): one particle's largest distance, "
      "fraction of the box"},
     {"body_shape_threshold", "--body-threshold", &G::body_shape,
      "worm.span, worm.cross_section_diameter and worm.ring_diameter gates, relative"},
     {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
-     "liquid.fraction_above_membrane gate"},
+     "liquid.fraction_above_membrane gate: the difference of the fractions"},
     {"window_threshold", "--window-threshold", &G::window,
      "window gate: the reference's duration outside the common window, fraction"},
     {"sampling_threshold", "--sampling-threshold", &G::sampling,

@@ -49,6 +49,17 @@ StabilityOptions LongRunStabilityOptions() {
   return o;
 }
 
+std::string DescribeStability(const StabilityOptions& o) {
+  std::string text = "NaN, escapes (over " + FormatNumber(o.box_tolerance_cu) +
+                     " cu outside the box), kinetic blow-up (mean speed over " +
+                     FormatNumber(o.speed_limit_m_s) + " m/s), density " +
+                     FormatNumber(o.density_min) + "-" + FormatNumber(o.density_max) + " kg/m^3";
+  const std::string checked = o.density_liquid_only ? "the liquid particles" : "the particles";
+  if (o.density_outside_fraction == 0) return text + " for every one of " + checked;
+  return text + " with at most " + FormatNumber(100 * o.density_outside_fraction) + "% of " +
+         checked + " outside";
+}
+
 namespace {
 // A gate's threshold that is NaN, infinite or out of range would let every frame pass (every
 // comparison with NaN is false): refused as bad input instead.

@@ -415,6 +415,19 @@ TEST(StabilityMonitor, LiquidDensityRuleToleratesOnePercentAndIgnoresOtherKinds)
   EXPECT_EQ(monitor.report().frames, 2u);
 }
 
+// The help texts of `run --stability`, `ci validate --stability` and `check stability` say the
+// gate from its own thresholds: a changed threshold changes the words.
+TEST(StabilityMonitor, TheGatesDescriptionComesFromItsThresholds) {
+  EXPECT_EQ(DescribeStability(LongRunStabilityOptions()),
+            "NaN, escapes (over 1 cu outside the box), kinetic blow-up (mean speed over 1 m/s), "
+            "density 700-1300 kg/m^3 with at most 1% of the liquid particles outside");
+  StabilityOptions o;
+  o.box_tolerance_cu = 0.5, o.speed_limit_m_s = 2, o.density_min = 900;
+  EXPECT_EQ(DescribeStability(o),
+            "NaN, escapes (over 0.5 cu outside the box), kinetic blow-up (mean speed over 2 m/s), "
+            "density 900-5000 kg/m^3 for every one of the particles");
+}
+
 TEST(StabilityMonitor, FedFrameByFrameAgreesWithCheckStability) {
   Trajectory t = TwoLiquidParticles(10);
   t.position(5, 1)[0] = 12.5f;

@@ -7,14 +7,17 @@
 #include "owval/backends/registry.hpp"
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/format.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/reports/pipeline_report.hpp"
+#include "owval/scenarios/scenario.hpp"
 #include "owval/sgd/backend_simulator.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/fit.hpp"
 #include "owval/sgd/fit_record.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/sgd/targets.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::pipeline {
 namespace {
@@ -272,6 +275,28 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
     GradientFit(request, *config, *reference, cancelled, summary);
   }
   created.Keep();
+}
+
+void FitNamedIntoDirectory(const FitRequest& request, const std::string& config_name,
+                           const fs::path& data_dir, const std::function<bool()>& cancelled,
+                           FitDirectorySummary* summary) {
+  const bool fd = request.gradient == "fd";
+  const engine::SiberneticConfig config = !fd || request.command.empty()
+                                              ? scenarios::ResolveConfig(config_name, data_dir)
+                                              : engine::SiberneticConfig{};
+  // Read frame by frame by the fit, up to the fitted time (an fd fit reads none).
+  const std::unique_ptr<FrameSource> reference =
+      fd || request.reference_file.empty()
+          ? nullptr
+          : OpenFrameSource(request.reference_file, {TextLayout::kAuto, request.quiet});
+  FitIntoDirectory(request, &config, reference.get(), cancelled, summary);
+}
+
+std::string FitDirectorySummary::ToText() const {
+  std::string text = brief + "\n";
+  for (const auto& [name, value] : values)
+    text += "  " + name + " = " + FormatNumber(value, 6) + "\n";
+  return text;
 }
 
 }  // namespace owval::pipeline

@@ -30,6 +30,11 @@ struct StabilityOptions {
 // 700-1300 kg/m^3 with at most 1% of the liquid particles outside, per frame.
 StabilityOptions LongRunStabilityOptions();
 
+// The gate in words, from the thresholds themselves, for help texts and reports: "NaN, escapes
+// (over 1 cu outside the box), kinetic blow-up (mean speed over 1 m/s), density 700-1300 kg/m^3
+// with at most 1% of the liquid particles outside".
+std::string DescribeStability(const StabilityOptions& options);
+
 struct ViolationCount {
   std::size_t count = 0;  // particle-frames (or frames for blow-up)
   std::optional<std::size_t> first_frame;

@@ -16,6 +16,7 @@
 //   pipeline::FitDirectorySummary summary;
 //   pipeline::FitIntoDirectory(request, &config, nullptr, {}, &summary);
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -67,6 +68,9 @@ struct FitDirectorySummary {
   std::string brief;                                   // one line: how it ended
   std::vector<std::pair<std::string, double>> values;  // the fitted parameters
   bool converged = false;
+
+  // The brief, then "  NAME = VALUE" per fitted parameter, a line each.
+  std::string ToText() const;
 };
 
 // history.json records what was simulated ("simulation", docs/fit_history.md) and the
@@ -81,5 +85,12 @@ struct FitDirectorySummary {
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
                       FrameSource* reference, const std::function<bool()>& cancelled,
                       FitDirectorySummary* summary);
+// The same for `owval fit`: `config_name` (a scenario name in `data_dir`, or a configuration
+// file) resolved where an engine or a named backend runs (not for an fd fit with a command), and
+// for the analytic and model-fd fits the reference opened from request.reference_file (any
+// format, frame by frame; progress lines unless request.quiet).
+void FitNamedIntoDirectory(const FitRequest& request, const std::string& config_name,
+                           const std::filesystem::path& data_dir,
+                           const std::function<bool()>& cancelled, FitDirectorySummary* summary);
 
 }  // namespace owval::pipeline
