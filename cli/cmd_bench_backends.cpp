@@ -1,5 +1,6 @@
 // owval bench backends A B ... --scenario S: each backend timed as a whole process
-// (backends/bench.hpp); JSON on stdout (or --json FILE) and a Markdown table (--markdown FILE).
+// (backends/bench.hpp); JSON on stdout (and --json-out FILE) and a Markdown table (--markdown
+// FILE).
 #include <unistd.h>
 
 #include <cstdio>
@@ -39,7 +40,9 @@ void SetUp(CLI::App& app) {
   AddThreadsFlag(cmd, &r->options.threads, " of built-in backends, every run (default: all cores)",
                  1);
   AddBackendSets(cmd, &r->sets);
-  cmd->add_option("--json", r->json, "Also write the JSON here")->check(OutputPath());
+  // --json-out as in the other benchmarks; --json, its first name, still taken.
+  cmd->add_option("--json-out,--json", r->json, "Also write the JSON result here")
+      ->check(OutputPath());
   AddMarkdownOut(cmd, &r->markdown, "the table");
   AddBackendFlags(cmd, &r->backends, false);
   cmd->callback([r] { RunBench(*r); });

@@ -10,7 +10,6 @@ namespace owval::cli {
 namespace {
 
 void RunPipeline(pipeline::Options& o, bool json) {
-  if (o.out_dir.empty()) o.out_dir = std::filesystem::path("reports") / o.scenario;
   o.quiet = QuietMode();
   o.on_phase = [](const std::string& line) {
     if (!QuietMode()) std::fprintf(stderr, "pipeline: %s\n", line.c_str());
@@ -43,8 +42,7 @@ void SetUp(CLI::App& app) {
   auto json = std::make_shared<bool>(false);
   AddJsonFlag(cmd, json.get(), "the phases, parity and checklist");
   cmd->callback([o, integrator, json] {
-    o->integrator = *integrator == "leapfrog" ? engine::Integrator::kLeapfrog
-                                              : engine::Integrator::kSemiImplicitEuler;
+    o->integrator = engine::ParseIntegrator(*integrator);
     RunPipeline(*o, *json);
   });
 }

@@ -9,6 +9,7 @@
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/one_line.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/solver.hpp"
 #include "state/particle_state.hpp"
@@ -281,6 +282,12 @@ Trajectory Run(const SiberneticConfig& config, const RunOptions& options, RunSum
   s.frame_log = std::move(step_logs);
   if (summary) *summary = std::move(s);
   return t;
+}
+
+Integrator ParseIntegrator(const std::string& name) {
+  if (name == "euler") return Integrator::kSemiImplicitEuler;
+  if (name == "leapfrog") return Integrator::kLeapfrog;
+  throw InputError("integrator: expected euler or leapfrog, found '" + OneLine(name, 40) + "'");
 }
 
 }  // namespace owval::engine

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "state/non_finite.hpp"
 
@@ -52,6 +53,23 @@ TEST(Backends, UnknownNameIsInputErrorListingTheKnownOnes) {
 
 // A thread count the machine cannot start is bad input, not a crash in the OpenMP runtime
 // (100,000 threads segfaulted libgomp), for every backend.
+// The one reading of an integrator's name (run requests, checkpoints, `pipeline --integrator`):
+// a checkpoint naming another one ran semi-implicit Euler and said nothing.
+TEST(Backends, IntegratorNamesAreEulerOrLeapfrogAndNothingElse) {
+  EXPECT_EQ(ParseIntegrator("euler"), Integrator::kSemiImplicitEuler);
+  EXPECT_EQ(ParseIntegrator("leapfrog"), Integrator::kLeapfrog);
+  for (const std::string& bad :
+       {std::string(), std::string("Leapfrog"), std::string("verlet"), std::string("euler\n")}) {
+    try {
+      ParseIntegrator(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("expected euler or leapfrog"), std::string::npos);
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Solver, ThreadCountsOutsideZeroToTheMaximumAreInputErrors) {
   for (const std::string& backend : KnownBackends()) {
     RunOptions o;

@@ -268,7 +268,9 @@ nlohmann::json Summary::ToJson() const {
           {"checklist", checklist.ToJson()}};
 }
 
-void Run(const Options& options, Summary* summary) {
+void Run(const Options& given, Summary* summary) {
+  Options options = given;
+  if (options.out_dir.empty()) options.out_dir = fs::path("reports") / options.scenario;
   *summary = Summary{};
   Context c(options, summary);
   Prepare(c);

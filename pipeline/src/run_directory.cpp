@@ -359,8 +359,7 @@ engine::RunOptions EngineOptions(const RunRequest& r) {
   engine::RunOptions options;
   options.duration_s = r.time_s;
   options.log_step = r.log_step;
-  options.integrator = r.integrator == "leapfrog" ? engine::Integrator::kLeapfrog
-                                                  : engine::Integrator::kSemiImplicitEuler;
+  options.integrator = engine::ParseIntegrator(r.integrator);
   options.apply_physical_parameters = r.apply_physical_parameters;
   options.muscle_signal = r.muscles == "off"     ? engine::MuscleSignal::kOff
                           : r.muscles == "waves" ? engine::MuscleSignal::kSwimmingWaves

@@ -15,6 +15,9 @@
 namespace owval::engine {
 
 enum class Integrator { kSemiImplicitEuler, kLeapfrog };  // Sibernetic's modes 2 and 0/1
+// "euler" (semi-implicit Euler, Sibernetic's default) or "leapfrog", as flags, run requests and
+// checkpoints name them; any other name is InputError.
+Integrator ParseIntegrator(const std::string& name);
 
 // The most threads a run may ask for: beyond the machine's cores threads only stall each other
 // at barriers, and far beyond them the OpenMP runtime fails to start them (libgomp aborted at

@@ -32,7 +32,7 @@ namespace owval::pipeline {
 struct Options {
   std::string scenario;             // a built-in scenario name
   std::filesystem::path data_dir;   // holds scenarios/manifests and bundled references
-  std::filesystem::path out_dir;    // the report directory (created)
+  std::filesystem::path out_dir;    // the report directory (created); empty: reports/SCENARIO
   std::filesystem::path candidate;  // a trajectory file; empty: an owval engine run
   engine::Integrator integrator = engine::Integrator::kSemiImplicitEuler;  // of the engine run
   // The candidate's scheme (engine::KnownBackends()): the engine run's, or the one that made the
