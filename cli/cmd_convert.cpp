@@ -2,7 +2,6 @@
 #include <cstdio>
 
 #include "command.hpp"
-#include "owval/base/atomic_output.hpp"
 #include "owval/pipeline/run_directory.hpp"
 #include "resolve.hpp"
 
@@ -16,8 +15,6 @@ struct ConvertArgs {
 };
 
 void RunConvert(const ConvertArgs& a) {
-  CheckTrajectoryOutput(a.out);
-  CheckOutputIsNotAnInput(a.out, {a.in});  // atomic, yet a no-op at best
   TextReadReport read;
   pipeline::ConvertTrajectoryFile(a.in, Reading(a.layout), a.out, ParseLayout(a.out_layout), &read);
   if (!QuietMode())

@@ -2,7 +2,6 @@
 #include <iostream>
 
 #include "command.hpp"
-#include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "run_flags.hpp"
@@ -43,10 +42,8 @@ void SetUp(CLI::App& app) {
   AddOut(generate, &a->out, "Configuration file to write")->required();
   AddGeneratorParams(generate, &a->params);
   generate->callback([a] {
-    CheckOutputPath(a->out);  // before the lattice is made: a directory failed at the rename
-    const auto config = scenarios::GenerateConfig(scenarios::LoadScenario(a->name, DataDir()),
-                                                  scenarios::ParseOverrides(a->params));
-    engine::WriteSiberneticConfig(config, a->out);
+    const auto config = scenarios::GenerateConfigFile(scenarios::LoadScenario(a->name, DataDir()),
+                                                      scenarios::ParseOverrides(a->params), a->out);
     std::cout << "wrote " << a->out << ": " << config.elastic_count() << " elastic, "
               << config.liquid_count() << " liquid, " << config.boundary_count()
               << " boundary particles\n";

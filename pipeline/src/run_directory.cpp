@@ -271,6 +271,8 @@ void ConvertToText(FrameSource& frames, const fs::path& out, TextLayout layout) 
 
 void ConvertTrajectoryFile(const fs::path& in, const TextReadOptions& read, const fs::path& out,
                            TextLayout text_layout, TextReadReport* report) {
+  CheckTrajectoryOutput(out);          // before the input is read
+  CheckOutputIsNotAnInput(out, {in});  // atomic, yet a no-op at best
   const std::unique_ptr<FrameSource> frames = OpenFrameSource(in, read, report);
   const std::string extension = out.extension().string();
   if (extension == ".wcon")

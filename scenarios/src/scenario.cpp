@@ -115,6 +115,15 @@ engine::SiberneticConfig GenerateConfig(const Scenario& s,
   return c;
 }
 
+engine::SiberneticConfig GenerateConfigFile(const Scenario& s,
+                                            const std::map<std::string, double>& overrides,
+                                            const std::filesystem::path& out) {
+  CheckOutputPath(out);
+  const engine::SiberneticConfig config = GenerateConfig(s, overrides);
+  engine::WriteSiberneticConfig(config, out);
+  return config;
+}
+
 std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
   std::map<std::string, double> out;
   for (const auto& [name, value] : ParseAssignments(assignments, "--param")) out[name] = value;

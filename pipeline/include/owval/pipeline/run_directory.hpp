@@ -87,8 +87,9 @@ void WriteWormWcon(const Trajectory& t, const nlohmann::json& settings,
 // by frame (memory: a frame and a chunk of frames, never the trajectory), the bytes the
 // whole-trajectory writers wrote: .wcon (a worm's WCON, InputError naming `in` for anything else;
 // the file's provenance as its settings), .zarr (OME-Zarr), .h5/.hdf5 (owval HDF5, with the
-// per-frame fields `in` holds), else Sibernetic text in `text_layout`. A bad frame midway leaves
-// no `out`.
+// per-frame fields `in` holds), else Sibernetic text in `text_layout`. `out` is checked before
+// `in` is read (an extension no writer takes, a path that is `in`: InputError); a bad frame
+// midway leaves no `out`.
 void ConvertTrajectoryFile(const std::filesystem::path& in, const TextReadOptions& read,
                            const std::filesystem::path& out, TextLayout text_layout,
                            TextReadReport* report = nullptr);

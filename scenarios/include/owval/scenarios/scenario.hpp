@@ -54,6 +54,12 @@ std::vector<std::string> ListScenarios(const std::filesystem::path& data_dir);
 engine::SiberneticConfig GenerateConfig(const Scenario& scenario,
                                         const std::map<std::string, double>& overrides = {});
 
+// `owval scenario generate`: that configuration written to `out` in Sibernetic's format, `out`
+// checked before the lattice is made (a directory failed only at the rename). Returns it.
+engine::SiberneticConfig GenerateConfigFile(const Scenario& scenario,
+                                            const std::map<std::string, double>& overrides,
+                                            const std::filesystem::path& out);
+
 // "NAME=NUMBER" strings (the --param options) → generator parameter overrides, read by
 // ParseAssignments (base/number_text.hpp): InputError on anything else or a NAME given twice.
 std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments);
