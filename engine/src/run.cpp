@@ -181,6 +181,111 @@ void Checkpoint(const Solver& solver, std::size_t frames, FrameSink* sink, bool 
   sink->Checkpoint(solver.steps_done(), frames, state, stopping);
 }
 
+// The caller's constants, with the configuration's [physical parameters] applied only when
+// asked: Sibernetic parses them and never applies them, which a warning says.
+PhysicsConstants RunConstants(const SiberneticConfig& config, const RunOptions& options,
+                              std::vector<std::string>* warnings) {
+  PhysicsConstants constants = options.constants;
+  if (config.physical_parameters.empty()) return constants;
+  if (options.apply_physical_parameters) {
+    ApplyPhysicalParameters(config, &constants);
+  } else {
+    warnings->push_back(config.source +
+                        ": [physical parameters] parsed but not applied, as Sibernetic does "
+                        "(pass --apply-physical-parameters to apply them)");
+  }
+  return constants;
+}
+
+// The run's solver, ready for its first step: a backend that cannot checkpoint says so before
+// it, and a resumed run's state is restored (refused when it is past the run's last step).
+std::unique_ptr<Solver> ReadySolver(const SiberneticConfig& config, const RunOptions& options,
+                                    const PhysicsConstants& constants, std::size_t steps) {
+  RunOptions solver_options = options;
+  solver_options.constants = constants;
+  std::unique_ptr<Solver> made = MakeSolver(config, solver_options);
+  Solver& solver = *made;
+  if (options.checkpoint_every > 0) {
+    std::string probe;  // a backend that cannot checkpoint says so before the first step
+    solver.SaveState(&probe);
+  }
+  if (!options.resume_state.empty()) {
+    solver.RestoreState(options.resume_state, options.resume_source);
+    if (solver.steps_done() > steps)
+      throw InputError(options.resume_source, 0,
+                       "the checkpoint is at step " + std::to_string(solver.steps_done()) +
+                           ", past the run's " + std::to_string(steps) + " steps");
+  }
+  return made;
+}
+
+// Whether MuscleSimulation's waves drive the activations: asked for, or left to `auto` for a
+// configuration named after the worm.
+bool MusclesDriven(const SiberneticConfig& config, const RunOptions& options) {
+  return options.muscle_signal == MuscleSignal::kSwimmingWaves ||
+         (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
+}
+
+// Whether the caller asked the run to stop before its next step; the stop writes a checkpoint
+// when the solver can.
+bool StopRequested(const Solver& solver, const RunOptions& options, std::size_t frames,
+                   FrameSink* sink, RunSummary* sum) {
+  if (!options.stop_requested || !options.stop_requested()) return false;
+  sum->interrupted = true;
+  sum->checkpointed = solver.can_checkpoint();
+  if (sum->checkpointed) Checkpoint(solver, frames, sink, /*stopping=*/true);
+  return true;
+}
+
+// One step; false when it was stopped within (wcsph's sub-steps), which leaves no checkpoint.
+bool StepUnlessCancelled(Solver& solver, RunSummary* sum) {
+  try {
+    solver.Step();
+  } catch (const Cancelled&) {
+    sum->interrupted = true;
+    return false;
+  }
+  return true;
+}
+
+// Sibernetic asks for the next activations after each step; step k + 1 uses call k's.
+void SetNextActivations(std::size_t k, Solver& solver) {
+  const auto signal = MuscleSimulationSignal(double(k));
+  std::copy(signal.begin(), signal.end(), solver.muscle_activation().begin());
+}
+
+// The frame recorded after step k (the `*frames`-th): positions (and fields when asked), time
+// and the scheme's step log.
+void RecordFrame(Solver& solver, const RunOptions& options, const PhysicsConstants& constants,
+                 std::size_t k, std::size_t* frames, FrameBuffers* buffers, FrameSink* sink) {
+  FrameView f = Capture(solver, options.record_fields, buffers);
+  f.index = (*frames)++, f.step = k, f.time_s = double(k) * constants.time_step_s;
+  const std::string step_log = solver.TakeStepLog();
+  f.step_log = step_log;
+  sink->Frame(f);
+}
+
+// Steps [sum->first_step, steps) with a frame every log_step steps and a checkpoint every
+// checkpoint_every (none after the last step); returns the frames recorded, the resumed run's
+// earlier ones included.
+std::size_t RunSteps(Solver& solver, const RunOptions& options, const PhysicsConstants& constants,
+                     std::size_t steps, FrameSink* sink, RunSummary* sum) {
+  const std::size_t log_step = std::size_t(std::max(1, options.log_step));
+  std::size_t frames = FramesBefore(sum->first_step, log_step);
+  FrameBuffers buffers;
+  for (std::size_t k = sum->first_step; k < steps; ++k) {
+    if (StopRequested(solver, options, frames, sink, sum)) break;
+    if (!StepUnlessCancelled(solver, sum)) break;
+    if (sum->muscles_driven) SetNextActivations(k, solver);
+    StopOnNonFinite(solver, k, options);
+    if (k % log_step == 0) RecordFrame(solver, options, constants, k, &frames, &buffers, sink);
+    if (options.on_step) options.on_step(k + 1, steps);
+    if (options.checkpoint_every > 0 && (k + 1) % options.checkpoint_every == 0 && k + 1 < steps)
+      Checkpoint(solver, frames, sink, /*stopping=*/false);
+  }
+  return frames;
+}
+
 }  // namespace
 
 std::filesystem::path StateDumpPath(const std::filesystem::path& dir, std::size_t step) {
@@ -199,76 +304,20 @@ bool IsStateDumpName(const std::filesystem::path& file) {
 
 RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameSink* sink) {
   RunSummary sum;
-  PhysicsConstants constants = options.constants;
-  if (!config.physical_parameters.empty()) {
-    if (options.apply_physical_parameters) {
-      ApplyPhysicalParameters(config, &constants);
-    } else {
-      sum.warnings.push_back(config.source +
-                             ": [physical parameters] parsed but not applied, as Sibernetic does "
-                             "(pass --apply-physical-parameters to apply them)");
-    }
-  }
+  const PhysicsConstants constants = RunConstants(config, options, &sum.warnings);
   CanonicalBackend(options.backend);  // an unknown name fails before any other check
   ValidateConstants(constants);
   const std::size_t steps = StepCount(config.source, options.duration_s, constants.time_step_s);
   CheckRunnable(config, float(constants.h_cu));
-  RunOptions solver_options = options;
-  solver_options.constants = constants;
-  const std::unique_ptr<Solver> made = MakeSolver(config, solver_options);
+  const std::unique_ptr<Solver> made = ReadySolver(config, options, constants, steps);
   Solver& solver = *made;
-  if (options.checkpoint_every > 0) {
-    std::string probe;  // a backend that cannot checkpoint says so before the first step
-    solver.SaveState(&probe);
-  }
-  if (!options.resume_state.empty()) {
-    solver.RestoreState(options.resume_state, options.resume_source);
-    if (solver.steps_done() > steps)
-      throw InputError(options.resume_source, 0,
-                       "the checkpoint is at step " + std::to_string(solver.steps_done()) +
-                           ", past the run's " + std::to_string(steps) + " steps");
-  }
   sum.reference_equivalent = solver.reference_equivalent();
-  sum.muscles_driven = options.muscle_signal == MuscleSignal::kSwimmingWaves ||
-                       (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
-  const std::size_t log_step = std::size_t(std::max(1, options.log_step));
+  sum.muscles_driven = MusclesDriven(config, options);
   sink->Begin(Header(config, options, constants, solver, sum.muscles_driven), solver.threads());
   sum.first_step = solver.steps_done();
-  std::size_t frames = FramesBefore(sum.first_step, log_step);
-  FrameBuffers buffers;
   const auto start = std::chrono::steady_clock::now();
-  for (std::size_t k = sum.first_step; k < steps; ++k) {
-    if (options.stop_requested && options.stop_requested()) {
-      sum.interrupted = true;
-      sum.checkpointed = solver.can_checkpoint();
-      if (sum.checkpointed) Checkpoint(solver, frames, sink, /*stopping=*/true);
-      break;
-    }
-    try {
-      solver.Step();
-    } catch (const Cancelled&) {  // stopped within a long step (wcsph's sub-steps): no checkpoint
-      sum.interrupted = true;
-      break;
-    }
-    // Sibernetic asks for the next activations after each step; step k + 1 uses call k's.
-    if (sum.muscles_driven) {
-      const auto signal = MuscleSimulationSignal(double(k));
-      std::copy(signal.begin(), signal.end(), solver.muscle_activation().begin());
-    }
-    StopOnNonFinite(solver, k, options);
-    if (k % log_step == 0) {
-      FrameView f = Capture(solver, options.record_fields, &buffers);
-      f.index = frames++, f.step = k, f.time_s = double(k) * constants.time_step_s;
-      const std::string step_log = solver.TakeStepLog();
-      f.step_log = step_log;
-      sink->Frame(f);
-    }
-    if (options.on_step) options.on_step(k + 1, steps);
-    if (options.checkpoint_every > 0 && (k + 1) % options.checkpoint_every == 0 && k + 1 < steps)
-      Checkpoint(solver, frames, sink, /*stopping=*/false);
-  }
+  sum.frames = RunSteps(solver, options, constants, steps, sink, &sum);
   sum.steps = solver.steps_done();
-  sum.frames = frames;
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   sum.steps_per_s = sum.wall_s > 0 ? double(sum.steps - sum.first_step) / sum.wall_s : 0;
   return sum;
