@@ -169,6 +169,50 @@ KernelCheck SphDensityCheck(const SceneState& s) {
   return k;
 }
 
+// The force kernel's inputs, unpacked from the checked vector: positions, velocities, densities
+// and the viscosity multiplier μ.
+struct ForcesInputs {
+  Field<double> x, v;
+  Vector rho;
+  double mu;
+};
+
+ForcesInputs UnpackForces(std::size_t n, const Vector& z) {
+  ForcesInputs in;
+  std::size_t at = 0;
+  in.x = TakeField(z, &at, n);
+  in.v = TakeField(z, &at, n);
+  in.rho = Take(z, &at, n);
+  in.mu = z[at];
+  return in;
+}
+
+Vector ForcesOutputs(const SceneState& s, const Vector& z) {
+  const ForcesInputs in = UnpackForces(s.S.n, z);
+  Field<double> a;
+  ad::Forces(s.S, s.nb, in.x, in.v, in.rho, in.mu, &a);
+  Vector out;
+  Put(a, &out);
+  return out;
+}
+
+Vector ForcesVjp(const SceneState& s, const Vector& z, const Vector& u) {
+  const std::size_t n = s.S.n;
+  const ForcesInputs in = UnpackForces(n, z);
+  double mu_bar = 0;
+  std::size_t at = 0;
+  const Field<double> ab = TakeField(u, &at, n);
+  Field<double> xb(n, Vec3d{0, 0, 0}), vb = xb;
+  Vector rb(n, 0.0);
+  ad::ForcesBackward(s.S, s.nb, in.x, in.v, in.rho, in.mu, ab, &xb, &vb, &rb, &mu_bar);
+  Vector out;
+  Put(xb, &out);
+  Put(vb, &out);
+  out.insert(out.end(), rb.begin(), rb.end());
+  out.push_back(mu_bar);
+  return out;
+}
+
 KernelCheck ForcesCheck(const SceneState& s) {
   const std::size_t n = s.S.n;
   KernelCheck k{1e-5, {}, {}, {}, {}};
@@ -185,40 +229,8 @@ KernelCheck ForcesCheck(const SceneState& s) {
   k.scale.insert(k.scale.end(), vs.begin(), vs.end());
   for (double r : rho) k.scale.push_back(r > 0 ? r * 0.1 : 1.0);
   k.scale.push_back(1.0);
-  auto unpack = [n](const Vector& z, Field<double>* x, Field<double>* v, Vector* r, double* mu) {
-    std::size_t at = 0;
-    *x = TakeField(z, &at, n);
-    *v = TakeField(z, &at, n);
-    *r = Take(z, &at, n);
-    *mu = z[at];
-  };
-  k.f = [&s, unpack](const Vector& z) {
-    Field<double> x, v, a;
-    Vector r;
-    double mu;
-    unpack(z, &x, &v, &r, &mu);
-    ad::Forces(s.S, s.nb, x, v, r, mu, &a);
-    Vector out;
-    Put(a, &out);
-    return out;
-  };
-  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
-    Field<double> x, v;
-    Vector r;
-    double mu, mu_bar = 0;
-    unpack(z, &x, &v, &r, &mu);
-    std::size_t at = 0;
-    const Field<double> ab = TakeField(u, &at, n);
-    Field<double> xb(n, Vec3d{0, 0, 0}), vb = xb;
-    Vector rb(n, 0.0);
-    ad::ForcesBackward(s.S, s.nb, x, v, r, mu, ab, &xb, &vb, &rb, &mu_bar);
-    Vector out;
-    Put(xb, &out);
-    Put(vb, &out);
-    out.insert(out.end(), rb.begin(), rb.end());
-    out.push_back(mu_bar);
-    return out;
-  };
+  k.f = [&s](const Vector& z) { return ForcesOutputs(s, z); };
+  k.vjp = [&s](const Vector& z, const Vector& u) { return ForcesVjp(s, z, u); };
   return k;
 }
 
@@ -254,6 +266,56 @@ KernelCheck PredictCheck(const SceneState& s) {
   return k;
 }
 
+// The density pass's inputs, unpacked from the checked vector: positions, multipliers, and the
+// rest volume V0 and compliance α̃ of the scene's parameters with ρ_rest and α_density from it.
+struct DensityInputs {
+  Field<double> p;
+  Vector l;
+  double V0, alpha_tilde;
+};
+
+DensityInputs UnpackDensity(const SceneState& s, const Vector& z) {
+  const std::size_t n = s.S.n;
+  DensityInputs in;
+  std::size_t i = 0;
+  in.p = TakeField(z, &i, n);
+  in.l = Take(z, &i, n);
+  Parameters<double> t = s.theta;
+  t[ad::kRestDensity] = z[i];
+  t[ad::kAlphaDensity] = z[i + 1];
+  in.V0 = ad::RestVolume(s.S, t);
+  in.alpha_tilde = ad::DensityAlphaTilde(s.S, t);
+  return in;
+}
+
+Vector DensityOutputs(const SceneState& s, const Vector& z) {
+  DensityInputs in = UnpackDensity(s, z);
+  ad::DensityPass(s.S, s.nb, in.V0, in.alpha_tilde, &in.p, &in.l);
+  Vector out;
+  Put(in.p, &out);
+  out.insert(out.end(), in.l.begin(), in.l.end());
+  return out;
+}
+
+// The VJP in (positions, λ, ρ_rest, α_density): V0 = m/ρ_rest and α̃ = α_density/Δt² carry
+// V0's and α̃'s cotangents to the parameters.
+Vector DensityVjp(const SceneState& s, const Vector& z, const Vector& u) {
+  const std::size_t n = s.S.n;
+  const DensityInputs in = UnpackDensity(s, z);
+  double V0_bar = 0, at_bar = 0;
+  std::size_t i = 0;
+  Field<double> pb = TakeField(u, &i, n);
+  Vector lb = Take(u, &i, n);
+  ad::DensityPassBackward(s.S, s.nb, in.V0, in.alpha_tilde, in.p, in.l, &pb, &lb, &V0_bar, &at_bar);
+  Vector out;
+  Put(pb, &out);
+  out.insert(out.end(), lb.begin(), lb.end());
+  const double rho = z[z.size() - 2];
+  out.push_back(V0_bar * -in.V0 / rho);
+  out.push_back(at_bar / (ad::DensityDt(s.S) * ad::DensityDt(s.S)));
+  return out;
+}
+
 KernelCheck DensityCheck(const SceneState& s) {
   const std::size_t n = s.S.n;
   KernelCheck k{1e-5, {}, Ones(3 * n, 0.1), {}, {}};
@@ -269,45 +331,68 @@ KernelCheck DensityCheck(const SceneState& s) {
   for (double v : Ones(n, 0.05)) k.scale.push_back(v);
   k.scale.push_back(s.theta[ad::kRestDensity] * 0.1);
   k.scale.push_back(s.theta[ad::kAlphaDensity]);
-  auto unpack = [&s, n](const Vector& z, Field<double>* p, Vector* l, double* V0, double* at) {
-    std::size_t i = 0;
-    *p = TakeField(z, &i, n);
-    *l = Take(z, &i, n);
-    Parameters<double> t = s.theta;
-    t[ad::kRestDensity] = z[i];
-    t[ad::kAlphaDensity] = z[i + 1];
-    *V0 = ad::RestVolume(s.S, t);
-    *at = ad::DensityAlphaTilde(s.S, t);
-  };
-  k.f = [&s, unpack](const Vector& z) {
-    Field<double> p;
-    Vector l;
-    double V0, at;
-    unpack(z, &p, &l, &V0, &at);
-    ad::DensityPass(s.S, s.nb, V0, at, &p, &l);
-    Vector out;
-    Put(p, &out);
-    out.insert(out.end(), l.begin(), l.end());
-    return out;
-  };
-  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
-    Field<double> p;
-    Vector l;
-    double V0, at, V0_bar = 0, at_bar = 0;
-    unpack(z, &p, &l, &V0, &at);
-    std::size_t i = 0;
-    Field<double> pb = TakeField(u, &i, n);
-    Vector lb = Take(u, &i, n);
-    ad::DensityPassBackward(s.S, s.nb, V0, at, p, l, &pb, &lb, &V0_bar, &at_bar);
-    Vector out;
-    Put(pb, &out);
-    out.insert(out.end(), lb.begin(), lb.end());
-    const double rho = z[z.size() - 2];
-    out.push_back(V0_bar * -V0 / rho);
-    out.push_back(at_bar / (ad::DensityDt(s.S) * ad::DensityDt(s.S)));
-    return out;
-  };
+  k.f = [&s](const Vector& z) { return DensityOutputs(s, z); };
+  k.vjp = [&s](const Vector& z, const Vector& u) { return DensityVjp(s, z, u); };
   return k;
+}
+
+// The bond kernels' parameters: the two stiffnesses and the muscle strength.
+constexpr int kBondParameters[3] = {ad::kBondStiffnessBody, ad::kBondStiffnessOther,
+                                    ad::kMuscleStrength};
+
+// A bond pass's inputs, unpacked from the checked vector: positions, multipliers, and the
+// scene's parameters with kBondParameters from it.
+struct BondInputs {
+  Field<double> p;
+  Vector l;
+  Parameters<double> t;
+};
+
+BondInputs UnpackBond(const SceneState& s, const Vector& z) {
+  BondInputs in;
+  std::size_t i = 0;
+  in.p = TakeField(z, &i, s.S.n);
+  in.l = Take(z, &i, s.S.bonds.size());
+  in.t = s.theta;
+  for (int id : kBondParameters) in.t[id] = z[i++];
+  return in;
+}
+
+Vector BondOutputs(const SceneState& s, bool jacobi, const Vector& z) {
+  BondInputs in = UnpackBond(s, z);
+  if (jacobi)
+    ad::BondPassJacobi(s.S, in.t, &in.p, &in.l);
+  else
+    ad::BondPass(s.S, in.t, &in.p, &in.l);
+  Vector out;
+  Put(in.p, &out);
+  out.insert(out.end(), in.l.begin(), in.l.end());
+  return out;
+}
+
+// The Jacobi pass's backward needs the forward's per-bond particle and partner positions: the
+// forward is rerun on copies to record them.
+Vector BondVjp(const SceneState& s, bool jacobi, const Vector& z, const Vector& u) {
+  const std::size_t n = s.S.n, nb = s.S.bonds.size();
+  const BondInputs in = UnpackBond(s, z);
+  Parameters<double> tb{};
+  std::size_t i = 0;
+  Field<double> pb = TakeField(u, &i, n);
+  Vector lb = Take(u, &i, nb);
+  if (jacobi) {
+    std::vector<Vec3d> particles(nb), partners(nb);
+    Field<double> q = in.p;
+    Vector lq = in.l;
+    ad::BondPassJacobi(s.S, in.t, &q, &lq, &partners, &particles);
+    ad::BondPassJacobiBackward(s.S, in.t, in.l, particles, partners, &pb, &lb, &tb);
+  } else {
+    ad::BondPassBackward(s.S, in.t, in.p, in.l, &pb, &lb, &tb);
+  }
+  Vector out;
+  Put(pb, &out);
+  out.insert(out.end(), lb.begin(), lb.end());
+  for (int id : kBondParameters) out.push_back(tb[id]);
+  return out;
 }
 
 // A bond pass (the unsplit step's Gauss-Seidel one, or with `jacobi` the split step's):
@@ -319,55 +404,11 @@ KernelCheck BondCheck(const SceneState& s, bool jacobi) {
   std::mt19937_64 rng(11);
   std::normal_distribution<double> g(0, 1e-3);
   for (std::size_t b = 0; b < nb; ++b) k.at.push_back(g(rng));
-  const int ids[3] = {ad::kBondStiffnessBody, ad::kBondStiffnessOther, ad::kMuscleStrength};
-  for (int id : ids) k.at.push_back(s.theta[id]);
+  for (int id : kBondParameters) k.at.push_back(s.theta[id]);
   for (double v : Ones(nb, 1e-3)) k.scale.push_back(v);
-  for (int id : ids) k.scale.push_back(s.theta[id]);
-  auto unpack = [&s, n, nb, ids](const Vector& z, Field<double>* p, Vector* l,
-                                 Parameters<double>* t) {
-    std::size_t i = 0;
-    *p = TakeField(z, &i, n);
-    *l = Take(z, &i, nb);
-    *t = s.theta;
-    for (int id : ids) (*t)[id] = z[i++];
-  };
-  k.f = [&s, unpack, jacobi](const Vector& z) {
-    Field<double> p;
-    Vector l;
-    Parameters<double> t;
-    unpack(z, &p, &l, &t);
-    if (jacobi)
-      ad::BondPassJacobi(s.S, t, &p, &l);
-    else
-      ad::BondPass(s.S, t, &p, &l);
-    Vector out;
-    Put(p, &out);
-    out.insert(out.end(), l.begin(), l.end());
-    return out;
-  };
-  k.vjp = [&s, unpack, n, nb, ids, jacobi](const Vector& z, const Vector& u) {
-    Field<double> p;
-    Vector l;
-    Parameters<double> t, tb{};
-    unpack(z, &p, &l, &t);
-    std::size_t i = 0;
-    Field<double> pb = TakeField(u, &i, n);
-    Vector lb = Take(u, &i, nb);
-    if (jacobi) {
-      std::vector<Vec3d> particles(nb), partners(nb);
-      Field<double> q = p;
-      Vector lq = l;
-      ad::BondPassJacobi(s.S, t, &q, &lq, &partners, &particles);
-      ad::BondPassJacobiBackward(s.S, t, l, particles, partners, &pb, &lb, &tb);
-    } else {
-      ad::BondPassBackward(s.S, t, p, l, &pb, &lb, &tb);
-    }
-    Vector out;
-    Put(pb, &out);
-    out.insert(out.end(), lb.begin(), lb.end());
-    for (int id : ids) out.push_back(tb[id]);
-    return out;
-  };
+  for (int id : kBondParameters) k.scale.push_back(s.theta[id]);
+  k.f = [&s, jacobi](const Vector& z) { return BondOutputs(s, jacobi, z); };
+  k.vjp = [&s, jacobi](const Vector& z, const Vector& u) { return BondVjp(s, jacobi, z, u); };
   return k;
 }
 
@@ -486,6 +527,49 @@ KernelCheck VelocityCheck(const SceneState& s) {
   return k;
 }
 
+// The whole step's inputs, unpacked from the checked vector: positions, velocities, parameters.
+struct StepInputs {
+  Field<double> x, v;
+  Parameters<double> t;
+};
+
+StepInputs UnpackStep(std::size_t n, const Vector& z) {
+  StepInputs in;
+  std::size_t i = 0;
+  in.x = TakeField(z, &i, n);
+  in.v = TakeField(z, &i, n);
+  in.t = TakeParameters(z, &i);
+  return in;
+}
+
+Vector StepOutputs(const SceneState& s, const Vector& z) {
+  const StepInputs in = UnpackStep(s.S.n, z);
+  Field<double> xn, vn;
+  ad::StepForward(s.S, in.t, in.x, in.v, &xn, &vn, nullptr);
+  Vector out;
+  Put(xn, &out);
+  Put(vn, &out);
+  return out;
+}
+
+// The step's VJP from its tape: the forward rerun with one.
+Vector StepVjp(const SceneState& s, const Vector& z, const Vector& u) {
+  const std::size_t n = s.S.n;
+  const StepInputs in = UnpackStep(n, z);
+  Field<double> xn, vn;
+  Parameters<double> tb{};
+  ad::StepTape tape;
+  ad::StepForward(s.S, in.t, in.x, in.v, &xn, &vn, &tape);
+  std::size_t i = 0;
+  Field<double> xb = TakeField(u, &i, n), vb = TakeField(u, &i, n);
+  ad::StepBackward(s.S, in.t, tape, &xb, &vb, &tb);
+  Vector out;
+  Put(xb, &out);
+  Put(vb, &out);
+  out.insert(out.end(), tb.begin(), tb.end());
+  return out;
+}
+
 KernelCheck StepCheck(const SceneState& s) {
   const std::size_t n = s.S.n;
   // Positions by 0.1 cu: along 1 cu directions (two-thirds of the spacing) the K composed
@@ -503,37 +587,8 @@ KernelCheck StepCheck(const SceneState& s) {
   for (double v : ParameterScale(theta)) k.scale.push_back(v);
   // Muscle activation makes the parameter reach the bonds; fixed particles' x and v are inputs
   // the step never moves (their cotangents are zero in both).
-  auto unpack = [n](const Vector& z, Field<double>* x, Field<double>* v, Parameters<double>* t) {
-    std::size_t i = 0;
-    *x = TakeField(z, &i, n);
-    *v = TakeField(z, &i, n);
-    *t = TakeParameters(z, &i);
-  };
-  k.f = [&s, unpack](const Vector& z) {
-    Field<double> x, v, xn, vn;
-    Parameters<double> t;
-    unpack(z, &x, &v, &t);
-    ad::StepForward(s.S, t, x, v, &xn, &vn, nullptr);
-    Vector out;
-    Put(xn, &out);
-    Put(vn, &out);
-    return out;
-  };
-  k.vjp = [&s, unpack, n](const Vector& z, const Vector& u) {
-    Field<double> x, v, xn, vn;
-    Parameters<double> t, tb{};
-    unpack(z, &x, &v, &t);
-    ad::StepTape tape;
-    ad::StepForward(s.S, t, x, v, &xn, &vn, &tape);
-    std::size_t i = 0;
-    Field<double> xb = TakeField(u, &i, n), vb = TakeField(u, &i, n);
-    ad::StepBackward(s.S, t, tape, &xb, &vb, &tb);
-    Vector out;
-    Put(xb, &out);
-    Put(vb, &out);
-    out.insert(out.end(), tb.begin(), tb.end());
-    return out;
-  };
+  k.f = [&s](const Vector& z) { return StepOutputs(s, z); };
+  k.vjp = [&s](const Vector& z, const Vector& u) { return StepVjp(s, z, u); };
   return k;
 }
 
@@ -679,27 +734,115 @@ std::vector<LossTerm> SelfReferencedLoss(const SiberneticConfig& config,
   return loss;
 }
 
+namespace {
+
+// The end-to-end test's problem: the configuration's model at its default parameters (with the
+// options' α_density and density passes), its loss, and the checkpointed reverse pass's gradient
+// at the model's initial state.
+struct EndToEndProblem {
+  SiberneticConfig config;
+  PhysicsConstants constants;
+  std::vector<double> theta;
+  std::vector<LossTerm> loss;
+  GradientSummary gradient;
+  std::vector<Vec3d> x0, v0;
+  std::vector<std::int32_t> movers;
+};
+
+EndToEndProblem EndToEndProblemOf(const GradCheckOptions& o) {
+  if (o.end_to_end_config.empty())
+    throw InputError("gradcheck reverse: no configuration for the end-to-end test");
+  EndToEndProblem p;
+  p.config = ReadSiberneticConfig(o.end_to_end_config);
+  if (o.end_to_end_density_passes >= 0)
+    p.constants.xpbd.density_passes = o.end_to_end_density_passes;
+  DifferentiableXpbd model(p.config, p.constants);
+  p.theta = model.DefaultParameters();
+  if (o.end_to_end_alpha_density >= 0) p.theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  const std::size_t N = o.end_to_end_steps;
+  p.loss = o.end_to_end_loss.empty() ? SelfReferencedLoss(p.config, model, p.theta, N)
+                                     : o.end_to_end_loss;
+  GradientOptions go;
+  go.steps = N;
+  go.checkpoint_every = 10;
+  p.gradient = model.Gradient(p.theta, p.loss, go);
+  p.x0 = model.initial_positions(), p.v0 = model.initial_velocities();
+  p.movers = model.moving();
+  return p;
+}
+
+// A random direction in (x0, v0, θ): moving particles' positions by N(0, 1e-2) cu and velocities
+// by N(0, 1e-3) per axis, each parameter by N(0, 1%) of its magnitude (1e-2 when it is zero, and
+// for the restitution). `gauss` is the test's one distribution: it keeps a draw between calls.
+struct Direction {
+  std::vector<Vec3d> dx, dv;
+  std::vector<double> dtheta;
+};
+
+Direction RandomDirection(const EndToEndProblem& p, std::normal_distribution<double>* gauss,
+                          std::mt19937_64* rng) {
+  Direction d;
+  d.dx.assign(p.x0.size(), Vec3d{0, 0, 0});
+  d.dv = d.dx;
+  for (std::int32_t i : p.movers)
+    for (int a = 0; a < 3; ++a) {
+      d.dx[std::size_t(i)][a] = (*gauss)(*rng) * 1e-2;
+      d.dv[std::size_t(i)][a] = (*gauss)(*rng) * 1e-3;
+    }
+  d.dtheta.resize(p.theta.size());
+  for (std::size_t q = 0; q < p.theta.size(); ++q)
+    d.dtheta[q] = (*gauss)(*rng) * (p.theta[q] != 0 ? std::abs(p.theta[q]) * 1e-2 : 1e-2);
+  d.dtheta[ad::kRestitution] = (*gauss)(*rng) * 1e-2;
+  return d;
+}
+
+// The loss over `steps` steps from the problem's (x0, v0, θ) moved by sign·ε along d, by a fresh
+// model.
+double LossAlong(const EndToEndProblem& p, const Direction& d, double eps, double sign,
+                 std::size_t steps) {
+  std::vector<Vec3d> x = p.x0, v = p.v0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      x[i][a] += sign * eps * d.dx[i][a];
+      v[i][a] += sign * eps * d.dv[i][a];
+    }
+  std::vector<double> t = p.theta;
+  for (std::size_t q = 0; q < t.size(); ++q) t[q] += sign * eps * d.dtheta[q];
+  DifferentiableXpbd m = DifferentiableXpbd(p.config, p.constants);
+  m.SetInitialState(x, v);
+  return m.Loss(t, p.loss, steps);
+}
+
+// The reverse pass's derivative along d: its gradient dotted with d, particle by particle, then
+// the parameters.
+double AnalyticAlong(const GradientSummary& g, const Direction& d) {
+  double an = 0;
+  for (std::size_t i = 0; i < d.dx.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      an += g.position_gradient[i][a] * d.dx[i][a] + g.velocity_gradient[i][a] * d.dv[i][a];
+  for (std::size_t q = 0; q < d.dtheta.size(); ++q) an += g.parameter_gradient[q] * d.dtheta[q];
+  return an;
+}
+
+std::string EndToEndTestName(const GradCheckOptions& o, const EndToEndProblem& p, double eps,
+                             std::size_t direction) {
+  std::ostringstream s;
+  s << "reverse " << o.end_to_end_steps << " steps (" << o.end_to_end_config << ", "
+    << (o.end_to_end_loss.empty() ? "centroids vs shifted parameters" : o.end_to_end_loss_name)
+    << ", alpha_density=" << p.theta[ad::kAlphaDensity]
+    << ", density_passes=" << p.constants.xpbd.density_passes << ") eps=" << eps << " direction "
+    << direction;
+  return s.str();
+}
+
+}  // namespace
+
 // The end-to-end test: at α_density = end_to_end_alpha_density, the end-to-end loss over
 // end_to_end_steps steps, differentiated by the checkpointed reverse pass along random
 // directions in (x0, v0, θ).
 void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSummary* out) {
-  if (o.end_to_end_config.empty())
-    throw InputError("gradcheck reverse: no configuration for the end-to-end test");
-  const SiberneticConfig config = ReadSiberneticConfig(o.end_to_end_config);
-  PhysicsConstants constants;
-  if (o.end_to_end_density_passes >= 0) constants.xpbd.density_passes = o.end_to_end_density_passes;
-  DifferentiableXpbd model(config, constants);
-  std::vector<double> theta = model.DefaultParameters();
-  if (o.end_to_end_alpha_density >= 0) theta[ad::kAlphaDensity] = o.end_to_end_alpha_density;
+  const EndToEndProblem p = EndToEndProblemOf(o);
   const std::size_t N = o.end_to_end_steps;
-  const std::vector<LossTerm> loss =
-      o.end_to_end_loss.empty() ? SelfReferencedLoss(config, model, theta, N) : o.end_to_end_loss;
-  GradientOptions go;
-  go.steps = N;
-  go.checkpoint_every = 10;
-  const GradientSummary g = model.Gradient(theta, loss, go);
-  const std::vector<Vec3d> x0 = model.initial_positions(), v0 = model.initial_velocities();
-  const std::vector<std::int32_t> movers = model.moving();
   std::normal_distribution<double> gauss(0, 1);
   // DD001's ε and this test's own, 3e-3 (not the kernels' 1e-5): the 100-step forward pass
   // amplifies double rounding to a relative noise of ~1e-9 in demo1's loss, so the quotient's
@@ -708,51 +851,20 @@ void RunEndToEnd(const GradCheckOptions& o, std::mt19937_64* rng, GradCheckSumma
   // and at 1e-4 and 1e-5 up to 1.7e-3 and 2.5e-3: the noise, not the derivative.
   for (double eps : {1e-3, 3e-3})
     for (std::size_t d = 0; d < o.directions; ++d) {
-      std::vector<Vec3d> dx(x0.size(), Vec3d{0, 0, 0}), dv = dx;
-      for (std::int32_t i : movers)
-        for (int a = 0; a < 3; ++a) {
-          dx[std::size_t(i)][a] = gauss(*rng) * 1e-2;
-          dv[std::size_t(i)][a] = gauss(*rng) * 1e-3;
-        }
-      std::vector<double> dt(theta.size());
-      for (std::size_t p = 0; p < theta.size(); ++p)
-        dt[p] = gauss(*rng) * (theta[p] != 0 ? std::abs(theta[p]) * 1e-2 : 1e-2);
-      dt[ad::kRestitution] = gauss(*rng) * 1e-2;
-      auto at = [&](double sign) {
-        std::vector<Vec3d> x = x0, v = v0;
-        for (std::size_t i = 0; i < x.size(); ++i)
-          for (int a = 0; a < 3; ++a) {
-            x[i][a] += sign * eps * dx[i][a];
-            v[i][a] += sign * eps * dv[i][a];
-          }
-        std::vector<double> t = theta;
-        for (std::size_t p = 0; p < t.size(); ++p) t[p] += sign * eps * dt[p];
-        DifferentiableXpbd m = DifferentiableXpbd(config, constants);
-        m.SetInitialState(x, v);
-        return m.Loss(t, loss, N);
-      };
+      const Direction dir = RandomDirection(p, &gauss, rng);
       GradCheckTest t;
       t.kernel = "reverse";
       t.epsilon = eps;
       t.direction = d;
       t.tolerance = o.end_to_end_tolerance;
-      t.finite_difference = (at(1) - at(-1)) / (2 * eps);
-      double an = 0;
-      for (std::size_t i = 0; i < x0.size(); ++i)
-        for (int a = 0; a < 3; ++a)
-          an += g.position_gradient[i][a] * dx[i][a] + g.velocity_gradient[i][a] * dv[i][a];
-      for (std::size_t p = 0; p < theta.size(); ++p) an += g.parameter_gradient[p] * dt[p];
+      t.finite_difference =
+          (LossAlong(p, dir, eps, 1, N) - LossAlong(p, dir, eps, -1, N)) / (2 * eps);
+      double an = AnalyticAlong(p.gradient, dir);
       if (o.sabotage == "reverse") an = -an;
       t.analytic = an;
       t.relative_error = RelativeError(t.finite_difference, an);
       t.pass = std::isfinite(t.relative_error) && t.relative_error <= t.tolerance;
-      std::ostringstream s;
-      s << "reverse " << N << " steps (" << o.end_to_end_config << ", "
-        << (o.end_to_end_loss.empty() ? "centroids vs shifted parameters" : o.end_to_end_loss_name)
-        << ", alpha_density=" << theta[ad::kAlphaDensity]
-        << ", density_passes=" << constants.xpbd.density_passes << ") eps=" << eps << " direction "
-        << d;
-      t.name = s.str();
+      t.name = EndToEndTestName(o, p, eps, d);
       out->tests.push_back(t);
     }
 }
