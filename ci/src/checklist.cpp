@@ -257,10 +257,11 @@ std::size_t AgreeingLabels(const nlohmann::json& entries, const Track& track, Fr
   return agree;
 }
 
-void CheckFrames(Evidence& e, ChecklistItem* item) {
-  const std::size_t pngs = DecodedPngs(e.dir / "frames");
+// frames/frames.json: an object with a "frames" list, labelled with the track the checklist
+// follows (the caller's, never the file's).
+nlohmann::json ReadLabelledFrames(const Evidence& e) {
   const fs::path json_path = e.dir / "frames" / "frames.json";
-  const nlohmann::json j = ReadJsonFile(json_path);
+  nlohmann::json j = ReadJsonFile(json_path);
   if (!j.is_object() || !j.contains("frames") || !j["frames"].is_array())
     throw InputError(json_path.string(), 0, "expected an object with a \"frames\" list");
   const Track& track = e.track;
@@ -270,10 +271,46 @@ void CheckFrames(Evidence& e, ChecklistItem* item) {
     throw InputError(json_path.string(), 0,
                      "labels " + labelled.Describe() + ", but the checklist tracks " +
                          track.Describe() + " (" + e.track_source + ")");
+  return j;
+}
+
+// The frame gate at the sampled frames, as `owval compare --frames` computes it, and the group
+// centroids' gate there when the report has one: each adds its worst value to the item's detail
+// and fails the item when it fails.
+void JudgeSampledFrames(const Evidence& e, FrameSource& ref, FrameSource& cand,
+                        const std::vector<std::size_t>& sampled, ChecklistItem* item) {
+  const Track& track = e.track;
+  const compare::ParityReport p =
+      compare::CompareFrameSources(ref, cand, {track, sampled, std::nullopt, e.options.gates});
+  const compare::Gate& gate = *p.gate("frames");
+  item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
+                  FormatPercent(gate.value) + " of the reference range (gate < " +
+                  FormatPercent(gate.threshold.value) + ")";
+  if (gate.status == compare::GateStatus::kFail) {
+    item->pass = false;
+    item->detail += ", FAILS at frames";
+    // Appended piece by piece: `" " + std::to_string(f)` inlined here trips GCC 12's -Wrestrict
+    // false positive (GCC bug 105329).
+    for (std::size_t f : p.failing_frames) item->detail.append(" ").append(std::to_string(f));
+  }
+  if (const compare::Gate* groups = p.gate("frames.group_centroids")) {
+    item->detail += "; group centroids at the sampled frames: worst " +
+                    FormatPercent(groups->value) + " of the box (gate < " +
+                    FormatPercent(groups->threshold.value) + ")";
+    if (groups->status == compare::GateStatus::kFail) {
+      item->pass = false;
+      item->detail += ", FAILS: " + groups->detail;
+    }
+  }
+}
+
+void CheckFrames(Evidence& e, ChecklistItem* item) {
+  const std::size_t pngs = DecodedPngs(e.dir / "frames");
+  const nlohmann::json j = ReadLabelledFrames(e);
   FrameSource& ref = Need(e.reference, "reference");
   FrameSource& cand = Need(e.candidate, "candidate");
   std::vector<std::size_t> sampled;
-  const std::size_t agree = AgreeingLabels(j["frames"], track, ref, cand, &sampled);
+  const std::size_t agree = AgreeingLabels(j["frames"], e.track, ref, cand, &sampled);
   const std::size_t listed = j["frames"].size();
   item->detail = std::to_string(pngs) + " PNGs decode; " + std::to_string(agree) + "/" +
                  std::to_string(listed) + " labelled values agree with the trajectories";
@@ -285,27 +322,7 @@ void CheckFrames(Evidence& e, ChecklistItem* item) {
                     missing.front() + (missing.size() > 1 ? ", ..." : "") + ")";
   }
   if (sampled.empty()) return;
-  // The frame gate at the sampled frames, as `owval compare --frames` computes it.
-  const compare::ParityReport p =
-      compare::CompareFrameSources(ref, cand, {track, sampled, std::nullopt, e.options.gates});
-  const compare::Gate& gate = *p.gate("frames");
-  item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
-                  FormatPercent(gate.value) + " of the reference range (gate < " +
-                  FormatPercent(gate.threshold.value) + ")";
-  if (gate.status == compare::GateStatus::kFail) {
-    item->pass = false;
-    item->detail += ", FAILS at frames";
-    for (std::size_t f : p.failing_frames) item->detail += " " + std::to_string(f);
-  }
-  if (const compare::Gate* groups = p.gate("frames.group_centroids")) {
-    item->detail += "; group centroids at the sampled frames: worst " +
-                    FormatPercent(groups->value) + " of the box (gate < " +
-                    FormatPercent(groups->threshold.value) + ")";
-    if (groups->status == compare::GateStatus::kFail) {
-      item->pass = false;
-      item->detail += ", FAILS: " + groups->detail;
-    }
-  }
+  JudgeSampledFrames(e, ref, cand, sampled, item);
 }
 
 // A number of a JSON object, or NaN when absent or not a number.
@@ -601,37 +618,46 @@ double LossWithWeightsOfAtLeastOne(const nlohmann::json& targets,
   return loss;
 }
 
-// The history's best iterate rerun once with its recorded simulation; "" when the rerun's
-// residuals and loss are the history's, else why not (docs/checklist.md, item 6).
-std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
-  const nlohmann::json& targets = h.contains("targets") ? h["targets"] : nlohmann::json();
-  std::shared_ptr<const TrackedSeries> reference;
-  const std::string kind =
-      h.contains("simulation") ? HistoryString(h["simulation"], "kind", "simulation.") : "";
-  // Runs scored by targets (the engine's, or a named backend's): the targets, run length and
-  // weights are held to the directory's reference and the caller's threshold.
-  const bool engine_fit = kind == "engine" || kind == "backend";
+// Why the history's record cannot be rerun as the directory's evidence ("" when it can). Runs
+// scored by targets (the engine's, or a named backend's): the targets, run length and weights are
+// held to the directory's reference (`reference` receives the targets' tracked series); a model
+// fit to its own record; every fit's configuration to the expected one.
+std::string RecordDisagreement(Evidence& e, const nlohmann::json& h, bool engine_fit,
+                               const nlohmann::json& targets,
+                               std::shared_ptr<const TrackedSeries>* reference) {
   if (engine_fit) {
-    const std::string moved = TargetsAgainstReference(e, targets, &reference);
+    const std::string moved = TargetsAgainstReference(e, targets, reference);
     if (!moved.empty()) return moved;
     const std::string longer = LongerThanReference(e, NumberOr(h["simulation"], "duration_s"));
     if (!longer.empty()) return longer;
   } else if (IsModelFit(h)) {
     if (const std::string other = ModelFitAgainstReference(e, h); !other.empty()) return other;
   }
-  const std::string configuration = ConfigurationAgainstExpected(e);
-  if (!configuration.empty()) return configuration;
+  return ConfigurationAgainstExpected(e);
+}
+
+// The history's best iterate rerun with its recorded simulation (through the caller's backend
+// entry when one is named), its progress shown on the terminal.
+sgd::FitRerun RerunBest(Evidence& e, const nlohmann::json& h,
+                        const std::shared_ptr<const TrackedSeries>& reference) {
   Progress progress("checklist: rerunning the fit's best parameters", 0, QuietMode());
   sgd::FitRerunOptions options;
   options.rms_reference = reference;
-  options.loss_reference = e.reference.get();  // held to the record's hash above
+  options.loss_reference = e.reference.get();  // held to the record's hash by RecordDisagreement
   if (e.options.fit_backend) options.backend = &*e.options.fit_backend;  // the caller's entry
   options.on_step = [&](std::size_t done, std::size_t total) {
     progress.Update(done, std::to_string(done) + "/" + std::to_string(total) + " steps");
   };
-  const sgd::FitRerun rerun = sgd::RerunBestIterate(h, e.dir / "fit", options);
+  sgd::FitRerun rerun = sgd::RerunBestIterate(h, e.dir / "fit", options);
   progress.Finish();
-  if (!rerun.not_verified.empty()) return "not verified: " + rerun.not_verified;
+  return rerun;
+}
+
+// Whether the rerun reproduces the best iteration's loss and residuals within the caller's
+// tolerance ("" when it does, else why not). `rerun_detail` receives the rerun's loss against the
+// history's, and e.rerun_at_default_tolerance whether it reproduces at DD001's tolerance too.
+std::string ReproductionDisagreement(Evidence& e, const sgd::FitRerun& rerun,
+                                     std::string* rerun_detail) {
   const nlohmann::json& best = rerun.best_iteration;
   const double claimed = NumberOr(best, "loss");
   const double tolerance = e.options.fit_rerun_tolerance;
@@ -649,8 +675,14 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
                                      : "at the default the rerun does NOT reproduce the best "
                                        "iteration's residuals";
   if (!reproduces(tolerance)) return "the rerun does not reproduce the best iteration's residuals";
-  // The rerun's own loss is judged too: the tolerance is the caller's to loosen, never a way
-  // for a claimed loss the rerun does not reach to pass.
+  return "";
+}
+
+// The rerun's own loss against the caller's threshold ("" when below, else why not): the
+// tolerance is the caller's to loosen, never a way for a claimed loss the rerun does not reach to
+// pass. A fit scored by targets is judged with no target weight below 1 (noted in rerun_detail).
+std::string RerunLossDisagreement(const Evidence& e, bool engine_fit, const nlohmann::json& targets,
+                                  const sgd::FitRerun& rerun, std::string* rerun_detail) {
   if (!engine_fit) {
     if (rerun.loss < e.options.fit_loss_threshold) return "";
     return "the rerun's loss " + FormatNumber(rerun.loss, 6) +
@@ -666,15 +698,35 @@ std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string*
          ", not below the caller's threshold " + FormatNumber(e.options.fit_loss_threshold, 6);
 }
 
-void CheckFitHistory(Evidence& e, ChecklistItem* item) {
-  const nlohmann::json h = ReadJsonFile(e.dir / "fit" / "history.json");
+// The history's best iterate rerun once with its recorded simulation; "" when the rerun's
+// residuals and loss are the history's, else why not (docs/checklist.md, item 6).
+std::string RerunDisagreement(Evidence& e, const nlohmann::json& h, std::string* rerun_detail) {
+  const nlohmann::json& targets = h.contains("targets") ? h["targets"] : nlohmann::json();
+  std::shared_ptr<const TrackedSeries> reference;
+  const std::string kind =
+      h.contains("simulation") ? HistoryString(h["simulation"], "kind", "simulation.") : "";
+  const bool engine_fit = kind == "engine" || kind == "backend";
+  const std::string unfit = RecordDisagreement(e, h, engine_fit, targets, &reference);
+  if (!unfit.empty()) return unfit;
+  const sgd::FitRerun rerun = RerunBest(e, h, reference);
+  if (!rerun.not_verified.empty()) return "not verified: " + rerun.not_verified;
+  const std::string unreproduced = ReproductionDisagreement(e, rerun, rerun_detail);
+  if (!unreproduced.empty()) return unreproduced;
+  return RerunLossDisagreement(e, engine_fit, targets, rerun, rerun_detail);
+}
+
+// fit/history.json of the directory: an object whose "converged", when present, is a boolean.
+nlohmann::json ReadFitHistory(const fs::path& dir) {
+  nlohmann::json h = ReadJsonFile(dir / "fit" / "history.json");
   if (!h.is_object())
-    throw InputError((e.dir / "fit/history.json").string(), 0, "expected an object");
+    throw InputError((dir / "fit/history.json").string(), 0, "expected an object");
   if (h.contains("converged") && !h["converged"].is_boolean())
-    throw InputError((e.dir / "fit/history.json").string(), 0, "converged: expected true or false");
-  const bool converged = h.value("converged", false);
-  const std::size_t iterations =
-      h.contains("iterations") && h["iterations"].is_array() ? h["iterations"].size() : 0;
+    throw InputError((dir / "fit/history.json").string(), 0, "converged: expected true or false");
+  return h;
+}
+
+// "N iterations, stop reason: R[, final loss L]", as the history states them.
+std::string HistoryDescription(const nlohmann::json& h, std::size_t iterations) {
   std::ostringstream s;
   s << iterations << " iterations, stop reason: "
     << (h.contains("stop_reason") && h["stop_reason"].is_string()
@@ -683,32 +735,34 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   if (h.contains("final") && h["final"].is_object() && h["final"].contains("loss") &&
       h["final"]["loss"].is_number())
     s << ", final loss " << h["final"]["loss"].get<double>();
-  item->detail = s.str();
-  item->pass = converged && iterations > 0;
-  if (!converged) item->detail += " (not converged)";
-  if (!item->pass) return;
+  return s.str();
+}
+
+// What a converged history's own numbers fail to support, as the detail's next clause ("" when
+// they support it): losses its residuals contradict, iterations with no residuals to recompute
+// from, or a best loss not below the caller's threshold.
+std::string UnsupportedConvergence(const Evidence& e, const nlohmann::json& h) {
   std::size_t unverified = 0;
   const std::string contradiction = HistoryContradiction(h, &unverified);
-  item->pass = false;
-  if (!contradiction.empty()) {
-    item->detail += "; CONTRADICTED by its own numbers: " + contradiction;
-    return;
-  }
+  if (!contradiction.empty()) return "; CONTRADICTED by its own numbers: " + contradiction;
   if (unverified > 0) {
     // Nothing in the file to recompute those losses from: a claim, not evidence.
-    item->detail += "; converged claimed, not verified: " + std::to_string(unverified) +
-                    " iteration(s) record no residuals to recompute the loss from";
-    return;
+    return "; converged claimed, not verified: " + std::to_string(unverified) +
+           " iteration(s) record no residuals to recompute the loss from";
   }
   const double best = NumberOr(h["final"], "loss");
   if (!(best < e.options.fit_loss_threshold)) {
-    item->detail += "; FAILS: the best loss " + FormatNumber(best, 6) +
-                    " is not below the caller's threshold " +
-                    FormatNumber(e.options.fit_loss_threshold, 6) +
-                    " (the history's own loss_threshold is " +
-                    FormatNumber(NumberOr(h, "loss_threshold"), 6) + ")";
-    return;
+    return "; FAILS: the best loss " + FormatNumber(best, 6) +
+           " is not below the caller's threshold " + FormatNumber(e.options.fit_loss_threshold, 6) +
+           " (the history's own loss_threshold is " +
+           FormatNumber(NumberOr(h, "loss_threshold"), 6) + ")";
   }
+  return "";
+}
+
+// The rerun's verdict on the best iterate, appended to the item's detail; the item passes only
+// when the rerun agrees.
+void JudgeRerun(Evidence& e, const nlohmann::json& h, ChecklistItem* item) {
   std::string rerun;
   const std::string disagreement = RerunDisagreement(e, h, &rerun);
   if (!rerun.empty()) item->detail += "; " + rerun;
@@ -721,6 +775,24 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   item->detail +=
       "; each loss, the best one and converged agree with the residuals, and the rerun "
       "reproduces the best iteration's residuals";
+}
+
+void CheckFitHistory(Evidence& e, ChecklistItem* item) {
+  const nlohmann::json h = ReadFitHistory(e.dir);
+  const bool converged = h.value("converged", false);
+  const std::size_t iterations =
+      h.contains("iterations") && h["iterations"].is_array() ? h["iterations"].size() : 0;
+  item->detail = HistoryDescription(h, iterations);
+  item->pass = converged && iterations > 0;
+  if (!converged) item->detail += " (not converged)";
+  if (!item->pass) return;
+  const std::string unsupported = UnsupportedConvergence(e, h);
+  item->pass = false;
+  if (!unsupported.empty()) {
+    item->detail += unsupported;
+    return;
+  }
+  JudgeRerun(e, h, item);
 }
 
 // A test's "pass" is a claim; its own relative error against its own tolerance (gradcheck's
