@@ -85,7 +85,8 @@ void SetUp(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
   const std::vector<CLI::Option*> run_flags = AddRunFlags(cmd, &r);
   AddThreadsFlag(cmd, &a->options.threads,
-                 " (default: every idle core; one below 4,096 particles)");
+                 " (default: every idle core; one below " +
+                     std::to_string(engine::kFewestParticlesForThreads) + " particles)");
   AddJsonFlag(cmd, &a->json, "a summary");
   CLI::Option* resume =
       cmd->add_option("--resume", a->resume,

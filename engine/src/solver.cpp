@@ -90,7 +90,7 @@ int ThreadsFor(const SiberneticConfig& config, int requested) {
     throw InputError("threads: expected 0 (every idle core) or 1 to " +
                      std::to_string(kMaxThreads) + ", found " + std::to_string(requested));
   if (requested > 0) return requested;
-  return config.particle_count() < 4096 ? 1 : IdleCores();
+  return config.particle_count() < kFewestParticlesForThreads ? 1 : IdleCores();
 }
 
 }  // namespace

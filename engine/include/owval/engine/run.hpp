@@ -23,6 +23,9 @@ Integrator ParseIntegrator(const std::string& name);
 // at barriers, and far beyond them the OpenMP runtime fails to start them (libgomp aborted at
 // 50,000 threads here and crashed at 100,000).
 inline constexpr int kMaxThreads = 1024;
+// The engine's thread rule runs a configuration of fewer particles on one thread: fork/join and
+// barriers cost more than they save there (solver.cpp, ThreadsFor).
+inline constexpr std::size_t kFewestParticlesForThreads = 4096;
 
 struct RunOptions {
   double duration_s = 0.05;  // steps = (int)(duration_s / dt) computed in float, as Sibernetic
@@ -37,8 +40,8 @@ struct RunOptions {
   bool apply_physical_parameters = false;
   // Where muscle activations come from; kAuto follows Sibernetic (waves for "worm" files).
   MuscleSignal muscle_signal = MuscleSignal::kAuto;
-  // OpenMP threads: 0 for the engine's rule (every idle core; one below 4,096 particles), or 1 to
-  // kMaxThreads. More is an InputError (MakeSolver).
+  // OpenMP threads: 0 for the engine's rule (every idle core; one below
+  // kFewestParticlesForThreads), or 1 to kMaxThreads. More is an InputError (MakeSolver).
   int threads = 0;
   bool record_fields = true;  // store velocity, density and pressure per frame
   // Where the state dump goes when a NaN appears (owval_nan_dump_step<k>.txt); empty: no dump.
