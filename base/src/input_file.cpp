@@ -11,8 +11,14 @@ namespace fs = std::filesystem;
 namespace {
 
 // Whether an interrupted OutputGroup::Commit in the file's directory names it.
+// A marker that is not a regular file is none owval wrote: a FIFO of that name would block the
+// ifstream's open() until a writer appeared, and every reader in its directory with it.
 bool NamedByCommitMarker(const fs::path& path) {
-  std::ifstream marker(CommitMarkerPath(path.parent_path().empty() ? "." : path.parent_path()));
+  const fs::path marker_path =
+      CommitMarkerPath(path.parent_path().empty() ? "." : path.parent_path());
+  std::error_code error;
+  if (!fs::is_regular_file(marker_path, error)) return false;
+  std::ifstream marker(marker_path);
   const std::string name = path.filename().string();
   for (std::string line; marker && std::getline(marker, line);)
     if (line == name) return true;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -245,6 +247,49 @@ TEST(HostileFlags, BenchIoKilledLeavesNothingBehind) {
   EXPECT_TRUE(stopped) << "status " << status;
   EXPECT_FALSE(fs::exists(text));
   EXPECT_FALSE(fs::exists(dir)) << "left " << Entries(dir).size() << " entries";
+}
+
+// Hostile-input sweep, thirtieth session: what regular-file inputs already refused still blocked
+// or was clobbered elsewhere. Each command runs under `timeout`: a blocked open() is exit 124.
+Result OwvalWithin(const fs::path& dir, int seconds, const std::string& args) {
+  return RunCaptured("cd '" + dir.string() + "' && timeout " + std::to_string(seconds) + " " +
+                     OWVAL_EXE + " --quiet " + args);
+}
+
+void MakeFifo(const fs::path& path) { ASSERT_EQ(::mkfifo(path.c_str(), 0644), 0) << path; }
+
+// A FIFO named .owval-commit blocked every reader of its directory (the commit-marker check
+// opened it before the input); a FIFO .wcon blocked kinematics (the WCON reader had no
+// regular-file check).
+TEST(HostileFlags, AFifoMarkerOrWconIsRefusedWithoutBlocking) {
+  const fs::path dir = FreshDirectory("fifo_inputs");
+  fs::copy_file(kOneSprig, dir / "a.txt");
+  MakeFifo(dir / ".owval-commit");
+  const Result inspect = OwvalWithin(dir, 30, "inspect a.txt");
+  EXPECT_EQ(inspect.exit_code, 0) << inspect.err;  // a FIFO is no marker owval wrote
+  MakeFifo(dir / "w.wcon");
+  ExpectOneLineRefusal(OwvalWithin(dir, 30, "kinematics w.wcon"), "w.wcon: is a FIFO", "wcon");
+}
+
+// A worm directory's side files: a FIFO worm_motion_log.txt or a FIFO .zattrs inside the Zarr
+// store blocked ci quick-test (and validate, checklist) forever; now the side-file gate fails
+// naming it (exit 1).
+TEST(HostileFlags, AFifoSideFileFailsItsGateWithoutBlocking) {
+  const fs::path worm = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
+  if (ReferenceMissing(worm / "position_buffer.txt.gz")) GTEST_SKIP() << "no shared reference";
+  const fs::path dir = FreshDirectory("fifo_side_files");
+  ASSERT_EQ(OwvalIn(dir, "convert " + (worm / "position_buffer.txt.gz").string() + " candidate.h5")
+                .exit_code,
+            0);
+  fs::copy_file(dir / "candidate.h5", dir / "reference.h5");
+  ASSERT_EQ(OwvalIn(dir, "convert candidate.h5 trajectory.zarr").exit_code, 0);
+  fs::remove(dir / "trajectory.zarr/.zattrs");
+  MakeFifo(dir / "trajectory.zarr/.zattrs");
+  MakeFifo(dir / "worm_motion_log.txt");
+  const Result r = OwvalWithin(dir, 60, "ci quick-test .");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("worm_motion_log.txt: is a FIFO"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(".zattrs: is a FIFO"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
 #include "log_lines.hpp"
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 
 namespace owval::kinematics {
 
 LogLines::LogLines(std::filesystem::path path, std::string expected)
-    : path_(std::move(path)), expected_(std::move(expected)), file_(gzopen(path_.c_str(), "rb")) {
+    : path_(std::move(path)), expected_(std::move(expected)) {
+  RequireInputFile(path_);  // before gzopen(): a FIFO would block it
+  file_ = gzopen(path_.c_str(), "rb");
   if (!file_) throw InputError(path_.string(), 0, "cannot open");
 }
 

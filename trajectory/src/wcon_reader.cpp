@@ -12,6 +12,7 @@
 #include "frame_times.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/trajectory/worm_formats.hpp"
 #include "wcon_units.hpp"
 
@@ -467,6 +468,7 @@ struct WconReader::Parsed : json::json_sax_t {
 
 WconReader::WconReader(const std::filesystem::path& path)
     : parsed_(std::make_unique<Parsed>(path.string())) {
+  RequireInputFile(path, "a WCON file");  // before fopen(): a FIFO would block it
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                              &std::fclose);
   if (!file) throw InputError(path.string(), 0, "cannot open");

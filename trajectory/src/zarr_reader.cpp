@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/base/memory_budget.hpp"
 #include "owval/trajectory/worm_formats.hpp"
@@ -21,6 +22,7 @@ using json = nlohmann::json;
 namespace {
 
 std::string ReadBytes(const fs::path& path) {
+  RequireInputFile(path);  // before open(): a FIFO in the store would block it
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open");
   std::ostringstream s;
