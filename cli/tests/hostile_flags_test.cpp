@@ -292,5 +292,37 @@ TEST(HostileFlags, AFifoSideFileFailsItsGateWithoutBlocking) {
   EXPECT_NE(r.out.find(".zattrs: is a FIFO"), std::string::npos) << r.out;
 }
 
+std::string Bytes(const fs::path& p) { return Slurp(p); }
+
+// `predict C -o C`, `reconcile P T -o P` (or T) replaced their input with the JSON and exited 0;
+// `run DIR/position_buffer.txt --out DIR` replaced its configuration; `predict -o DIR` failed
+// only at the rename, after the work. Refused before work, the inputs byte for byte as they were.
+TEST(HostileFlags, AnOutputThatIsAnInputIsRefusedBeforeWork) {
+  const fs::path dir = FreshDirectory("output_is_input");
+  fs::create_directories(dir / "run");
+  fs::copy_file(fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration", dir / "C");
+  fs::copy_file(dir / "C", dir / "run/position_buffer.txt");
+  fs::copy_file(kOneSprig, dir / "t.txt");
+  ASSERT_EQ(OwvalIn(dir, "predict one_sprig -o p.json").exit_code, 0);
+  fs::create_directories(dir / "out.json");
+  const std::vector<std::string> names = {"C", "run/position_buffer.txt", "t.txt", "p.json"};
+  std::vector<std::string> before;
+  for (const std::string& n : names) before.push_back(Bytes(dir / n));
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"predict C -o C", "C: is also an input of this command"},
+      {"predict C -o out.json", "out.json: is a directory; expected a file to write"},
+      {"reconcile p.json t.txt -o p.json", "p.json: is also an input of this command"},
+      {"reconcile p.json t.txt -o t.txt", "t.txt: is also an input of this command"},
+      {"run run/position_buffer.txt --time 0.0001 --out run",
+       "run/position_buffer.txt: is also an input of this command"}};
+  for (const auto& [command, says] : cases) {
+    const Result r = OwvalIn(dir, command);
+    ExpectOneLineRefusal(r, says, command);
+    for (std::size_t k = 0; k < names.size(); ++k)
+      EXPECT_EQ(Bytes(dir / names[k]), before[k]) << command << " changed " << names[k];
+  }
+  EXPECT_FALSE(fs::exists(dir / "run/trajectory.h5"));
+}
+
 }  // namespace
 }  // namespace owval::testing

@@ -180,10 +180,15 @@ engine::LongRunOptions Files(const RunRequest& r, const RunDirectoryOptions& o, 
 
 // Every file the run may write, checked before it starts: a directory the user put in the way
 // is refused (exit 2), never replaced. The OME-Zarr store replaces only an owval store.
+// The configuration is an input too: `owval run DIR/position_buffer.txt --out DIR` replaced it.
 void CheckRunOutputs(const RunRequest& r) {
   const fs::path out = r.out;
-  for (const fs::path& output : engine::LongRunOutputs(out)) CheckOutputPath(output);
-  for (const char* name : kSideFiles) CheckOutputPath(out / name);
+  const auto check = [&r](const fs::path& output) {
+    CheckOutputPath(output);
+    CheckOutputIsNotAnInput(output, {r.config});
+  };
+  for (const fs::path& output : engine::LongRunOutputs(out)) check(output);
+  for (const char* name : kSideFiles) check(out / name);
   if (r.zarr) CheckZarrOutput(out / kZarrStore);
 }
 

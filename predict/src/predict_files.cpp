@@ -1,5 +1,9 @@
 #include "owval/predict/predict_files.hpp"
 
+#include <filesystem>
+#include <string>
+#include <vector>
+
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/engine/constants.hpp"
@@ -7,8 +11,21 @@
 #include "owval/trajectory/frame_source.hpp"
 
 namespace owval::predict {
+namespace {
+
+// -o is checked before any work, and against the inputs: `predict CONFIG -o CONFIG` and
+// `reconcile P T -o P` replaced the input with the JSON (exit 0), `-o DIR` failed only at the
+// rename, after the work.
+void CheckJsonOutput(const std::string& out, const std::vector<std::filesystem::path>& inputs) {
+  if (out.empty()) return;
+  CheckOutputPath(out);
+  CheckOutputIsNotAnInput(out, inputs);
+}
+
+}  // namespace
 
 Prediction PredictNamed(const PredictRequest& r) {
+  CheckJsonOutput(r.out, {r.config});
   PredictOptions options;
   options.omit_quarter_factor = r.omit_quarter_factor;
   const scenarios::ResolvedScenario s = scenarios::ResolveScenario(r.config, r.params, r.data_dir);
@@ -22,6 +39,7 @@ Prediction PredictNamed(const PredictRequest& r) {
 }
 
 Reconciliation ReconcileFiles(const ReconcileRequest& r) {
+  CheckJsonOutput(r.out, {r.prediction, r.trajectory});
   const Prediction p = Prediction::FromJson(ReadJsonFile(r.prediction), r.prediction);
   ReconcileOptions options;
   for (const std::string& t : r.tolerances) options.AddTolerance(t);
