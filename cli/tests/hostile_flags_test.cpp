@@ -324,5 +324,20 @@ TEST(HostileFlags, AnOutputThatIsAnInputIsRefusedBeforeWork) {
   EXPECT_FALSE(fs::exists(dir / "run/trajectory.h5"));
 }
 
+// A candidate whose frame 848 is corrupt: frames drew frame 0, committed frame_0.png and
+// frames.json, then read every frame for its gate and exited 2 with the directory in place.
+TEST(HostileFlags, FramesRefusesACorruptFrameBeforeWritingAny) {
+  const fs::path dir = FreshDirectory("frames_corrupt");
+  ASSERT_EQ(OwvalIn(dir, "convert " + kOneSprig + " c.h5").exit_code, 0);
+  std::string bytes = Bytes(dir / "c.h5");
+  bytes[bytes.size() / 3] = '\0';  // inside a deflated chunk of positions, past frame 0's
+  std::ofstream(dir / "c.h5", std::ios::binary | std::ios::trunc) << bytes;
+  const Result inspect = OwvalIn(dir, "inspect c.h5");
+  ASSERT_NE(inspect.err.find("cannot read frame"), std::string::npos) << inspect.err;
+  const std::string command = "frames " + kOneSprig + " c.h5 --at 0 --size 64x36 -o fr";
+  ExpectOneLineRefusal(OwvalIn(dir, command), "cannot read frame", command);
+  EXPECT_FALSE(fs::exists(dir / "fr"));
+}
+
 }  // namespace
 }  // namespace owval::testing

@@ -70,14 +70,16 @@ FramesSummary RenderFrameFiles(const RenderRequest& request) {
   const render::RenderOptions options = Options(r, reference->header());
   const std::vector<std::size_t> at = ParseIndexList(r.at, "--at");
   FramesSummary s;
-  s.frames = render::RenderFrames(*reference, *candidate, at, options, r.out);
-  // Phase 7's frame gate at the rendered frames, as owval compare --frames computes it.
+  // Phase 7's frame gate at the rendered frames, as owval compare --frames computes it. First:
+  // it reads every paired frame, so a corrupt one is refused before any PNG is written (it was
+  // found after the directory had been committed: exit 2 with frames.json in place).
   compare::ParityOptions parity;
   parity.track = *options.tracking;
   parity.sample_frames = at;
   parity.quiet = r.reading.quiet;
   if (r.threshold) parity.gates.frame = {*r.threshold, compare::ThresholdSource::kFlag};
   s.gates = compare::SampledFrameGates(*reference, *candidate, parity);
+  s.frames = render::RenderFrames(*reference, *candidate, at, options, r.out);
   s.at = r.at;
   s.gate = r.gate;
   return s;
