@@ -1,13 +1,16 @@
 #include "owval/pipeline/run_directory.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/command_template.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/json_file.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/long_run.hpp"
@@ -304,20 +307,61 @@ nlohmann::json RunRequest::ToJson() const {
           {"checkpoint_every", checkpoint_every}};
 }
 
+namespace {
+
+using Json = nlohmann::json;
+
+// The checkpoint's recorded arguments are of the types ToJson wrote, checked before any get<>():
+// a flipped byte in them printed nlohmann's "[json.exception.parse_error.101] ..." as the line,
+// and a log_step of 1e30 would have reached get<int>() (a float cast out of range).
+void CheckRecordedArguments(const Json& j, const std::string& file) {
+  if (!j.is_object()) throw InputError(file, 0, "bad run arguments: expected a JSON object");
+  const auto need = [&j, &file](const char* key, bool (*ok)(const Json&), const char* expected) {
+    if (!j.contains(key) || !ok(j[key]))
+      throw InputError(file, 0,
+                       std::string("bad run arguments: \"") + key + "\": expected " + expected);
+  };
+  const auto text = [](const Json& v) { return v.is_string(); };
+  const auto flag = [](const Json& v) { return v.is_boolean(); };
+  for (const char* key : {"config", "backend", "integrator", "muscles"})
+    need(key, text, "a string");
+  for (const char* key : {"apply_physical_parameters", "no_fields", "zarr"})
+    need(key, flag, "true or false");
+  need(
+      "time_s", [](const Json& v) { return v.is_number() && std::isfinite(v.get<double>()); },
+      "a finite number");
+  need(
+      "log_step",
+      [](const Json& v) {
+        return v.is_number_unsigned() && v.get<std::uint64_t>() >= 1 &&
+               v.get<std::uint64_t>() <= std::numeric_limits<int>::max();
+      },
+      "a whole number from 1 to 2^31-1");
+  need(
+      "checkpoint_every", [](const Json& v) { return v.is_number_unsigned(); },
+      "a whole number >= 0");
+  need(
+      "set",
+      [](const Json& v) {
+        return v.is_array() &&
+               std::all_of(v.begin(), v.end(), [](const Json& s) { return s.is_string(); });
+      },
+      "an array of strings");
+}
+
+}  // namespace
+
 RunRequest RunRequest::FromCheckpoint(const std::string& out) {
+  const std::string file = engine::CheckpointPath(out).string();
+  const Json j = ParseJsonText(engine::ReadCheckpointInvocation(out), file + " (run arguments)");
+  CheckRecordedArguments(j, file);
   RunRequest r;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(engine::ReadCheckpointInvocation(out));
-    r.config = j.at("config"), r.time_s = j.at("time_s"), r.log_step = j.at("log_step");
-    r.backend = j.at("backend"), r.integrator = j.at("integrator");
-    r.muscles = j.at("muscles"), r.set = j.at("set").get<std::vector<std::string>>();
-    r.apply_physical_parameters = j.at("apply_physical_parameters");
-    r.no_fields = j.at("no_fields"), r.zarr = j.at("zarr");
-    r.checkpoint_every = j.at("checkpoint_every");
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(engine::CheckpointPath(out).string(), 0,
-                     std::string("bad run arguments: ") + e.what());
-  }
+  r.config = j["config"], r.time_s = j["time_s"], r.log_step = j["log_step"];
+  r.backend = j["backend"], r.integrator = j["integrator"];
+  r.muscles = j["muscles"], r.set = j["set"].get<std::vector<std::string>>();
+  r.apply_physical_parameters = j["apply_physical_parameters"];
+  r.no_fields = j["no_fields"], r.zarr = j["zarr"];
+  r.checkpoint_every = j["checkpoint_every"];
   r.out = out;
   return r;
 }

@@ -211,5 +211,36 @@ TEST(RerunOutputs, AStateDumpsNameIsRecognisedOnlyInItsOwnForm) {
     EXPECT_FALSE(engine::IsStateDumpName(other)) << other;
 }
 
+// A checkpoint's recorded arguments changed in place to another type: the line was nlohmann's
+// "[json.exception.type_error.302] type must be string, but is number" (and a byte flipped in
+// their JSON, "[json.exception.parse_error.101] ..."). Now the field and what was expected.
+TEST(RunCheckpoint, RecordedArgumentsOfAnotherTypeNameTheField) {
+  const fs::path out = owval::testing::TestScratch("checkpoint_arguments");
+  std::atomic<int> polls{0};
+  RunDirectoryOptions stopping;
+  stopping.stop_requested = [&polls] { return ++polls > 100; };  // after 100 steps
+  const std::string config =
+      (fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration").string();
+  if (!fs::exists(config)) GTEST_SKIP() << "no " << config;
+  ASSERT_TRUE(RunInto(ShortRun(config, 0.01, 10, out), stopping).run.checkpointed);
+  EXPECT_EQ(RunRequest::FromCheckpoint(out.string()).config, config);  // as recorded
+  const fs::path file = out / "checkpoint/checkpoint.bin";
+  std::string bytes = ReadWholeFile(file);
+  const std::string from = "\"config\":\"" + config + "\"";
+  const std::string to = "\"config\":" + std::string(config.size() + 2, '1');  // same length
+  const std::size_t at = bytes.find(from);
+  ASSERT_NE(at, std::string::npos);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes.replace(at, from.size(), to);
+  try {
+    RunRequest::FromCheckpoint(out.string());
+    ADD_FAILURE() << "a number for config was accepted";
+  } catch (const InputError& e) {
+    const std::string line = e.what();
+    EXPECT_NE(line.find("bad run arguments: \"config\": expected a string"), std::string::npos)
+        << line;
+    EXPECT_EQ(line.find("json.exception"), std::string::npos) << line;
+  }
+}
+
 }  // namespace
 }  // namespace owval::pipeline
