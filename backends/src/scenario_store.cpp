@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <regex>
 
 #include "owval/base/errors.hpp"
@@ -12,13 +14,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Sibernetic's timelimit= in the recorded command. std::stod threw its bare "stod" for
+// "timelimit=." and "timelimit=1e999" (the whole message); strtod and a check name the field.
+double Timelimit(const std::string& text, const fs::path& file) {
+  char* end = nullptr;
+  const double seconds = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(seconds) || !(seconds > 0))
+    throw InputError(file.string(), 0,
+                     "\"command\": timelimit=" + text + ": expected a positive finite number");
+  return seconds;
+}
+
 double TimeOf(const nlohmann::json& meta, double dt, int log_step, const fs::path& file) {
   if (meta.contains("timelimit_s")) return NumberField(meta, "timelimit_s", file);
   if (meta.contains("command") && meta["command"].is_string()) {
     std::smatch m;
     const std::string command = meta["command"];
     if (std::regex_search(command, m, std::regex(R"(timelimit=([0-9.eE+-]+))")))
-      return std::stod(m[1]);
+      return Timelimit(m[1], file);
   }
   if (meta.contains("frames")) return NumberField(meta, "frames", file) * log_step * dt;
   throw InputError(file.string(), 0, "no time: expected timelimit_s, timelimit= or frames");
@@ -37,11 +50,15 @@ Scenario ReadScenario(const fs::path& directory) {
     s.configuration = directory / "configuration";
   s.time_step_s = NumberField(meta, "time_step_s", file);
   const double log_step = NumberField(meta, "log_step", file);
-  if (!(s.time_step_s > 0) || !(log_step >= 1) || log_step != std::floor(log_step))
-    throw InputError(file.string(), 0, "time_step_s > 0 and integer log_step >= 1 expected");
+  // Checked against int's range before the cast: a log_step of 1e300 became INT_MIN (UB).
+  if (!(s.time_step_s > 0) || !(log_step >= 1) || log_step != std::floor(log_step) ||
+      log_step > std::numeric_limits<int>::max())
+    throw InputError(file.string(), 0,
+                     "time_step_s > 0 and integer log_step from 1 to 2^31-1 expected");
   s.log_step = static_cast<int>(log_step);
   s.time_s = TimeOf(meta, s.time_step_s, s.log_step, file);
-  if (!(s.time_s > 0)) throw InputError(file.string(), 0, "time: expected > 0");
+  if (!(s.time_s > 0) || !std::isfinite(s.time_s))
+    throw InputError(file.string(), 0, "time: expected a positive finite number of seconds");
   if (meta.contains("wall_s")) s.recorded_wall_s = NumberField(meta, "wall_s", file);
   if (meta.contains("wall_includes") && meta["wall_includes"].is_string())
     s.recorded_wall_includes = meta["wall_includes"];

@@ -5,7 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "owval/backends/bench.hpp"
 #include "owval/backends/cache.hpp"
@@ -204,6 +207,39 @@ TEST(ScenarioStore, ReadsTheReferenceFolders) {
   EXPECT_EQ(found[2].log_step, 20);
   EXPECT_THROW(FindScenarios(root, {"demo1_density_diag"}), InputError);  // no configuration
   for (const Scenario& s : FindScenarios(root, {})) EXPECT_FALSE(s.configuration.empty());
+}
+
+// A scenario folder's meta.json from another hand: "log_step": 1e300 became INT_MIN through
+// static_cast<int> (the run then said "--log-step: expected a number > 0, found '-2147483648'",
+// and compare ran with it, exit 0), and the recorded command's "timelimit=." or "timelimit=1e999"
+// ended the command with std::stod's whole message, "stod".
+TEST(ScenarioStore, MetaNumbersOutOfRangeNameTheFileAndField) {
+  const fs::path dir = Scratch("meta_numbers") / "one";
+  fs::create_directories(dir);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"time_step_s": 2e-5, "log_step": 1e300, "frames": 10})", "log_step from 1 to 2^31-1"},
+      {R"({"time_step_s": 2e-5, "log_step": 2147483648, "frames": 10})",
+       "log_step from 1 to 2^31-1"},
+      {R"({"time_step_s": 2e-5, "log_step": 1, "command": "x timelimit=."})",
+       "\"command\": timelimit=.: expected a positive finite number"},
+      {R"({"time_step_s": 2e-5, "log_step": 1, "command": "x timelimit=1e999"})",
+       "\"command\": timelimit=1e999: expected a positive finite number"},
+      {R"({"time_step_s": 1e300, "log_step": 1, "frames": 1e300})",
+       "time: expected a positive finite number of seconds"}};
+  for (const auto& [meta, says] : cases) {
+    Write(dir / "meta.json", meta);
+    try {
+      ReadScenario(dir);
+      ADD_FAILURE() << meta << " was read";
+    } catch (const InputError& e) {
+      const std::string line = e.what();
+      EXPECT_NE(line.find("meta.json"), std::string::npos) << line;
+      EXPECT_NE(line.find(says), std::string::npos) << meta << ": " << line;
+    }
+  }
+  Write(dir / "meta.json", R"({"time_step_s": 2e-5, "log_step": 7, "command": "timelimit=0.5"})");
+  EXPECT_EQ(ReadScenario(dir).log_step, 7);
+  EXPECT_DOUBLE_EQ(ReadScenario(dir).time_s, 0.5);
 }
 
 Scenario TinyScenario(const fs::path& dir) {
