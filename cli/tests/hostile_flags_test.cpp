@@ -339,5 +339,21 @@ TEST(HostileFlags, FramesRefusesACorruptFrameBeforeWritingAny) {
   EXPECT_FALSE(fs::exists(dir / "fr"));
 }
 
+// A fit writes configuration.txt beside its history: `fit DIR/configuration.txt -o DIR` replaced
+// the configuration it was fitting (exit 1 after the evaluations, the input gone).
+TEST(HostileFlags, AFitIntoItsConfigurationsDirectoryIsRefusedBeforeWork) {
+  const fs::path dir = FreshDirectory("fit_into_config");
+  fs::create_directories(dir / "fd");
+  fs::copy_file(fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration",
+                dir / "fd/configuration.txt");
+  const std::string before = Bytes(dir / "fd/configuration.txt");
+  const std::string command =
+      "fit fd/configuration.txt --param elasticity_coefficient=1.62e8:log --target period=7e-4 "
+      "--time 0.0002 -o fd";
+  ExpectOneLineRefusal(OwvalIn(dir, command), "configuration.txt: is also an input", command);
+  EXPECT_EQ(Bytes(dir / "fd/configuration.txt"), before);
+  EXPECT_EQ(Entries(dir / "fd"), std::vector<std::string>{"configuration.txt"});
+}
+
 }  // namespace
 }  // namespace owval::testing

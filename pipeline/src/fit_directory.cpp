@@ -258,6 +258,17 @@ void CheckEveryFlagApplies(const FitRequest& r) {
     throw InputError("fit --gradient " + r.gradient + ": " + flag + " does not apply");
 }
 
+// The four files a fit writes into --out are none of its inputs: `fit DIR/configuration.txt -o
+// DIR` replaced the configuration it fitted with the copy it writes beside the history.
+void CheckOutputsAreNotInputs(const FitRequest& r, const engine::SiberneticConfig* config) {
+  std::vector<fs::path> inputs = {r.reference_file, r.backends_file};
+  if (config) inputs.push_back(config->source);  // "scenario NAME" exists as no file
+  for (const std::string& t : r.targets) inputs.push_back(sgd::ParseTarget(t).reference_file);
+  for (const char* name :
+       {"history.json", "parameters.json", "convergence.svg", "configuration.txt"})
+    CheckOutputIsNotAnInput(fs::path(r.out) / name, inputs);
+}
+
 }  // namespace
 
 void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig* config,
@@ -266,6 +277,7 @@ void FitIntoDirectory(const FitRequest& request, const engine::SiberneticConfig*
   CheckOutputDirectory(request.out);  // before any simulation: "/proc/x", a file, no permission
   MissingDirectories created(request.out);  // a failed fit leaves no empty folder it made
   CheckEveryFlagApplies(request);
+  CheckOutputsAreNotInputs(request, config);
   if (request.gradient == "fd") {
     FiniteDifferenceFit(request, config, cancelled, summary);
   } else {
