@@ -28,11 +28,18 @@ std::size_t WholeNumber(const nlohmann::json& object, const char* field, double 
                          std::to_string(static_cast<long long>(max)));
   return static_cast<std::size_t>(value);
 }
+
+// A scenario is a manifest's file name, never a path: `scenario show ../manifests/one_sprig`
+// read a manifest through "..", and `../../tmp/x` any x.json as one (nlohmann's own line then).
+bool IsScenarioName(const std::string& name) {
+  return !name.empty() && name.front() != '.' && name.find_first_of("/\\") == std::string::npos;
+}
+
 }  // namespace
 
 Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
   const fs::path path = data_dir / "scenarios" / "manifests" / (name + ".json");
-  if (!fs::exists(path)) {
+  if (!IsScenarioName(name) || !fs::exists(path)) {
     std::string known;
     for (const auto& n : ListScenarios(data_dir)) known += (known.empty() ? "" : ", ") + n;
     throw InputError(name, 0, "no such scenario (built-in: " + known + ") or configuration file");

@@ -266,6 +266,21 @@ TEST(Manifests, EveryBuiltInScenarioLoadsAndGenerates) {
   EXPECT_THROW(LoadScenario("no_such_scenario", kSource), InputError);
 }
 
+// A name that is a path reached files beside or outside the manifests: "../manifests/one_sprig"
+// loaded one_sprig, "../../x" read x.json as a manifest. Each is no scenario now.
+TEST(Manifests, ANameThatIsAPathIsNoScenario) {
+  for (const std::string name : {"../manifests/one_sprig", "./one_sprig", "one_sprig/",
+                                 "../../scenarios/manifests/one_sprig", ".hidden"}) {
+    try {
+      LoadScenario(name, kSource);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("no such scenario"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(LoadScenario("one_sprig", kSource).name, "one_sprig");
+}
+
 TEST(Manifests, EveryGateKeySetsItsOwnThresholdAndNoOther) {
   const auto& fields = compare::kGateThresholdFields;
   for (const compare::GateThresholdField& field : fields) {
