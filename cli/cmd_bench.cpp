@@ -16,11 +16,14 @@ namespace owval::cli {
 namespace {
 namespace fs = std::filesystem;
 
-// --json-out is checked before the benchmark runs and written atomically after it.
-void AddJsonOut(CLI::App* cmd, std::string* json_out) {
+// --json-out is checked before the benchmark runs (`--json-out CONFIG` replaced the configuration
+// it had timed) and written atomically after it.
+void AddJsonOut(CLI::App* cmd, std::string* json_out, const std::string* input = nullptr) {
   cmd->add_option("--json-out", *json_out, "Also write the JSON result here")->check(OutputPath());
-  cmd->parse_complete_callback([json_out] {
-    if (!json_out->empty()) CheckOutputPath(*json_out);
+  cmd->parse_complete_callback([json_out, input] {
+    if (json_out->empty()) return;
+    CheckOutputPath(*json_out);
+    if (input) CheckOutputIsNotAnInput(*json_out, {*input});
   });
 }
 void Emit(const nlohmann::json& result, const std::string& json_out) {
@@ -47,7 +50,7 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
                   "demo1, one_sprig (Sibernetic's files in ../shared), a scenario or a file")
       ->check(GivenName());
   cmd->add_option("--steps", o.steps, "Steps to time")->check(PositiveCount());
-  AddJsonOut(cmd, &a->json_out);
+  AddJsonOut(cmd, &a->json_out, &a->config);
   AddBackendFlag(cmd, &o.backend, " to time: pcisph or xpbd (default pcisph)");
   cmd->add_flag("--phases", o.phases,
                 "Time each phase of the step and the frames' fields (one run, --threads)");
@@ -101,7 +104,7 @@ void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
                   "Density compliance (s^2/cu^2, >= 0; 0 is a value, a rigid constraint, as in "
                   "gradcheck); default the model's")
       ->check(NonNegative());
-  AddJsonOut(cmd, &a->json_out);
+  AddJsonOut(cmd, &a->json_out, &a->config);
   cmd->callback([a] {
     nlohmann::json result =
         backends::BenchGradient(ResolveConfig(a->config), a->gradient, a->alpha_density);

@@ -59,6 +59,7 @@ const CLI::Validator kOutputPath = NotEmpty("a path to write", "PATH");
 // Inputs too (--backends, --manifest, --reference, ...): commands read an empty one as "not
 // given" (`compare --manifest ''` compared with the defaults).
 const CLI::Validator kGivenName = NotEmpty("a path or name", "NAME");
+const CLI::Validator kMemorySize = NotEmpty("a size such as 512M or 2G", "SIZE");
 const CLI::Validator kParticleIndex = DigitsOnly("a particle index (0, 1, 2, ...)", "INDEX");
 const CLI::Validator kCount = DigitsOnly("a whole number >= 0", "COUNT");
 const CLI::Validator kPositiveCount(
@@ -144,7 +145,8 @@ int main(int argc, char** argv) {
   std::string max_memory;
   app.add_option("--max-memory", max_memory,
                  "Refuse inputs whose data would need more than SIZE bytes (512M, 2G; default: "
-                 "half of physical memory)");
+                 "half of physical memory)")
+      ->check(kMemorySize);  // `--max-memory ''` ran with the default and said nothing
   app.require_subcommand(1);
   app.fallthrough();
   app.parse_complete_callback([&quiet, &max_memory] {

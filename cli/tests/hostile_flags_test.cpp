@@ -324,6 +324,21 @@ TEST(HostileFlags, AnOutputThatIsAnInputIsRefusedBeforeWork) {
   EXPECT_FALSE(fs::exists(dir / "run/trajectory.h5"));
 }
 
+// bench engine and bench gradient timed CONFIG and then wrote their JSON over it (exit 0); an
+// empty --max-memory ran with the default and said nothing.
+TEST(HostileFlags, ABenchResultOverItsConfigurationAndAnEmptyMemorySizeAreRefused) {
+  const fs::path dir = FreshDirectory("bench_json_over_config");
+  fs::copy_file(fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration", dir / "C");
+  const std::string before = Bytes(dir / "C");
+  for (const std::string command :
+       {"bench engine C --steps 2 --json-out C", "bench gradient C --steps 2 --json-out ./C"}) {
+    ExpectOneLineRefusal(OwvalIn(dir, command), "C: is also an input of this command", command);
+    EXPECT_EQ(Bytes(dir / "C"), before) << command;
+  }
+  ExpectOneLineRefusal(OwvalIn(dir, "--max-memory '' inspect " + kOneSprig),
+                       "expected a size such as 512M or 2G", "--max-memory ''");
+}
+
 // A candidate whose frame 848 is corrupt: frames drew frame 0, committed frame_0.png and
 // frames.json, then read every frame for its gate and exited 2 with the directory in place.
 TEST(HostileFlags, FramesRefusesACorruptFrameBeforeWritingAny) {
