@@ -1,8 +1,10 @@
 // RunToFiles: engine::Run streamed into the output directory, with checkpoints and resume.
 #include "owval/engine/long_run.hpp"
 
+#include <libdeflate.h>
 #include <malloc.h>
 
+#include <cstring>
 #include <fstream>
 #include <memory>
 
@@ -16,7 +18,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kCheckpointMagic[8] = {'O', 'W', 'V', 'L', 'R', 'U', 'N', '1'};
-constexpr std::uint32_t kCheckpointVersion = 1;
+// 2: the file ends with the CRC-32 of every byte before it.
+constexpr std::uint32_t kCheckpointVersion = 2;
 
 // What a checkpoint holds (long_run.hpp).
 struct CheckpointFile {
@@ -46,8 +49,10 @@ void WriteCheckpoint(const fs::path& path, const CheckpointFile& c,
                      const std::string& solver_state) {
   AtomicOutput file(path);
   std::ofstream& out = file.stream();
-  auto put = [&out](const std::string& bytes) {
+  std::uint32_t crc = 0;
+  auto put = [&out, &crc](const std::string& bytes) {
     out.write(bytes.data(), std::streamsize(bytes.size()));
+    crc = libdeflate_crc32(crc, bytes.data(), bytes.size());
   };
   auto blob = [&](const std::string& bytes) {
     std::string size;
@@ -67,7 +72,21 @@ void WriteCheckpoint(const fs::path& path, const CheckpointFile& c,
     put(fields), blob(k.pending);
   }
   blob(solver_state);
+  std::string tail;
+  internal::StateWriter(&tail).Put(crc);
+  put(tail);
   file.Commit();
+}
+
+// A byte flipped in the solver's state resumed the run from an altered state and said nothing:
+// the file's last four bytes are the CRC-32 of all before them.
+void CheckCrc(const std::string& bytes, internal::StateReader* r) {
+  std::uint32_t stored = 0;
+  if (bytes.size() < sizeof stored) r->Fail("truncated");
+  const std::size_t body = bytes.size() - sizeof stored;
+  std::memcpy(&stored, bytes.data() + body, sizeof stored);
+  if (libdeflate_crc32(0, bytes.data(), body) != stored)
+    r->Fail("its CRC-32 does not match its contents: the file was altered or damaged");
 }
 
 CheckpointFile Load(const fs::path& out) {
@@ -82,6 +101,7 @@ CheckpointFile Load(const fs::path& out) {
   if (version != kCheckpointVersion)
     r.Fail("format version " + std::to_string(version) + ", this build reads " +
            std::to_string(kCheckpointVersion));
+  CheckCrc(bytes, &r);
   CheckpointFile c;
   std::uint64_t writers = 0;
   r.Get(&c.invocation), r.Get(&c.fingerprint), r.Get(&c.steps), r.Get(&c.frames), r.Get(&writers);
@@ -92,7 +112,9 @@ CheckpointFile Load(const fs::path& out) {
     if (k.frames != c.frames) r.Fail("an output's frame count differs from the run's");
   }
   r.Get(&c.solver_state);
-  if (!r.done()) r.Fail("bytes left after the solver state");
+  std::uint32_t crc = 0;  // checked above
+  r.Get(&crc);
+  if (!r.done()) r.Fail("bytes left after the checksum");
   return c;
 }
 

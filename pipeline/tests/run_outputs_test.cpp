@@ -8,10 +8,12 @@
 //   removed to start afresh, go with the new run's commit; a user's own files stay. So does an
 //   earlier failed run's state dump.
 #include <gtest/gtest.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -230,7 +232,18 @@ TEST(RunCheckpoint, RecordedArgumentsOfAnotherTypeNameTheField) {
   const std::string to = "\"config\":" + std::string(config.size() + 2, '1');  // same length
   const std::size_t at = bytes.find(from);
   ASSERT_NE(at, std::string::npos);
-  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes.replace(at, from.size(), to);
+  bytes.replace(at, from.size(), to);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  try {  // the checksum sees the edit first
+    RunRequest::FromCheckpoint(out.string());
+    ADD_FAILURE() << "an edited checkpoint was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("CRC-32 does not match"), std::string::npos) << e.what();
+  }
+  // Sealed again (as a writer that recorded the wrong type would have): the field is named.
+  const std::uint32_t crc = libdeflate_crc32(0, bytes.data(), bytes.size() - 4);
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
   try {
     RunRequest::FromCheckpoint(out.string());
     ADD_FAILURE() << "a number for config was accepted";
@@ -240,6 +253,41 @@ TEST(RunCheckpoint, RecordedArgumentsOfAnotherTypeNameTheField) {
         << line;
     EXPECT_EQ(line.find("json.exception"), std::string::npos) << line;
   }
+}
+
+// A checkpoint with one byte of the solver's state flipped resumed the run from the altered state
+// (exit 0); the file's CRC-32 now refuses it before anything is touched.
+TEST(RunCheckpoint, AByteFlippedInTheSolversStateIsRefused) {
+  const fs::path out = owval::testing::TestScratch("checkpoint_flipped");
+  std::atomic<int> polls{0};
+  RunDirectoryOptions stopping;
+  stopping.stop_requested = [&polls] { return ++polls > 100; };  // after 100 steps
+  const std::string config =
+      (fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration").string();
+  if (!fs::exists(config)) GTEST_SKIP() << "no " << config;
+  ASSERT_TRUE(RunInto(ShortRun(config, 0.01, 10, out), stopping).run.checkpointed);
+  const fs::path file = out / "checkpoint/checkpoint.bin";
+  std::string bytes = ReadWholeFile(file);
+  bytes[bytes.size() - 1000] ^= 0x10;  // inside the solver's state, the last blob
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  const auto listing = [&out] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(out))
+      names.push_back(e.path().string() + " " +
+                      (e.is_regular_file() ? std::to_string(e.file_size()) : "dir"));
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> before = listing();
+  RunDirectoryOptions resume;
+  resume.resume = true;
+  try {
+    RunInto(RunRequest::FromCheckpoint(out.string()), resume);
+    ADD_FAILURE() << "a checkpoint with a flipped byte was resumed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("CRC-32 does not match"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(listing(), before);
 }
 
 }  // namespace

@@ -16,7 +16,8 @@
 // Checkpoint (out/checkpoint/checkpoint.bin, written atomically every
 // run_options.checkpoint_every steps and on a stop): format version, the caller's invocation
 // text, the configuration's fingerprint, steps done, frames, each output's WriterCheckpoint
-// (trajectory/writer.hpp) and the solver's state (Solver::SaveState). Resuming
+// (trajectory/writer.hpp), the solver's state (Solver::SaveState) and the CRC-32 of all of
+// that (a flipped byte is refused, not resumed from). Resuming
 // (LongRunOptions::resume) continues the outputs from there, whether the run was killed
 // (temporary files) or interrupted (partial files); what it writes is byte for byte what an
 // uninterrupted run writes (text bytes, HDF5 dataset values). A run that completes removes
