@@ -32,6 +32,7 @@ namespace fs = std::filesystem;
 
 const fs::path kRun = fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s";
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/configuration";
+const fs::path kOneSprig = fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration";
 constexpr const char* kLog = "muscles_activity_buffer.txt";
 
 // A positions-only run of `config` for `time_s` into `out`.
@@ -59,6 +60,14 @@ RunDirectorySummary RunInto(const RunRequest& r, RunDirectoryOptions options = {
   return summary;
 }
 
+// one_sprig run into `out` and stopped after 100 of its steps; whether it left a checkpoint.
+bool StopAfterOneHundredSteps(const fs::path& out) {
+  std::atomic<int> polls{0};
+  RunDirectoryOptions stopping;
+  stopping.stop_requested = [&polls] { return ++polls > 100; };
+  return RunInto(ShortRun(kOneSprig, 0.01, 10, out), stopping).run.checkpointed;
+}
+
 // The first `lines` lines of `text`.
 std::string Head(const std::string& text, std::size_t lines) {
   std::size_t at = 0;
@@ -70,7 +79,8 @@ std::string Head(const std::string& text, std::size_t lines) {
 }
 
 bool ReferenceMissing() {
-  if (fs::exists(kRun / kLog) && fs::exists(kRun / "configuration")) return false;
+  if (fs::exists(kRun / kLog) && fs::exists(kRun / "configuration") && fs::exists(kOneSprig))
+    return false;
   if (std::getenv("OWVAL_REQUIRE_REFERENCE")) ADD_FAILURE() << "no " << kRun;
   return true;
 }
@@ -218,13 +228,9 @@ TEST(RerunOutputs, AStateDumpsNameIsRecognisedOnlyInItsOwnForm) {
 // their JSON, "[json.exception.parse_error.101] ..."). Now the field and what was expected.
 TEST(RunCheckpoint, RecordedArgumentsOfAnotherTypeNameTheField) {
   const fs::path out = owval::testing::TestScratch("checkpoint_arguments");
-  std::atomic<int> polls{0};
-  RunDirectoryOptions stopping;
-  stopping.stop_requested = [&polls] { return ++polls > 100; };  // after 100 steps
-  const std::string config =
-      (fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration").string();
-  if (!fs::exists(config)) GTEST_SKIP() << "no " << config;
-  ASSERT_TRUE(RunInto(ShortRun(config, 0.01, 10, out), stopping).run.checkpointed);
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kOneSprig;
+  ASSERT_TRUE(StopAfterOneHundredSteps(out));
+  const std::string config = kOneSprig.string();
   EXPECT_EQ(RunRequest::FromCheckpoint(out.string()).config, config);  // as recorded
   const fs::path file = out / "checkpoint/checkpoint.bin";
   std::string bytes = ReadWholeFile(file);
@@ -259,13 +265,8 @@ TEST(RunCheckpoint, RecordedArgumentsOfAnotherTypeNameTheField) {
 // (exit 0); the file's CRC-32 now refuses it before anything is touched.
 TEST(RunCheckpoint, AByteFlippedInTheSolversStateIsRefused) {
   const fs::path out = owval::testing::TestScratch("checkpoint_flipped");
-  std::atomic<int> polls{0};
-  RunDirectoryOptions stopping;
-  stopping.stop_requested = [&polls] { return ++polls > 100; };  // after 100 steps
-  const std::string config =
-      (fs::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration").string();
-  if (!fs::exists(config)) GTEST_SKIP() << "no " << config;
-  ASSERT_TRUE(RunInto(ShortRun(config, 0.01, 10, out), stopping).run.checkpointed);
+  if (ReferenceMissing()) GTEST_SKIP() << "no " << kOneSprig;
+  ASSERT_TRUE(StopAfterOneHundredSteps(out));
   const fs::path file = out / "checkpoint/checkpoint.bin";
   std::string bytes = ReadWholeFile(file);
   bytes[bytes.size() - 1000] ^= 0x10;  // inside the solver's state, the last blob
