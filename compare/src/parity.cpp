@@ -1205,8 +1205,8 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
     {"min_crossings", "--min-crossings", &G::min_crossings,
      "Upward crossings both signals need for the oscillation gates"},
     {"centroid_distance_threshold", "--centroid-threshold", &G::centroid_distance,
-     "centroid_distance gates (elastic, liquid): the group centroids' largest distance over "
-     "time, fraction of the box"},
+     "centroid_distance gates (elastic, liquid) and worm.centre_of_mass: the centroids' "
+     "largest distance over time, fraction of the box"},
     {"extent_threshold", "--extent-threshold", &G::extent,
      "extent gates (elastic, liquid): the largest |extent difference| per axis, fraction of "
      "the box extent"},
