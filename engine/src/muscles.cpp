@@ -3,6 +3,9 @@
 #include <cmath>
 #include <filesystem>
 
+#include "owval/base/errors.hpp"
+#include "owval/base/one_line.hpp"
+
 namespace owval::engine {
 namespace {
 
@@ -61,6 +64,24 @@ bool NamesAWorm(const std::string& configuration_path) {
   if (name.find("worm") != std::string::npos) return true;
   return name == "configuration" &&
          p.parent_path().filename().string().find("worm") != std::string::npos;
+}
+
+bool DrivesMuscles(MuscleSignal signal, const std::string& configuration_path) {
+  return signal == MuscleSignal::kSwimmingWaves ||
+         (signal == MuscleSignal::kAuto && NamesAWorm(configuration_path));
+}
+
+MuscleSignal ParseMuscleSignal(const std::string& name) {
+  if (name == "auto") return MuscleSignal::kAuto;
+  if (name == "off") return MuscleSignal::kOff;
+  if (name == "waves") return MuscleSignal::kSwimmingWaves;
+  throw InputError("muscles: expected auto, off or waves, found '" + OneLine(name, 40) + "'");
+}
+
+const char* MuscleSignalName(MuscleSignal signal) {
+  return signal == MuscleSignal::kOff             ? "off"
+         : signal == MuscleSignal::kSwimmingWaves ? "waves"
+                                                  : "auto";
 }
 
 }  // namespace owval::engine

@@ -44,8 +44,7 @@ PhaseProfile ProfilePhases(const SiberneticConfig& config, const RunOptions& opt
       static_cast<std::size_t>(float(o.duration_s) / float(o.constants.time_step_s));
   const std::unique_ptr<Solver> solver = MakeSolver(config, o);
   solver->EnablePhaseTiming();
-  const bool muscles = o.muscle_signal == MuscleSignal::kSwimmingWaves ||
-                       (o.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
+  const bool muscles = DrivesMuscles(o.muscle_signal, config.source);
   const std::size_t log_step = std::size_t(std::max(1, o.log_step));
   PhaseProfile p;
   p.backend = solver->name();

@@ -219,13 +219,6 @@ std::unique_ptr<Solver> ReadySolver(const SiberneticConfig& config, const RunOpt
   return made;
 }
 
-// Whether MuscleSimulation's waves drive the activations: asked for, or left to `auto` for a
-// configuration named after the worm.
-bool MusclesDriven(const SiberneticConfig& config, const RunOptions& options) {
-  return options.muscle_signal == MuscleSignal::kSwimmingWaves ||
-         (options.muscle_signal == MuscleSignal::kAuto && NamesAWorm(config.source));
-}
-
 // Whether the caller asked the run to stop before its next step; the stop writes a checkpoint
 // when the solver can.
 bool StopRequested(const Solver& solver, const RunOptions& options, std::size_t frames,
@@ -312,7 +305,7 @@ RunSummary Run(const SiberneticConfig& config, const RunOptions& options, FrameS
   const std::unique_ptr<Solver> made = ReadySolver(config, options, constants, steps);
   Solver& solver = *made;
   sum.reference_equivalent = solver.reference_equivalent();
-  sum.muscles_driven = MusclesDriven(config, options);
+  sum.muscles_driven = DrivesMuscles(options.muscle_signal, config.source);
   sink->Begin(Header(config, options, constants, solver, sum.muscles_driven), solver.threads());
   sum.first_step = solver.steps_done();
   const auto start = std::chrono::steady_clock::now();
@@ -337,6 +330,10 @@ Integrator ParseIntegrator(const std::string& name) {
   if (name == "euler") return Integrator::kSemiImplicitEuler;
   if (name == "leapfrog") return Integrator::kLeapfrog;
   throw InputError("integrator: expected euler or leapfrog, found '" + OneLine(name, 40) + "'");
+}
+
+const char* IntegratorName(Integrator integrator) {
+  return integrator == Integrator::kLeapfrog ? "leapfrog" : "euler";
 }
 
 }  // namespace owval::engine

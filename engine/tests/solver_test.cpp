@@ -10,6 +10,7 @@
 #include <string>
 
 #include "owval/base/errors.hpp"
+#include "owval/engine/muscles.hpp"
 #include "owval/engine/run.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "state/non_finite.hpp"
@@ -68,6 +69,22 @@ TEST(Backends, IntegratorNamesAreEulerOrLeapfrogAndNothingElse) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
   }
+}
+
+// The same for the muscle signal: a checkpoint naming another one ran `auto` and said nothing.
+TEST(Backends, MuscleSignalNamesAreAutoOffOrWavesAndReadBack) {
+  for (const MuscleSignal m :
+       {MuscleSignal::kAuto, MuscleSignal::kOff, MuscleSignal::kSwimmingWaves})
+    EXPECT_EQ(ParseMuscleSignal(MuscleSignalName(m)), m);
+  EXPECT_EQ(ParseIntegrator(IntegratorName(Integrator::kLeapfrog)), Integrator::kLeapfrog);
+  EXPECT_EQ(ParseIntegrator(IntegratorName(Integrator::kSemiImplicitEuler)),
+            Integrator::kSemiImplicitEuler);
+  for (const std::string& bad : {std::string(), std::string("Waves"), std::string("on")})
+    EXPECT_THROW(ParseMuscleSignal(bad), InputError) << bad;
+  EXPECT_TRUE(DrivesMuscles(MuscleSignal::kSwimmingWaves, "a/configuration"));
+  EXPECT_TRUE(DrivesMuscles(MuscleSignal::kAuto, "worm_alone/configuration"));
+  EXPECT_FALSE(DrivesMuscles(MuscleSignal::kAuto, "demo1/configuration"));
+  EXPECT_FALSE(DrivesMuscles(MuscleSignal::kOff, "worm_alone/configuration"));
 }
 
 TEST(Solver, ThreadCountsOutsideZeroToTheMaximumAreInputErrors) {

@@ -412,9 +412,7 @@ engine::RunOptions EngineOptions(const RunRequest& r) {
   options.log_step = r.log_step;
   options.integrator = engine::ParseIntegrator(r.integrator);
   options.apply_physical_parameters = r.apply_physical_parameters;
-  options.muscle_signal = r.muscles == "off"     ? engine::MuscleSignal::kOff
-                          : r.muscles == "waves" ? engine::MuscleSignal::kSwimmingWaves
-                                                 : engine::MuscleSignal::kAuto;
+  options.muscle_signal = engine::ParseMuscleSignal(r.muscles);
   options.record_fields = !r.no_fields;
   options.backend = engine::CanonicalBackend(r.backend);  // unknown: exit 2 naming the known ones
   options.dump_dir = r.out;

@@ -12,6 +12,8 @@
 #include "owval/base/input_file.hpp"
 #include "owval/engine/constants.hpp"
 #include "owval/engine/gradient.hpp"
+#include "owval/engine/muscles.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/sgd/backend_simulator.hpp"
 #include "owval/sgd/engine_simulator.hpp"
 #include "owval/sgd/gradient_fit.hpp"
@@ -78,27 +80,21 @@ engine::SiberneticConfig RecordedConfiguration(const nlohmann::json& simulation,
   return config;
 }
 
+// The engine reads the names; a history's name it refuses is the history's claim, not verified.
 engine::Integrator IntegratorNamed(const std::string& name) {
-  if (name == "euler") return engine::Integrator::kSemiImplicitEuler;
-  if (name == "leapfrog") return engine::Integrator::kLeapfrog;
-  throw NotVerified{"simulation.integrator '" + name + "' is not euler or leapfrog"};
-}
-
-const char* IntegratorName(engine::Integrator i) {
-  return i == engine::Integrator::kLeapfrog ? "leapfrog" : "euler";
+  try {
+    return engine::ParseIntegrator(name);
+  } catch (const InputError&) {
+    throw NotVerified{"simulation.integrator '" + name + "' is not euler or leapfrog"};
+  }
 }
 
 engine::MuscleSignal MusclesNamed(const std::string& name) {
-  if (name == "auto") return engine::MuscleSignal::kAuto;
-  if (name == "off") return engine::MuscleSignal::kOff;
-  if (name == "waves") return engine::MuscleSignal::kSwimmingWaves;
-  throw NotVerified{"simulation.muscles '" + name + "' is not auto, off or waves"};
-}
-
-const char* MusclesName(engine::MuscleSignal m) {
-  return m == engine::MuscleSignal::kOff             ? "off"
-         : m == engine::MuscleSignal::kSwimmingWaves ? "waves"
-                                                     : "auto";
+  try {
+    return engine::ParseMuscleSignal(name);
+  } catch (const InputError&) {
+    throw NotVerified{"simulation.muscles '" + name + "' is not auto, off or waves"};
+  }
 }
 
 // The recorded run options (constants included) of an engine fit.
@@ -342,8 +338,8 @@ nlohmann::json EngineSimulationJson(const engine::RunOptions& run,
           {"configuration", configuration},
           {"duration_s", run.duration_s},
           {"log_step", run.log_step},
-          {"integrator", IntegratorName(run.integrator)},
-          {"muscles", MusclesName(run.muscle_signal)},
+          {"integrator", engine::IntegratorName(run.integrator)},
+          {"muscles", engine::MuscleSignalName(run.muscle_signal)},
           {"apply_physical_parameters", run.apply_physical_parameters},
           {"constants", constants}};
 }

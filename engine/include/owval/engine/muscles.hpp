@@ -25,5 +25,13 @@ std::array<float, kMuscleCount> MuscleSimulationSignal(double n);
 // Sibernetic's isWormConfig(): the configuration file's name contains "worm". owval's reference
 // folders keep each run's file as <scenario>/configuration, so there the folder's name counts.
 bool NamesAWorm(const std::string& configuration_path);
+// Whether `signal` drives the muscles of the configuration read from `configuration_path`:
+// waves, or auto for a configuration named after the worm.
+bool DrivesMuscles(MuscleSignal signal, const std::string& configuration_path);
+
+// "auto", "off" or "waves", as flags, run requests, checkpoints and fit histories name a
+// signal; any other name is InputError. MuscleSignalName is its inverse.
+MuscleSignal ParseMuscleSignal(const std::string& name);
+const char* MuscleSignalName(MuscleSignal signal);
 
 }  // namespace owval::engine

@@ -16,8 +16,9 @@ namespace owval::engine {
 
 enum class Integrator { kSemiImplicitEuler, kLeapfrog };  // Sibernetic's modes 2 and 0/1
 // "euler" (semi-implicit Euler, Sibernetic's default) or "leapfrog", as flags, run requests and
-// checkpoints name them; any other name is InputError.
+// checkpoints name them; any other name is InputError. IntegratorName is its inverse.
 Integrator ParseIntegrator(const std::string& name);
+const char* IntegratorName(Integrator integrator);
 
 // The most threads a run may ask for: beyond the machine's cores threads only stall each other
 // at barriers, and far beyond them the OpenMP runtime fails to start them (libgomp aborted at
