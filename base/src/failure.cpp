@@ -7,6 +7,8 @@ namespace owval {
 Failure DescribeFailure(std::exception_ptr error) {
   try {
     std::rethrow_exception(error);
+  } catch (const NonFiniteTrajectoryError& e) {
+    return {std::string("error: ") + e.what(), kExitGateFailed};
   } catch (const InputError& e) {
     return {std::string("error: ") + e.what(), kExitBadInput};
   } catch (const EnvironmentError& e) {

@@ -388,9 +388,9 @@ void CheckFinitePositions(const Trajectory& t, const std::string& path) {
   const std::size_t first = FirstNonFinite(t.positions);
   if (first == std::string::npos) return;
   const std::size_t particles = t.particle_count();
-  throw InputError(path, 0,
-                   internal::NonFinitePositionMessage(first / (particles * 3),
-                                                      first / 3 % particles, first % 3));
+  throw NonFiniteTrajectoryError(path, 0,
+                                 internal::NonFinitePositionMessage(
+                                     first / (particles * 3), first / 3 % particles, first % 3));
 }
 
 }  // namespace
@@ -438,7 +438,8 @@ std::string NonFinitePositionMessage(std::size_t frame, std::size_t particle,
                                      std::size_t coordinate) {
   const char axis[] = {"xyz"[coordinate % 3], '\0'};
   return "HDF5: /positions of frame " + std::to_string(frame) + ", particle " +
-         std::to_string(particle) + " (" + axis + ") is not finite (NaN or Inf)";
+         std::to_string(particle) + " (" + axis +
+         ") is not finite (NaN or Inf): the simulation that wrote this file failed";
 }
 
 void DryRunHdf5Contained(const std::string& path) {

@@ -626,7 +626,8 @@ double Hdf5FrameReader::ReadFrame(std::size_t frame, float* positions) {
   Read(d, frame, positions);
   for (std::size_t i = 0; i < d.values; ++i)
     if (!std::isfinite(positions[i]))
-      throw InputError(path_, 0, internal::NonFinitePositionMessage(frame, i / 3, i % 3));
+      throw NonFiniteTrajectoryError(path_, 0,
+                                     internal::NonFinitePositionMessage(frame, i / 3, i % 3));
   return time_s_[frame];
 }
 

@@ -38,27 +38,25 @@ class TextCursor {
   // Parses one number; `what` names the expected field for the message.
   template <typename T>
   T Number(const char* what) {
-    SkipBlanks();
-    T value{};
-    if constexpr (std::is_same_v<T, float>) {
-      if (FastDecimal(&value)) return value;
-    }
-    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r')
-      Fail(std::string("expected ") + what + ", found end of line");
-    const char* start = p_;
-    if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
-    auto [next, ec] = std::from_chars(p_, end_, value);
-    if (ec != std::errc() || (next < end_ && !IsSeparator(*next))) {
-      const char* stop = start;
-      while (stop < end_ && !IsSeparator(*stop)) ++stop;
-      Fail(std::string("expected ") + what + ", found '" + std::string(start, stop) + "'");
-    }
-    p_ = next;
+    const T value = AnyNumber<T>(what);
     if constexpr (std::is_floating_point_v<T>) {
       if (!std::isfinite(value)) Fail(std::string(what) + " is not finite (NaN or Inf)");
     }
     return value;
   }
+
+  // A particle's coordinate, x, y or z: a NaN or an infinity there is the record of a failed
+  // simulation (NonFiniteTrajectoryError, exit 1), not a malformed file.
+  float Coordinate(const char* what) {
+    const float value = AnyNumber<float>(what);
+    if (!std::isfinite(value))
+      throw NonFiniteTrajectoryError(name_, line_, std::string(what) + kNonFiniteValue);
+    return value;
+  }
+
+  // What a NaN or an infinite coordinate says after its name.
+  static constexpr const char* kNonFiniteValue =
+      " is not finite (NaN or Inf): the simulation that wrote this file failed";
 
   // Clinger's fast path for the plain decimals Sibernetic writes ("-17.535"): with at most 7
   // significant digits and 10 fraction digits, mantissa and power of ten are exact floats, so one
@@ -112,6 +110,28 @@ class TextCursor {
   }
 
  private:
+  // One number, NaN and infinities included.
+  template <typename T>
+  T AnyNumber(const char* what) {
+    SkipBlanks();
+    T value{};
+    if constexpr (std::is_same_v<T, float>) {
+      if (FastDecimal(&value)) return value;
+    }
+    if (p_ >= end_ || *p_ == '\n' || *p_ == '\r')
+      Fail(std::string("expected ") + what + ", found end of line");
+    const char* start = p_;
+    if (*p_ == '+') ++p_;  // from_chars rejects a leading '+', text writers may emit one
+    auto [next, ec] = std::from_chars(p_, end_, value);
+    if (ec != std::errc() || (next < end_ && !IsSeparator(*next))) {
+      const char* stop = start;
+      while (stop < end_ && !IsSeparator(*stop)) ++stop;
+      Fail(std::string("expected ") + what + ", found '" + std::string(start, stop) + "'");
+    }
+    p_ = next;
+    return value;
+  }
+
   static bool IsSeparator(char c) { return c == '\t' || c == ' ' || c == '\n' || c == '\r'; }
 
   const char* p_;

@@ -144,7 +144,7 @@ Rows ParseRows(TextCursor& in, const Header& h, std::string_view text, TextLayou
   while (true) {
     in.SkipEmptyTail();
     if (in.at_end()) break;
-    const float x = in.Number<float>("x"), y = in.Number<float>("y"), z = in.Number<float>("z");
+    const float x = in.Coordinate("x"), y = in.Coordinate("y"), z = in.Coordinate("z");
     const float type = internal::ReadTypeCode(in);
     in.EndOfLine("particle type");
     const bool boundary_row = type >= 3.0f && type < 4.0f;  // no cast: 1e30 is finite

@@ -156,7 +156,7 @@ struct Row {
 
 Row ParseRow(TextCursor& in) {
   Row r{};
-  r.x = in.Number<float>("x"), r.y = in.Number<float>("y"), r.z = in.Number<float>("z");
+  r.x = in.Coordinate("x"), r.y = in.Coordinate("y"), r.z = in.Coordinate("z");
   r.type = ReadTypeCode(in);
   in.EndOfLine("particle type");
   return r;

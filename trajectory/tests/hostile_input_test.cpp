@@ -295,16 +295,16 @@ TEST(HostileHdf5, RefusesNanPositionsAndTypes) {
   t.positions[7] = std::numeric_limits<float>::quiet_NaN();
   const fs::path positions = ScratchFile("nanpos.h5");
   WriteHdf5(t, positions);
-  EXPECT_EQ(ReadError(positions),
-            positions.string() +
-                ": HDF5: /positions of frame 0, particle 2 (y) is not finite (NaN or Inf)");
+  const std::string failed = positions.string() +
+                             ": HDF5: /positions of frame 0, particle 2 (y) is not finite (NaN or "
+                             "Inf): the simulation that wrote this file failed";
+  EXPECT_EQ(ReadError(positions), failed);
+  EXPECT_THROW(ReadTrajectory(positions), NonFiniteTrajectoryError);  // exit 1, not 2
   try {  // the frame-by-frame reader names the same place
     OpenFrameSource(positions)->Frame(0);
     ADD_FAILURE() << "the stream read a NaN";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              positions.string() +
-                  ": HDF5: /positions of frame 0, particle 2 (y) is not finite (NaN or Inf)");
+  } catch (const NonFiniteTrajectoryError& e) {
+    EXPECT_EQ(std::string(e.what()), failed);
   }
   t = Small();
   t.type[1] = std::numeric_limits<float>::quiet_NaN();

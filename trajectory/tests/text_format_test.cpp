@@ -162,11 +162,27 @@ TEST(TextFormat, RejectsNonNumericFieldWithLineAndValue) {
   EXPECT_NE(error.find("expected y, found 'abc'"), std::string::npos) << error;
 }
 
+// A NaN or an infinity as a coordinate is a failed simulation's record (exit 1); in the type
+// column, or any other field, it is a malformed file (exit 2).
 TEST(TextFormat, RejectsNaN) {
-  const std::string text = std::string(kHeader) + "1.5\tnan\t3\t2.1\n";
-  const std::string error = ErrorOf(text);
-  EXPECT_NE(error.find("mem.txt:12:"), std::string::npos) << error;
-  EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+  for (const char* row : {"1.5\tnan\t3\t2.1\n", "1.5\t2\t-inf\t2.1\n"}) {
+    const std::string text = std::string(kHeader) + row;
+    const std::string error = ErrorOf(text);
+    EXPECT_NE(error.find("mem.txt:12:"), std::string::npos) << error;
+    EXPECT_NE(error.find("not finite (NaN or Inf): the simulation that wrote this file failed"),
+              std::string::npos)
+        << error;
+    EXPECT_THROW(Parse(text, TextLayout::kAuto), NonFiniteTrajectoryError) << row;
+  }
+  const std::string type = std::string(kHeader) + "1.5\t2\t3\tnan\n";
+  EXPECT_NE(ErrorOf(type).find("mem.txt:12:"), std::string::npos) << ErrorOf(type);
+  try {
+    Parse(type, TextLayout::kAuto);
+    ADD_FAILURE() << "a NaN type code was read";
+  } catch (const NonFiniteTrajectoryError& e) {
+    ADD_FAILURE() << "a NaN type code read as a failed simulation: " << e.what();
+  } catch (const InputError&) {
+  }
 }
 
 TEST(TextFormat, RejectsWrongParticleCounts) {

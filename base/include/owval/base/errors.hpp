@@ -24,6 +24,16 @@ class InputError : public std::runtime_error {
   std::size_t line_ = 0;
 };
 
+// A trajectory file whose particle positions hold a NaN or an infinity. The file is well formed:
+// it records a simulation that failed, and design.md §4's stability gate ("no NaN/Inf") fails it.
+// So the process ends with exit code 1 (kExitGateFailed), as a NaN in a run owval makes does,
+// not 2. It is an InputError still: the frame cannot be used, and every judge that turns an
+// unreadable input into a failed gate or item (ci quick-test, the checklist) does so unchanged.
+class NonFiniteTrajectoryError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // The machine cannot do what was asked, whatever the input: no OSMesa context, no H.264
 // encoder, no ffprobe. Exit code 3, so a CI log separates "fix the machine" from "fix the input".
 class EnvironmentError : public std::runtime_error {
