@@ -130,6 +130,9 @@ class FileSink : public FrameSink {
     TrajectoryWriterOptions options;
     options.hdf5.threads = threads;
     const std::vector<fs::path> outputs = LongRunOutputs(o_.out);
+    if (resume_)  // all before any: a refused resumption leaves every output as it was
+      for (std::size_t i = 0; i < outputs.size(); ++i)
+        CheckResumable(outputs[i], h, resume_->writers[i]);
     for (std::size_t i = 0; i < outputs.size(); ++i)
       writers_.push_back(resume_
                              ? ResumeTrajectoryWriter(outputs[i], h, resume_->writers[i], options)

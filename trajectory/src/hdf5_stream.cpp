@@ -424,6 +424,7 @@ class Hdf5Writer : public TrajectoryWriter {
 };
 
 // Appends frames [first, last) of the partial file an interrupted run left.
+// Frames [first, last) of `partial` appended to `writer`; with no writer, read and checked only.
 void AppendFramesOf(const std::filesystem::path& partial, std::size_t first, std::size_t last,
                     const TrajectoryHeader& header, TrajectoryWriter* writer) {
   Hdf5FrameReader in(partial);
@@ -442,10 +443,30 @@ void AppendFramesOf(const std::filesystem::path& partial, std::size_t first, std
     if (header.velocities) in.ReadField("velocities", f, velocities.data());
     if (header.density) in.ReadField("density", f, density.data());
     if (header.pressure) in.ReadField("pressure", f, pressure.data());
-    writer->AppendFrame(time_s, positions.data(), velocities.empty() ? nullptr : velocities.data(),
-                        density.empty() ? nullptr : density.data(),
-                        pressure.empty() ? nullptr : pressure.data());
+    if (writer)
+      writer->AppendFrame(
+          time_s, positions.data(), velocities.empty() ? nullptr : velocities.data(),
+          density.empty() ? nullptr : density.data(), pressure.empty() ? nullptr : pressure.data());
   }
+}
+
+// A stop checkpoint's partial file (the frames since the last periodic checkpoint), after
+// checking that it and the periodic checkpoint's file (when there was one) are there.
+std::filesystem::path StopCheckpointPartial(const std::filesystem::path& destination,
+                                            const WriterCheckpoint& checkpoint) {
+  const std::filesystem::path partial = PartialPath(destination);
+  if (!std::filesystem::is_regular_file(partial))
+    throw InputError(partial.string(), 0,
+                     "cannot resume: missing (it holds the frames since the last checkpoint)");
+  if (checkpoint.bytes == 0) return partial;
+  const std::filesystem::path file = destination.parent_path() / checkpoint.file;
+  std::error_code error;
+  if (checkpoint.file.empty() || checkpoint.file.find('/') != std::string::npos ||
+      std::filesystem::file_size(file, error) < checkpoint.bytes || error)
+    throw InputError(file.string(), 0,
+                     "cannot resume: missing or shorter than the checkpoint's " +
+                         std::to_string(checkpoint.bytes) + " bytes");
+  return partial;
 }
 
 }  // namespace
@@ -454,6 +475,21 @@ std::unique_ptr<TrajectoryWriter> OpenHdf5Writer(const std::filesystem::path& de
                                                  const TrajectoryHeader& header,
                                                  const Hdf5WriteOptions& options) {
   return std::make_unique<Hdf5Writer>(destination, header, options);
+}
+
+void CheckHdf5Resumable(const std::filesystem::path& destination, const TrajectoryHeader& header,
+                        const WriterCheckpoint& checkpoint) {
+  if (!checkpoint.pending.empty()) {  // the checkpoint's file, as the periodic checkpoint left it
+    const std::filesystem::path file = CheckpointedFile(destination, checkpoint);
+    const Hdf5FrameReader in(file);
+    if (in.header().type.size() != header.type.size() || in.frame_count() < checkpoint.file_frames)
+      throw InputError(file.string(), 0,
+                       "cannot resume: holds " + std::to_string(in.frame_count()) +
+                           " frames, the checkpoint " + std::to_string(checkpoint.file_frames));
+    return;
+  }
+  AppendFramesOf(StopCheckpointPartial(destination, checkpoint), checkpoint.file_frames,
+                 checkpoint.frames, header, nullptr);
 }
 
 std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& destination,
@@ -465,23 +501,12 @@ std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& 
                                         CheckpointedFile(destination, checkpoint));
   // A stop checkpoint's (Hdf5Writer::StopCheckpoint): the last periodic checkpoint's file (or a
   // new one), then the frames since, from the partial file.
-  const std::filesystem::path partial = PartialPath(destination);
-  if (!std::filesystem::is_regular_file(partial))
-    throw InputError(partial.string(), 0,
-                     "cannot resume: missing (it holds the frames since the last checkpoint)");
-  std::unique_ptr<Hdf5Writer> writer;
-  if (checkpoint.bytes == 0) {
-    writer = std::make_unique<Hdf5Writer>(destination, header, options);
-  } else {
-    const std::filesystem::path file = destination.parent_path() / checkpoint.file;
-    std::error_code error;
-    if (checkpoint.file.empty() || checkpoint.file.find('/') != std::string::npos ||
-        std::filesystem::file_size(file, error) < checkpoint.bytes || error)
-      throw InputError(file.string(), 0,
-                       "cannot resume: missing or shorter than the checkpoint's " +
-                           std::to_string(checkpoint.bytes) + " bytes");
-    writer = std::make_unique<Hdf5Writer>(destination, header, options, checkpoint, file);
-  }
+  const std::filesystem::path partial = StopCheckpointPartial(destination, checkpoint);
+  std::unique_ptr<Hdf5Writer> writer =
+      checkpoint.bytes == 0
+          ? std::make_unique<Hdf5Writer>(destination, header, options)
+          : std::make_unique<Hdf5Writer>(destination, header, options, checkpoint,
+                                         destination.parent_path() / checkpoint.file);
   AppendFramesOf(partial, checkpoint.file_frames, checkpoint.frames, header, writer.get());
   writer->Supersede(partial);
   return writer;

@@ -97,15 +97,21 @@ std::filesystem::path CheckpointedFile(const std::filesystem::path& destination,
                        " exists (the output of the checkpointed run)");
 }
 
-std::unique_ptr<TrajectoryWriter> ResumeTextWriter(const std::filesystem::path& destination,
-                                                   const TrajectoryHeader& header,
-                                                   TextLayout layout,
-                                                   const WriterCheckpoint& checkpoint) {
+void CheckTextResumable(const std::filesystem::path& destination,
+                        const WriterCheckpoint& checkpoint) {
   const std::filesystem::path file = CheckpointedFile(destination, checkpoint);
   if (std::filesystem::file_size(file) < checkpoint.bytes)
     throw InputError(file.string(), 0,
                      "cannot resume: shorter than the checkpoint's " +
                          std::to_string(checkpoint.bytes) + " bytes");
+}
+
+std::unique_ptr<TrajectoryWriter> ResumeTextWriter(const std::filesystem::path& destination,
+                                                   const TrajectoryHeader& header,
+                                                   TextLayout layout,
+                                                   const WriterCheckpoint& checkpoint) {
+  CheckTextResumable(destination, checkpoint);
+  const std::filesystem::path file = CheckpointedFile(destination, checkpoint);
   std::filesystem::resize_file(file, checkpoint.bytes);
   auto writer = std::make_unique<TextWriter>(destination, header, layout);
   writer->Continue(file, checkpoint.frames);
@@ -139,6 +145,15 @@ std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::
   return internal::ResumeTextWriter(
       destination, header,
       options.layout == TextLayout::kAuto ? TextLayout::kOpenCL : options.layout, checkpoint);
+}
+
+void CheckResumable(const std::filesystem::path& destination, const TrajectoryHeader& header,
+                    const WriterCheckpoint& checkpoint) {
+  const std::string ext = destination.extension().string();
+  if (ext == ".h5" || ext == ".hdf5")
+    internal::CheckHdf5Resumable(destination, header, checkpoint);
+  else
+    internal::CheckTextResumable(destination, checkpoint);
 }
 
 std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::path& destination,

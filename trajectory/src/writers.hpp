@@ -20,6 +20,11 @@ std::unique_ptr<TrajectoryWriter> ResumeHdf5Writer(const std::filesystem::path& 
                                                    const TrajectoryHeader& header,
                                                    const Hdf5WriteOptions& options,
                                                    const WriterCheckpoint& checkpoint);
+// ResumeTextWriter's and ResumeHdf5Writer's refusals, changing nothing (CheckResumable).
+void CheckTextResumable(const std::filesystem::path& destination,
+                        const WriterCheckpoint& checkpoint);
+void CheckHdf5Resumable(const std::filesystem::path& destination, const TrajectoryHeader& header,
+                        const WriterCheckpoint& checkpoint);
 // The file a checkpoint names, or the partial one an interrupted run left; InputError if none.
 std::filesystem::path CheckpointedFile(const std::filesystem::path& destination,
                                        const WriterCheckpoint& checkpoint);

@@ -105,6 +105,13 @@ std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(
     const std::filesystem::path& destination, const TrajectoryHeader& header,
     const WriterCheckpoint& checkpoint, const TrajectoryWriterOptions& options = {});
 
+// Throws the InputError ResumeTrajectoryWriter would, and changes no file: a caller continuing
+// several outputs checks every one before it continues any, so that a refused resumption leaves
+// each as it was (the text output was cut back to its checkpoint before the HDF5 one was found
+// truncated). Reads the HDF5 frames a resumption would copy.
+void CheckResumable(const std::filesystem::path& destination, const TrajectoryHeader& header,
+                    const WriterCheckpoint& checkpoint);
+
 // out/trajectory.h5 -> out/trajectory.partial.h5; position_buffer.txt ->
 // position_buffer.partial.txt
 std::filesystem::path PartialPath(const std::filesystem::path& destination);
