@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 namespace {
@@ -37,6 +38,19 @@ TEST(GradCheckCli, HundredStepDemo1GradientAgainstTheOpenClRunMatchesFiniteDiffe
     EXPECT_NE(t["name"].get<std::string>().find("position_buffer.txt"), std::string::npos);
     EXPECT_NE(t["name"].get<std::string>().find("density_passes=1"), std::string::npos);
   }
+}
+
+// `--config one_sprig --reference` refused with "particle group 'liquid' is empty": the loss took
+// the centroids of both groups whatever the reference held. It takes those the reference holds.
+TEST(GradCheckCli, AReferenceWithOnlyElasticParticlesGivesTheElasticCentroidsLoss) {
+  const auto config = std::filesystem::path(OWVAL_SHARED_DIR) / "reference/one_sprig/configuration";
+  if (ReferenceMissing(config)) GTEST_SKIP() << "no " << config;
+  const Result r = Owval("gradcheck reverse --json --config " + config.string() + " --reference " +
+                         kBundledOneSprig.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["tests"].size(), 6u);  // 2 eps x 3 directions
+  for (const auto& t : j["tests"]) EXPECT_TRUE(t["pass"].get<bool>()) << t.dump();
 }
 
 // `gradcheck --alpha-density 0` ran at the model's derived value (7.9e-11 on demo1) while `bench

@@ -1,13 +1,33 @@
 #include "owval/pipeline/gradcheck_request.hpp"
 
+#include <algorithm>
 #include <sstream>
+#include <utility>
 
 #include "owval/base/atomic_output.hpp"
+#include "owval/base/errors.hpp"
 #include "owval/sgd/gradcheck.hpp"
 #include "owval/sgd/gradient_fit.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::pipeline {
+namespace {
+
+// Of demo1's two loss groups, those the reference holds (one_sprig has no liquid, free_fall no
+// elastic particle): each one's centroid is a term of the end-to-end loss.
+std::vector<std::string> CentroidLossGroups(const Trajectory& header, const std::string& file) {
+  std::vector<std::string> groups;
+  for (const auto& [name, kind] :
+       {std::pair{"elastic", ParticleKind::kElastic}, std::pair{"liquid", ParticleKind::kLiquid}})
+    if (std::any_of(header.type.begin(), header.type.end(),
+                    [kind = kind](float code) { return KindOf(code) == kind; }))
+      groups.push_back(name);
+  if (groups.empty())
+    throw InputError(file, 0, "no elastic or liquid particle: nothing to take a loss on");
+  return groups;
+}
+
+}  // namespace
 
 GradCheckResult RunGradCheckRequest(GradCheckRequest r) {
   engine::GradCheckOptions& o = r.options;
@@ -22,8 +42,8 @@ GradCheckResult RunGradCheckRequest(GradCheckRequest r) {
   }
   if (!r.reference.empty()) {  // demo1's fit loss: the centroids against a reference run
     const auto reference = OpenFrameSource(r.reference, {.quiet = true});  // up to the steps only
-    o.end_to_end_loss =
-        sgd::GroupCentroidLoss(*reference, {"elastic", "liquid"}, o.end_to_end_steps, 1.0);
+    o.end_to_end_loss = sgd::GroupCentroidLoss(
+        *reference, CentroidLossGroups(reference->header(), r.reference), o.end_to_end_steps, 1.0);
     o.end_to_end_loss_name = "centroids vs " + r.reference;
   }
   GradCheckResult result;

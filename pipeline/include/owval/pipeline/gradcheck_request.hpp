@@ -13,8 +13,9 @@ namespace owval::pipeline {
 
 struct GradCheckRequest {
   engine::GradCheckOptions options;  // "" end_to_end_config: shared_reference/demo1's
-  // The end-to-end loss: elastic and liquid centroids against this run ("": with the default
-  // configuration, demo1's OpenCL run; else the model's own trajectory at shifted parameters).
+  // The end-to-end loss: the elastic and liquid centroids (those the run holds) against this run
+  // ("": with the default configuration, demo1's OpenCL run; else the model's own trajectory at
+  // shifted parameters).
   std::string reference;
   std::string output;                      // fd_tests.json ("": not written)
   std::filesystem::path shared_reference;  // Sibernetic's reference runs (../shared/reference)
