@@ -73,7 +73,8 @@ std::vector<CLI::Option*> AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
   cmd->add_flag("--zarr", r->zarr, "Also write trajectory.zarr (OME-Zarr, zarr v2 layout)");
   cmd->add_option(
          "--checkpoint-every", r->checkpoint_every,
-         "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph)")
+         "Write the solver's state to DIR/checkpoint/checkpoint.bin every N steps (pcisph, xpbd; "
+         "a scheme that cannot checkpoint refuses it)")
       ->check(Count());
   const std::vector<CLI::Option*> all = cmd->get_options();
   return {all.begin() + std::ptrdiff_t(before), all.end()};
