@@ -25,17 +25,21 @@ bool NamedByCommitMarker(const fs::path& path) {
   return false;
 }
 
-// expected: what the caller reads ("a regular file", "a backends file (JSON, docs/backends.md)").
-void RequireRegularFile(const fs::path& path, const std::string& expected) {
+// Throws unless `path` is of type `wanted` (a regular file or a directory); expected: what the
+// caller reads ("a regular file", "a backends file (JSON, docs/backends.md)").
+void RequireType(const fs::path& path, fs::file_type wanted, const std::string& expected) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
   const std::string name = path.string();
   const std::string want = ", expected " + expected;
+  if (status.type() == wanted) return;
   switch (status.type()) {
-    case fs::file_type::regular:
-      return;
     case fs::file_type::not_found:
-      throw InputError(name, 0, "cannot open file (missing)" + want);
+      throw InputError(
+          name, 0,
+          (wanted == fs::file_type::directory ? "missing" : "cannot open file (missing)") + want);
+    case fs::file_type::regular:
+      throw InputError(name, 0, "is a file" + want);
     case fs::file_type::directory:
       throw InputError(name, 0, "is a directory" + want);
     case fs::file_type::fifo:
@@ -53,11 +57,15 @@ void RequireRegularFile(const fs::path& path, const std::string& expected) {
 }  // namespace
 
 void RequireInputFile(const fs::path& path, const std::string& expected) {
-  RequireRegularFile(path, expected);
+  RequireType(path, fs::file_type::regular, expected);
   if (NamedByCommitMarker(path))
     throw InputError(path.string(), 0,
                      "incomplete: the command that wrote it stopped while moving its outputs into "
                      "place (.owval-commit names it); run it again");
+}
+
+void RequireInputDirectory(const fs::path& path, const std::string& expected) {
+  RequireType(path, fs::file_type::directory, expected);
 }
 
 }  // namespace owval

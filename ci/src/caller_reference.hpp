@@ -8,6 +8,11 @@
 
 namespace owval::ci::internal {
 
+// What ci quick-test, ci validate and the checklist read, as their refusals name it (this header
+// is ci's internal one).
+inline constexpr const char* kArtifactDirectory =
+    "a directory of PR artifacts (reference.*, candidate.*)";
+
 // Why `got` is not `wanted`, or empty: the same particles and frame times, every position within
 // 1e-3 cu (a text file prints six or seven digits; another run differs by far more). Both are
 // read frame by frame, side by side.

@@ -10,6 +10,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/compare/signal_metrics.hpp"
@@ -1097,8 +1098,7 @@ std::string LoosenedFitRerun(const Evidence& e) {
 }
 
 ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
-  if (!fs::is_directory(directory))
-    throw InputError(directory.string(), 0, "not a directory of PR artifacts");
+  RequireInputDirectory(directory, internal::kArtifactDirectory);
   if (!options.git_range.empty()) CheckGitRange(directory, options.git_range);  // a bad flag: 2
   Evidence e{directory,
              options,

@@ -6,6 +6,7 @@
 
 #include "caller_reference.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/input_file.hpp"
 #include "owval/compare/stability.hpp"
 #include "owval/kinematics/kinematics.hpp"
 #include "owval/kinematics/midline.hpp"
@@ -112,6 +113,7 @@ nlohmann::json GateReport::ToJson() const {
 }
 
 GateReport QuickTest(const fs::path& dir) {
+  RequireInputDirectory(dir, internal::kArtifactDirectory);
   GateReport r;
   bool worm = false;
   for (const char* stem : {"reference", "candidate"})
@@ -155,6 +157,7 @@ GateResult CallersReference(FrameSource& ref, FrameSource* wanted,
 
 GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
                     const fs::path& caller_reference) {
+  RequireInputDirectory(dir, internal::kArtifactDirectory);
   GateReport r;
   const auto ref = Open(dir, "reference"), cand = Open(dir, "candidate");
   // An unreadable --reference is bad input (exit 2), not a failed gate.

@@ -206,13 +206,21 @@ TEST(HostileFlags, CiValidateNamesAnUnknownFlagAndRefusesADirectoryWithStability
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"ci validate --stability 10s --backend bogus" + out, "not expected: --backend"},
       {"ci validate " + dir.string() + " --stability 10s" + out, "not both"},
-      {"ci validate " + (dir / "missing").string(), "Directory does not exist: "}};
+      {"ci validate " + (dir / "missing").string(),
+       "missing, expected a directory of PR artifacts (reference.*, candidate.*)"}};
   for (const auto& [command, says] : cases) {
     const Result r = Owval(command);
     ExpectOneLineRefusal(r, says, command);
     EXPECT_EQ(r.err.find("bogus"), std::string::npos) << command << ": " << r.err;
   }
   EXPECT_TRUE(Entries(dir).empty());
+  // A FIFO was "Directory does not exist" (validate) and CLI11's "Directory is actually a file"
+  // (quick-test, a usage error): both now say what it is, as every file input does.
+  const fs::path fifo = FreshDirectory("ci_fifo") / "artifacts";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const char* command : {"ci validate ", "ci quick-test ", "checklist "})
+    ExpectOneLineRefusal(Owval(command + fifo.string()),
+                         "is a FIFO (named pipe), expected a directory of PR artifacts", command);
 }
 
 // `bench io` generates its text file, then parses it: SIGTERM during the parse left the file

@@ -14,4 +14,9 @@ namespace owval {
 void RequireInputFile(const std::filesystem::path& path,
                       const std::string& expected = "a regular file");
 
+// The same for a directory read as input (ci's artifact directory): missing, or what it is instead
+// (a file, a FIFO, ...), in one line ending "expected EXPECTED".
+void RequireInputDirectory(const std::filesystem::path& path,
+                           const std::string& expected = "a directory");
+
 }  // namespace owval
