@@ -100,6 +100,22 @@ TEST(JsonSchema, PredictionAndReconciliationOfOneSprig) {
                  "$.rows[0].pass:", [](json& j) { j["rows"][0]["pass"] = "true"; });
 }
 
+// The per-bead and per-layer tables a prediction carries beside a quantity ("beads", "profile").
+TEST(JsonSchema, PredictionsWithTheirTables) {
+  if (CheckerMissing()) GTEST_SKIP() << "needs python3 with python3-jsonschema";
+  for (const auto& [scenario, table] :
+       {std::pair<std::string, std::string>{"hanging_chain", "beads"},
+        {"liquid_column", "profile"}}) {
+    const fs::path file = StdoutOf("predict " + scenario + " --json", scenario + ".json");
+    ASSERT_NE(Slurp(file).find("\"" + table + "\""), std::string::npos) << scenario;
+    ExpectValid("prediction", file);
+    ExpectRejected("prediction", file, "$.predictions[", [&table = table](json& j) {
+      for (json& q : j["predictions"])
+        if (q.contains(table)) q[table] = "a table";
+    });
+  }
+}
+
 TEST(JsonSchema, CompareOfTheBundledRunWithItself) {
   if (CheckerMissing()) GTEST_SKIP() << "needs python3 with python3-jsonschema";
   const std::string run = kBundledOneSprig.string();
@@ -168,6 +184,36 @@ TEST(JsonSchema, FitHistoriesOfBothKinds) {
                  [](json& j) { j.erase("reverse"); });
   ExpectRejected("fit_history", fd / "history.json", "$.targets[0].track.axis:", [](json& j) {
     j["targets"][0]["track"]["axis"] = "w";
+  });
+}
+
+// The gates' other figures: the streamed stability gate (ci validate --stability: the report and
+// its steps) and the candidate's incompressibility (a liquid run as both reference and candidate).
+TEST(JsonSchema, StreamedStabilityAndIncompressibilityGates) {
+  if (CheckerMissing()) GTEST_SKIP() << "needs python3 with python3-jsonschema";
+  const fs::path streamed =
+      StdoutOf("ci validate --stability 10ms --scenario one_sprig --json -o " +
+                   (Scratch() / "stability").string(),
+               "streamed.json");
+  ExpectValid("gates", streamed);
+  ExpectRejected("gates", streamed, "$.gates[0].measured",
+                 [](json& j) { j["gates"][0]["measured"].erase("steps"); });
+  const fs::path d = Scratch() / "liquid", run = Scratch() / "liquid_run";
+  ASSERT_EQ(Owval("run liquid_column --time 0.002 -o " + run.string()).exit_code, 0);
+  fs::create_directories(d);
+  for (const char* side : {"reference.h5", "candidate.h5"})
+    fs::copy_file(run / "trajectory.h5", d / side);
+  // Exit 1 or 0 alike: the document's shape is under test, not the liquid's verdict.
+  const Result r =
+      Owval("ci validate " + d.string() + " --json --reference " + (d / "reference.h5").string());
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.exit_code << ": " << r.err;
+  const fs::path validate = Scratch() / "liquid_validate.json";
+  std::ofstream(validate) << r.out;
+  ASSERT_NE(r.out.find("\"candidate incompressibility\""), std::string::npos) << r.out;
+  ExpectValid("gates", validate);
+  ExpectRejected("gates", validate, "$.gates[", [](json& j) {
+    for (json& g : j["gates"])
+      if (g["name"] == "candidate incompressibility") g["measured"].erase("worst_frame");
   });
 }
 
