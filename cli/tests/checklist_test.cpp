@@ -19,26 +19,10 @@ namespace fs = std::filesystem;
 
 class Checklist : public ::testing::Test {
  protected:
-  // ctest runs each test in its own process, in parallel: the ready directory is made once per
-  // build of owval (keyed by the executable's time stamp), under a file lock, and then shared.
-  // It lives in the build tree, beside the executable it was made by (it was left in /tmp, one
-  // more per build), and replaces the one an earlier build made.
+  // The shared ready directory (cli_support.hpp); made, it holds "complete".
   static fs::path Ready() {
-    const auto stamp = fs::last_write_time(OWVAL_EXE).time_since_epoch().count();
-    const fs::path cache = fs::path(OWVAL_EXE).parent_path() / "test_cache";
-    const fs::path d = cache / ("checklist_ready_" + std::to_string(stamp));
-    fs::create_directories(cache);
-    const int lock = ::open((cache / "checklist_ready.lock").c_str(), O_CREAT | O_RDWR, 0600);
-    ::flock(lock, LOCK_EX);
-    if (!fs::exists(d / "complete")) {
-      for (const fs::directory_entry& e : fs::directory_iterator(cache))
-        if (e.path().filename().string().rfind("checklist_ready_", 0) == 0) fs::remove_all(e);
-      const Result r = Owval("pipeline one_sprig -o " + d.string() + " --max-video-frames 20");
-      EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-      if (r.exit_code == 0) std::ofstream(d / "complete") << "made by checklist_test\n";
-    }
-    ::flock(lock, LOCK_UN);
-    ::close(lock);
+    const fs::path d = ReadyPipelineDirectory();
+    EXPECT_TRUE(fs::exists(d / "complete")) << "owval pipeline one_sprig failed in " << d;
     return d;
   }
 

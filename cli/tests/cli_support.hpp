@@ -1,5 +1,7 @@
 #pragma once
 // Running the owval executable from tests: exit code, stdout and stderr of one command.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -49,6 +51,30 @@ inline bool ReferenceMissing(const std::filesystem::path& file) {
   if (std::filesystem::exists(file)) return false;
   const char* require = std::getenv("OWVAL_REQUIRE_REFERENCE");
   return !(require && std::string(require) == "1");
+}
+
+// A ready pipeline directory (one_sprig, 20 video frames, about 12 s to make), made once per
+// build of owval and shared: ctest runs each test in its own process, in parallel, so it is
+// keyed by the executable's time stamp and made under a file lock by whichever test needs it
+// first. It lives in the build tree beside the executable that made it, and replaces the one an
+// earlier build made. Tests copy it before they change anything in it.
+inline std::filesystem::path ReadyPipelineDirectory() {
+  namespace fs = std::filesystem;
+  const auto stamp = fs::last_write_time(OWVAL_EXE).time_since_epoch().count();
+  const fs::path cache = fs::path(OWVAL_EXE).parent_path() / "test_cache";
+  const fs::path d = cache / ("checklist_ready_" + std::to_string(stamp));
+  fs::create_directories(cache);
+  const int lock = ::open((cache / "checklist_ready.lock").c_str(), O_CREAT | O_RDWR, 0600);
+  ::flock(lock, LOCK_EX);
+  if (!fs::exists(d / "complete")) {
+    for (const fs::directory_entry& e : fs::directory_iterator(cache))
+      if (e.path().filename().string().rfind("checklist_ready_", 0) == 0) fs::remove_all(e);
+    const Result r = Owval("pipeline one_sprig -o " + d.string() + " --max-video-frames 20");
+    if (r.exit_code == 0) std::ofstream(d / "complete") << "made by the first test to need it\n";
+  }
+  ::flock(lock, LOCK_UN);
+  ::close(lock);
+  return d;
 }
 
 }  // namespace owval::testing

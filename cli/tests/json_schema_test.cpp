@@ -62,28 +62,6 @@ fs::path StdoutOf(const std::string& args, const std::string& name) {
 
 bool CheckerMissing() { return !fs::exists(kPython); }
 
-// The ready pipeline directory checklist_test.cpp makes once per build of owval (one_sprig, 20
-// video frames, about 12 s), under its lock and in its cache: whichever test needs it first
-// makes it, and the other reuses it.
-fs::path ReadyPipelineDirectory() {
-  const auto stamp = fs::last_write_time(OWVAL_EXE).time_since_epoch().count();
-  const fs::path cache = fs::path(OWVAL_EXE).parent_path() / "test_cache";
-  const fs::path d = cache / ("checklist_ready_" + std::to_string(stamp));
-  fs::create_directories(cache);
-  const int lock = ::open((cache / "checklist_ready.lock").c_str(), O_CREAT | O_RDWR, 0600);
-  ::flock(lock, LOCK_EX);
-  if (!fs::exists(d / "complete")) {
-    for (const fs::directory_entry& e : fs::directory_iterator(cache))
-      if (e.path().filename().string().rfind("checklist_ready_", 0) == 0) fs::remove_all(e);
-    const Result r = Owval("pipeline one_sprig -o " + d.string() + " --max-video-frames 20");
-    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-    if (r.exit_code == 0) std::ofstream(d / "complete") << "made by checklist_test\n";
-  }
-  ::flock(lock, LOCK_UN);
-  ::close(lock);
-  return d;
-}
-
 TEST(JsonSchema, PredictionAndReconciliationOfOneSprig) {
   if (CheckerMissing()) GTEST_SKIP() << "needs python3 with python3-jsonschema";
   const fs::path prediction = StdoutOf("predict one_sprig --json", "prediction.json");
