@@ -16,6 +16,10 @@ InputError::InputError(const std::string& file, std::size_t line, const std::str
 
 InputError::InputError(const std::string& message) : std::runtime_error(OneLine(message)) {}
 
+NonFiniteTrajectoryError::NonFiniteTrajectoryError(const std::string& file, std::size_t line,
+                                                   const std::string& message)
+    : InputError(file, line, message + ": the simulation that wrote this file failed") {}
+
 EnvironmentError::EnvironmentError(const std::string& message)
     : std::runtime_error(OneLine(message)) {}
 

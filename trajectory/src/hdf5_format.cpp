@@ -438,8 +438,7 @@ std::string NonFinitePositionMessage(std::size_t frame, std::size_t particle,
                                      std::size_t coordinate) {
   const char axis[] = {"xyz"[coordinate % 3], '\0'};
   return "HDF5: /positions of frame " + std::to_string(frame) + ", particle " +
-         std::to_string(particle) + " (" + axis +
-         ") is not finite (NaN or Inf): the simulation that wrote this file failed";
+         std::to_string(particle) + " (" + axis + ") is not finite (NaN or Inf)";
 }
 
 void DryRunHdf5Contained(const std::string& path) {

@@ -46,9 +46,9 @@ void ReadNumericAttribute(hid_t object, const char* name, hid_t mem_type, void* 
 void DryRunHdf5Contained(const std::string& path);
 // Box, time step, log step, types, times and provenance, positions not read (after a dry run).
 Trajectory ReadHdf5Metadata(const std::string& path);
-// "HDF5: /positions of frame F, particle P (x) is not finite (NaN or Inf): ...": the record of a
-// failed simulation (NonFiniteTrajectoryError), named where a contributor can find it. Defined in
-// hdf5_format.cpp.
+// "HDF5: /positions of frame F, particle P (x) is not finite (NaN or Inf)": the record of a failed
+// simulation (NonFiniteTrajectoryError's message), named where a contributor can find it. Defined
+// in hdf5_format.cpp.
 std::string NonFinitePositionMessage(std::size_t frame, std::size_t particle,
                                      std::size_t coordinate);
 

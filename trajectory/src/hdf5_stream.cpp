@@ -423,8 +423,8 @@ class Hdf5Writer : public TrajectoryWriter {
   std::filesystem::path superseded_;  // a resumed writer's partial file, removed once complete
 };
 
-// Appends frames [first, last) of the partial file an interrupted run left.
-// Frames [first, last) of `partial` appended to `writer`; with no writer, read and checked only.
+// Appends frames [first, last) of the partial file an interrupted run left to `writer`; with no
+// writer, reads and checks them only (CheckHdf5Resumable).
 void AppendFramesOf(const std::filesystem::path& partial, std::size_t first, std::size_t last,
                     const TrajectoryHeader& header, TrajectoryWriter* writer) {
   Hdf5FrameReader in(partial);

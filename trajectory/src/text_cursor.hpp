@@ -50,13 +50,10 @@ class TextCursor {
   float Coordinate(const char* what) {
     const float value = AnyNumber<float>(what);
     if (!std::isfinite(value))
-      throw NonFiniteTrajectoryError(name_, line_, std::string(what) + kNonFiniteValue);
+      throw NonFiniteTrajectoryError(name_, line_,
+                                     std::string(what) + " is not finite (NaN or Inf)");
     return value;
   }
-
-  // What a NaN or an infinite coordinate says after its name.
-  static constexpr const char* kNonFiniteValue =
-      " is not finite (NaN or Inf): the simulation that wrote this file failed";
 
   // Clinger's fast path for the plain decimals Sibernetic writes ("-17.535"): with at most 7
   // significant digits and 10 fraction digits, mantissa and power of ten are exact floats, so one

@@ -31,7 +31,8 @@ class InputError : public std::runtime_error {
 // unreadable input into a failed gate or item (ci quick-test, the checklist) does so unchanged.
 class NonFiniteTrajectoryError : public InputError {
  public:
-  using InputError::InputError;
+  // what() is "FILE:LINE: MESSAGE: the simulation that wrote this file failed".
+  NonFiniteTrajectoryError(const std::string& file, std::size_t line, const std::string& message);
 };
 
 // The machine cannot do what was asked, whatever the input: no OSMesa context, no H.264
