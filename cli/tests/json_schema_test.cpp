@@ -3,10 +3,7 @@
 // python3-jsonschema (check_json_schema.py); each family also has an edited copy (a required key
 // removed, a type or a pinned value changed) that the schema must reject, so that a test here can
 // fail. A renamed key, a changed type or a new key the schema does not list fails the check.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sys/file.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
