@@ -1,6 +1,5 @@
 #include "owval/pipeline/gradcheck_request.hpp"
 
-#include <algorithm>
 #include <sstream>
 #include <utility>
 
@@ -19,9 +18,7 @@ std::vector<std::string> CentroidLossGroups(const Trajectory& header, const std:
   std::vector<std::string> groups;
   for (const auto& [name, kind] :
        {std::pair{"elastic", ParticleKind::kElastic}, std::pair{"liquid", ParticleKind::kLiquid}})
-    if (std::any_of(header.type.begin(), header.type.end(),
-                    [kind = kind](float code) { return KindOf(code) == kind; }))
-      groups.push_back(name);
+    if (header.count(kind) > 0) groups.push_back(name);
   if (groups.empty())
     throw InputError(file, 0, "no elastic or liquid particle: nothing to take a loss on");
   return groups;

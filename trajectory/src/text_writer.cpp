@@ -127,6 +127,15 @@ std::unique_ptr<TrajectoryWriter> OpenTextWriter(const std::filesystem::path& de
 }  // namespace owval::internal
 
 namespace owval {
+namespace {
+
+// The writers' one rule for the format: an HDF5 file by its extension, else Sibernetic text.
+bool WritesHdf5(const std::filesystem::path& destination) {
+  const std::string ext = destination.extension().string();
+  return ext == ".h5" || ext == ".hdf5";
+}
+
+}  // namespace
 
 std::filesystem::path PartialPath(const std::filesystem::path& destination) {
   std::filesystem::path partial = destination;
@@ -139,8 +148,7 @@ std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::
                                                          const TrajectoryHeader& header,
                                                          const WriterCheckpoint& checkpoint,
                                                          const TrajectoryWriterOptions& options) {
-  const std::string ext = destination.extension().string();
-  if (ext == ".h5" || ext == ".hdf5")
+  if (WritesHdf5(destination))
     return internal::ResumeHdf5Writer(destination, header, options.hdf5, checkpoint);
   return internal::ResumeTextWriter(
       destination, header,
@@ -149,8 +157,7 @@ std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::
 
 void CheckResumable(const std::filesystem::path& destination, const TrajectoryHeader& header,
                     const WriterCheckpoint& checkpoint) {
-  const std::string ext = destination.extension().string();
-  if (ext == ".h5" || ext == ".hdf5")
+  if (WritesHdf5(destination))
     internal::CheckHdf5Resumable(destination, header, checkpoint);
   else
     internal::CheckTextResumable(destination, checkpoint);
@@ -161,9 +168,7 @@ std::unique_ptr<TrajectoryWriter> OpenTrajectoryWriter(const std::filesystem::pa
                                                        const TrajectoryWriterOptions& options) {
   if (header.type.empty())
     throw InputError(destination.string(), 0, "a trajectory needs at least one particle");
-  const std::string ext = destination.extension().string();
-  if (ext == ".h5" || ext == ".hdf5")
-    return internal::OpenHdf5Writer(destination, header, options.hdf5);
+  if (WritesHdf5(destination)) return internal::OpenHdf5Writer(destination, header, options.hdf5);
   return internal::OpenTextWriter(
       destination, header,
       options.layout == TextLayout::kAuto ? TextLayout::kOpenCL : options.layout);
