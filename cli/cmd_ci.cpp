@@ -1,5 +1,4 @@
 // owval ci quick-test|validate DIR: the CI gates as commands (exit 1 when a gate fails).
-#include <filesystem>
 #include <iostream>
 
 #include "command.hpp"
