@@ -4,18 +4,9 @@
 #include <cmath>
 
 #include "neighbour_grid.hpp"
+#include "quantile.hpp"
 
 namespace owval::compare::internal {
-namespace {
-
-// The q-th quantile of `values` (0 <= q <= 1), by the nearest rank; reorders them.
-double Quantile(std::vector<double>& values, double q) {
-  const auto rank = std::size_t(std::lround(q * double(values.size() - 1)));
-  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(rank), values.end());
-  return values[rank];
-}
-
-}  // namespace
 
 PackingSummary MeasurePacking(const FrameRef& frame, const std::vector<std::size_t>& liquid,
                               double support_cu) {

@@ -12,6 +12,7 @@
 
 #include "body_gates.hpp"
 #include "closest_approach.hpp"
+#include "frame_acceleration.hpp"
 #include "held_pairs.hpp"
 #include "liquid_packing.hpp"
 #include "owval/base/errors.hpp"
@@ -180,7 +181,8 @@ struct WorstParticle {
 // agree to the files' printed precision, and a candidate that starts elsewhere is another
 // experiment. Each coordinate's allowance is the rounding of two prints at 6 significant digits,
 // 1e-5 of its magnitude, plus float32's at the box's scale near zero; the value is the worst
-// coordinate's difference in those allowances.
+// coordinate's difference in those allowances. The same measure holds the walls at every paired
+// frame (GateBoundaryFixed): boundary particles are never integrated.
 struct InitialState {
   bool observed = false;
   double worst = 0;  // |x_cand - x_ref| / allowance, worst coordinate
@@ -188,20 +190,33 @@ struct InitialState {
   int axis = 0;
   double reference_cu = 0, candidate_cu = 0;
 
+  std::size_t reference_frame = 0;  // where the worst coordinate is
+
+  // Every particle at this pair of frames (the reference's first).
   void Observe(const FrameRef& ref, const FrameRef& cand, double box_scale_cu) {
+    for (std::size_t p = 0; p < ref.trajectory.particle_count(); ++p)
+      ObserveParticle(ref, cand, p, box_scale_cu);
+  }
+  // `members` only, at the pair of frames whose reference frame is `reference_frame_index`.
+  void Observe(const FrameRef& ref, const FrameRef& cand, double box_scale_cu,
+               const std::vector<std::size_t>& members, std::size_t reference_frame_index) {
+    const double before = worst;
+    for (std::size_t p : members) ObserveParticle(ref, cand, p, box_scale_cu);
+    if (worst > before) reference_frame = reference_frame_index;
+  }
+  void ObserveParticle(const FrameRef& ref, const FrameRef& cand, std::size_t p,
+                       double box_scale_cu) {
     observed = true;
-    for (std::size_t p = 0; p < ref.trajectory.particle_count(); ++p) {
-      const float* x = ref.trajectory.position(ref.frame, p);
-      const float* y = cand.trajectory.position(cand.frame, p);
-      for (int a = 0; a < 3; ++a) {
-        const double allowance =
-            kPrintedDigitsRounding * std::max(std::abs(double(x[a])), std::abs(double(y[a]))) +
-            kFloatRounding * box_scale_cu;
-        double ratio = std::abs(double(y[a]) - x[a]) / allowance;
-        if (!std::isfinite(ratio)) ratio = INFINITY;  // a NaN is the worst of all
-        if (ratio > worst)
-          worst = ratio, particle = p, axis = a, reference_cu = x[a], candidate_cu = y[a];
-      }
+    const float* x = ref.trajectory.position(ref.frame, p);
+    const float* y = cand.trajectory.position(cand.frame, p);
+    for (int a = 0; a < 3; ++a) {
+      const double allowance =
+          kPrintedDigitsRounding * std::max(std::abs(double(x[a])), std::abs(double(y[a]))) +
+          kFloatRounding * box_scale_cu;
+      double ratio = std::abs(double(y[a]) - x[a]) / allowance;
+      if (!std::isfinite(ratio)) ratio = INFINITY;  // a NaN is the worst of all
+      if (ratio > worst)
+        worst = ratio, particle = p, axis = a, reference_cu = x[a], candidate_cu = y[a];
     }
   }
   static constexpr double kPrintedDigitsRounding = 1e-5;  // two %g prints: 5e-6 of |x| each
@@ -302,6 +317,32 @@ struct PackingReduction {
   }
 };
 
+// How hard each run pushes its moving particles between paired frames (frame_acceleration.hpp),
+// per kind (elastic, liquid): each summary's mean over the stencils both runs complete (three
+// paired frames evenly spaced in time), so both are measured at the same instants and intervals
+// whatever their own log steps.
+struct AccelerationReduction {
+  struct Kind {
+    const char* name;
+    internal::FrameAcceleration runs[2];  // reference, candidate
+    std::size_t stencils = 0;
+    double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // cu/s^2
+    double inverse_interval_squared_sum = 0;                        // 1/s^2, for the floor
+  };
+  std::vector<Kind> kinds;
+
+  void Observe(const FrameRef& ref, const FrameRef& cand, double time_s) {
+    for (Kind& k : kinds) {
+      const auto r = k.runs[0].Observe(ref, time_s), c = k.runs[1].Observe(cand, time_s);
+      if (!r || !c) continue;
+      ++k.stencils;
+      k.median_sum[0] += r->median, k.median_sum[1] += c->median;
+      k.upper_quartile_sum[0] += r->upper_quartile, k.upper_quartile_sum[1] += c->upper_quartile;
+      k.inverse_interval_squared_sum += 1 / (r->interval_s * r->interval_s);
+    }
+  }
+};
+
 // Everything the gates need, reduced frame pair by frame pair in time order (one frame of each
 // trajectory at a time): the tracked series, the per-particle distances, each group's drift,
 // the group centroid distances at the sampled pairs, and the scene gates' measures.
@@ -319,6 +360,15 @@ class PairReducer {
         bodies_(ref, cand, ref_frames, o.gates) {
     for (std::size_t p : moving_)
       if (KindOf(ref.type[p]) == ParticleKind::kLiquid) liquid_.push_back(p);
+    for (const auto& [name, kind] : {std::pair{"elastic", ParticleKind::kElastic},
+                                     std::pair{"liquid", ParticleKind::kLiquid}}) {
+      std::vector<std::size_t> members;
+      for (std::size_t p : moving_)
+        if (KindOf(ref.type[p]) == kind) members.push_back(p);
+      if (!members.empty())
+        acceleration_.kinds.push_back(
+            {name, {internal::FrameAcceleration(members), internal::FrameAcceleration(members)}});
+    }
     for (const char* group : {"elastic", "liquid"}) {
       DriftAccumulator g;
       g.d.group = group;
@@ -341,6 +391,7 @@ class PairReducer {
       WorstParticle w{group, {}};
       for (std::size_t p = 0; p < ref.particle_count(); ++p)
         if (KindOf(ref.type[p]) == kind) w.members.push_back(p);
+      if (kind == ParticleKind::kBoundary) boundary_ = w.members;
       if (!w.members.empty()) worst_.push_back(std::move(w));
     }
   }
@@ -361,11 +412,13 @@ class PairReducer {
     for (DriftAccumulator& g : drift_) g.Observe(a, b, ref_.box);
     for (WorstParticle& w : worst_) w.Observe(a, b, pairs_[k].first);
     if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
+    walls_.Observe(a, b, r_->box_scale_cu, boundary_, pairs_[k].first);
     const std::array<internal::ClosestPair, 2> known = ObserveHeldPairs(k, a, b);
     if (!moving_.empty())
       closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
                        known);
     ObservePacking(k, a, b);
+    acceleration_.Observe(a, b, ref_.time_s[pairs_[k].first]);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -398,6 +451,7 @@ class PairReducer {
     return tracked_offset_cu_[k];
   }
   const InitialState& initial_state() const { return initial_; }
+  const InitialState& walls() const { return walls_; }
   const ClosestApproach& closest_approach() const { return closest_; }
   // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
   const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
@@ -406,6 +460,7 @@ class PairReducer {
   bool has_moving_particles() const { return !moving_.empty(); }
   bool has_liquid() const { return !liquid_.empty(); }
   const PackingReduction& packing() const { return packing_; }
+  const AccelerationReduction& acceleration() const { return acceleration_; }
 
  private:
   void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
@@ -428,8 +483,10 @@ class PairReducer {
   std::vector<std::vector<std::size_t>> sample_groups_;
   std::map<std::size_t, std::array<double, 2>> sample_distance_;
   std::vector<DriftAccumulator> drift_;
-  std::vector<WorstParticle> worst_;  // elastic, liquid, boundary: those the scene has
-  InitialState initial_;              // at the reference's first frame, when it is paired
+  std::vector<WorstParticle> worst_;   // elastic, liquid, boundary: those the scene has
+  InitialState initial_;               // at the reference's first frame, when it is paired
+  std::vector<std::size_t> boundary_;  // the reference's boundary particles
+  InitialState walls_;                 // theirs, at every paired frame
   // Held pairs, of each run over the paired frames: the cap is half the reference's spacing at
   // its first paired frame (a pair held farther than that is no near-contact), the hold a tenth
   // of the paired frames, at least three.
@@ -462,7 +519,8 @@ class PairReducer {
   }
   std::vector<std::size_t> liquid_;  // the reference's liquid particles
   PackingReduction packing_;
-  ClosestApproach closest_;  // of each run, over the paired frames
+  AccelerationReduction acceleration_;  // per moving kind the reference has
+  ClosestApproach closest_;             // of each run, over the paired frames
   // The closest-pair search's first cell width, of the box's largest extent (it widens itself).
   static constexpr double kClosestApproachCell = 0.01;
   std::vector<double> cand_time_;
@@ -793,6 +851,39 @@ void GateInitialState(const Trajectory& ref, const PairReducer& reduced, const P
   r->gates.push_back(g);
 }
 
+// The candidate's walls against the reference's at every paired frame, to the printed precision
+// (InitialState's measure and threshold): Sibernetic never integrates a boundary particle
+// (sphFluid.cl's integration skips type 3), nor does any owval backend, so an honest run's walls
+// are where the reference's are in every frame. boundary.worst_particle's 5% of the box let
+// every wall move 1 cu from frame 1 on (one_sprig's spring anchor with them) while the moving
+// particles stayed the reference's (docs/checklist.md, round 7). n/a without boundary particles.
+void GateBoundaryFixed(const Trajectory& ref, const PairReducer& reduced, const ParityOptions& o,
+                       ParityReport* r) {
+  const InitialState& s = reduced.walls();
+  Gate g = MakeGate("boundary.fixed",
+                    "worst boundary coordinate's |cand - ref| over the paired frames, in units of "
+                    "the rounding of two 6-significant-digit prints",
+                    s.observed ? s.worst : NAN, o.gates.initial_state, "of the printed precision");
+  if (!s.observed) {
+    g.detail = "the scene has no boundary particles";
+    r->gates.push_back(g);
+    return;
+  }
+  char detail[240];
+  if (s.worst == 0) {
+    std::snprintf(detail, sizeof detail, "every boundary coordinate equal at every paired frame");
+  } else {
+    std::snprintf(detail, sizeof detail,
+                  "particle %zu %c at reference frame %zu (%.6g s): candidate %.7g cu, reference "
+                  "%.7g cu",
+                  s.particle, "xyz"[s.axis], s.reference_frame, ref.time_s[s.reference_frame],
+                  s.candidate_cu, s.reference_cu);
+  }
+  g.detail = detail;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // The candidate's particle type codes against the reference's (Sibernetic's position.w: kind and
 // sub-type, fixed by the configuration). Every gate reads the kinds from the reference's types,
 // so a candidate that wrote liquid as elastic (or dropped the sub-types the worm's midline bins by)
@@ -954,6 +1045,49 @@ void GateLiquidPacking(const PairReducer& reduced, const ParityOptions& o, Parit
   r->gates.push_back(g);
 }
 
+// The candidate's accelerations between frames against the reference's (AccelerationReduction):
+// per kind, the relative gaps of the mean median and of the mean upper quartile; the value is the
+// worst kind's larger gap. A reference whose particles barely move is judged against the printed
+// precision instead of its own near-zero accelerations: three prints of 6 significant digits
+// make a second difference of up to 4 x 5e-6 of a coordinate (the box's largest extent at most).
+void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  Gate g = MakeGate("acceleration",
+                    "per moving kind, |candidate / reference - 1| of the particles' acceleration "
+                    "between paired frames (|x(t+dt) - 2x(t) + x(t-dt)| / dt^2), its median and "
+                    "upper quartile over the kind averaged over the stencils; worst kind, the "
+                    "larger",
+                    NAN, o.gates.acceleration, "relative");
+  std::string details;
+  for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
+    if (k.stencils == 0) continue;
+    const double n = double(k.stencils);
+    const double floor = 2e-5 * r->box_scale_cu * k.inverse_interval_squared_sum / n;
+    const double median[2] = {k.median_sum[0] / n, k.median_sum[1] / n};
+    const double quartile[2] = {k.upper_quartile_sum[0] / n, k.upper_quartile_sum[1] / n};
+    const double median_gap = (median[1] - median[0]) / std::max(median[0], floor);
+    const double quartile_gap = (quartile[1] - quartile[0]) / std::max(quartile[0], floor);
+    double value = std::max(std::abs(median_gap), std::abs(quartile_gap));
+    if (std::isnan(value)) value = INFINITY;
+    char detail[400];
+    std::snprintf(detail, sizeof detail,
+                  "%s over %zu stencils: median candidate %.4g, reference %.4g cu/s^2 (%+.1f%%), "
+                  "upper quartile candidate %.4g, reference %.4g cu/s^2 (%+.1f%%)",
+                  k.name, k.stencils, median[1], median[0], 100 * median_gap, quartile[1],
+                  quartile[0], 100 * quartile_gap);
+    details += (details.empty() ? "" : "; ") + std::string(detail);
+    if (std::isnan(g.value) || value > g.value) g.value = value;
+  }
+  if (std::isnan(g.value)) {
+    g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
+                                              : "the scene has no moving particles";
+    r->gates.push_back(g);
+    return;
+  }
+  g.detail = details;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -1047,9 +1181,11 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateTimeBase(cand, o, &r);
   GateParticleTypes(ref, cand, &r);
   GateInitialState(ref, reducer, o, &r);
+  GateBoundaryFixed(ref, reducer, o, &r);
   GateClosestApproach(ref, reducer, o, &r);
   GateHeldPair(ref, pairs, reducer, o, &r);
   GateLiquidPacking(reducer, o, &r);
+  GateAcceleration(reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -1243,7 +1379,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "tenth of the paired frames the candidate may hold one"},
     {"liquid_packing_threshold", "--liquid-packing-threshold", &G::liquid_packing,
      "liquid_packing gate: the relative gap of the liquid's mean kernel sum (median, upper "
-     "quartile) to the reference's"}};
+     "quartile) to the reference's"},
+    {"acceleration_threshold", "--acceleration-threshold", &G::acceleration,
+     "acceleration gate: the relative gap of the moving particles' mean acceleration between "
+     "frames (median, upper quartile; worst kind) to the reference's"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

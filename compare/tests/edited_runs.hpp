@@ -1,8 +1,10 @@
 #pragma once
-// Edited copies of real runs that the pair gates' tests (closest_approach, held_pair) and the
-// liquid_packing tests judge.
+// Edited copies of real runs that the pair gates' tests (closest_approach, held_pair), the
+// liquid_packing and the acceleration tests judge.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <random>
 
 #include "owval/trajectory/trajectory.hpp"
 
@@ -34,6 +36,39 @@ inline Trajectory ScaledAboutTheBoxCentre(const Trajectory& t, double factor, st
     for (std::size_t p = 0; p < out.particle_count(); ++p)
       for (int a = 0; a < 3 && KindOf(out.type[p]) != ParticleKind::kBoundary; ++a)
         out.position(f, p)[a] = float(centre[a] + factor * (out.position(f, p)[a] - centre[a]));
+  return out;
+}
+
+// `t` with independent noise, uniform in [-amplitude_cu, amplitude_cu] on each coordinate of
+// every moving particle, at frames [from, end) (seeded: the same copy every time). No simulation
+// jitters: a run's positions are integrated from velocities.
+inline Trajectory Jittered(const Trajectory& t, double amplitude_cu, std::size_t from,
+                           unsigned seed = 1) {
+  Trajectory out = t;
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> noise(-amplitude_cu, amplitude_cu);
+  for (std::size_t f = from; f < out.frame_count(); ++f)
+    for (std::size_t p = 0; p < out.particle_count(); ++p)
+      for (int a = 0; a < 3 && KindOf(out.type[p]) != ParticleKind::kBoundary; ++a)
+        out.position(f, p)[a] = float(out.position(f, p)[a] + noise(random));
+  return out;
+}
+
+// `t` with every moving particle's position at frames [from, end) replaced by its mean over the
+// `width` frames centred on it (odd width; the window shrinks symmetrically near the ends, so a
+// motion at constant velocity is left as it is): a filtered copy, not a simulation.
+inline Trajectory MovingAverage(const Trajectory& t, std::size_t width, std::size_t from) {
+  Trajectory out = t;
+  const std::size_t n = t.frame_count(), half = width / 2;
+  for (std::size_t f = from; f < n; ++f) {
+    const std::size_t reach = std::min({half, f - from, n - 1 - f});
+    for (std::size_t p = 0; p < t.particle_count(); ++p)
+      for (int a = 0; a < 3 && KindOf(t.type[p]) != ParticleKind::kBoundary; ++a) {
+        double sum = 0;
+        for (std::size_t g = f - reach; g <= f + reach; ++g) sum += t.position(g, p)[a];
+        out.position(f, p)[a] = float(sum / double(2 * reach + 1));
+      }
+  }
   return out;
 }
 

@@ -134,6 +134,14 @@ struct ParityGates {
   // passes (within what honest runs differ by). demo1's leapfrog reruns fail (8.0%, 21.5%): their
   // liquid leaves the cube (and fails 10 other gates); so does XPBD's liquid, 5-11% less packed.
   Threshold liquid_packing{0.01};  // relative gap of the mean kernel sum, larger summary
+  // The moving particles' acceleration between paired frames, from positions alone
+  // (frame_acceleration.hpp): per kind (elastic, liquid) the median and upper quartile of
+  // |x(t+dt) - 2 x(t) + x(t-dt)| / dt^2 over the kind's particles, averaged over the stencils;
+  // the value is the worst kind's larger relative gap to the reference's. The forces set the
+  // accelerations' distribution, as they set the packing, so runs of the same physics whose
+  // chaos has diverged share it; noise added to every frame raises it, a time-filtered copy
+  // lowers it. Measured: docs/checklist.md, "Attacks measured (round 7)".
+  Threshold acceleration{0.25};  // relative gap of the mean acceleration, worst kind
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an

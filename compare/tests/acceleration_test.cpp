@@ -1,0 +1,173 @@
+// The acceleration and boundary.fixed gates. acceleration: the moving particles' acceleration
+// between paired frames
+// (|x(t+dt) - 2x(t) + x(t-dt)| / dt^2), its median and upper quartile per kind averaged over the
+// stencils, against the reference's. Sibernetic's demo1 with noise of 0.05-1 cu added to every
+// moving particle in every frame, or replaced by its own moving average over 3-31 frames, passed
+// every other gate (docs/checklist.md, "Attacks measured (round 7)"). boundary.fixed: the walls
+// at every paired frame where the reference's are, to the printed precision.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "edited_runs.hpp"
+#include "frame_acceleration.hpp"
+#include "owval/compare/parity.hpp"
+#include "owval/engine/constants.hpp"
+#include "owval/engine/run.hpp"
+#include "owval/testing/reference_runs.hpp"
+
+namespace owval::compare {
+namespace {
+
+using testing_edits::Jittered;
+using testing_edits::MovingAverage;
+
+// One liquid particle falling from rest at 9.8 cu/s^2 along -y, logged at `times_s`.
+Trajectory FallingParticle(const std::vector<double>& times_s) {
+  Trajectory t;
+  t.box = {0, 10, 0, 10, 0, 10};
+  t.type = {1.1f};
+  for (double time : times_s) {
+    const float x[3] = {5, float(9 - 4.9 * time * time), 5};
+    t.AppendFrame(time, x);
+  }
+  return t;
+}
+
+TEST(FrameAcceleration, AStencilMeasuresTheAccelerationOfAFall) {
+  const Trajectory t = FallingParticle({0, 0.1, 0.2, 0.3});
+  internal::FrameAcceleration a({0});
+  EXPECT_FALSE(a.Observe({t, 0}, 0.0));
+  EXPECT_FALSE(a.Observe({t, 1}, 0.1));
+  const auto s = a.Observe({t, 2}, 0.2);
+  ASSERT_TRUE(s);
+  EXPECT_NEAR(s->median, 9.8, 1e-4);  // float positions: 5e-7 cu in 0.01 s^2
+  EXPECT_NEAR(s->upper_quartile, 9.8, 1e-4);
+  EXPECT_DOUBLE_EQ(s->interval_s, 0.1);
+}
+
+TEST(FrameAcceleration, UnevenIntervalsMakeNoStencil) {
+  const Trajectory t = FallingParticle({0, 0.1, 0.3, 0.4, 0.5});
+  internal::FrameAcceleration a({0});
+  EXPECT_FALSE(a.Observe({t, 0}, 0.0));
+  EXPECT_FALSE(a.Observe({t, 1}, 0.1));
+  EXPECT_FALSE(a.Observe({t, 2}, 0.3));  // 0.1 s then 0.2 s: velocity would leak into it
+  EXPECT_FALSE(a.Observe({t, 3}, 0.4));
+  EXPECT_TRUE(a.Observe({t, 4}, 0.5));
+}
+
+TEST(Acceleration, ARunAtRestIsJudgedAgainstThePrintedPrecision) {
+  Trajectory still;
+  still.box = {0, 10, 0, 10, 0, 10};
+  still.type = {1.1f};
+  for (int f = 0; f < 5; ++f) {
+    const float x[3] = {5, 5, 5};
+    still.AppendFrame(f * 1e-3, x);
+  }
+  Trajectory rounded = still;  // moved by the rounding of a 6-digit print (5e-6 of 5 cu)
+  rounded.position(2, 0)[1] += 2.5e-5f;
+  const ParityReport r = CompareTrajectories(still, rounded, {});
+  const Gate& g = *r.gate("acceleration");
+  EXPECT_EQ(g.status, GateStatus::kPass) << g.value << ": " << g.detail;
+  EXPECT_TRUE(r.pass()) << r.FailedGates();
+}
+
+TEST(Acceleration, OneSprigAgainstItselfMeasuresZero) {
+  const Trajectory& run = testing::BundledOneSprigRun();
+  const ParityReport r = CompareTrajectories(run, run, {});
+  const Gate& g = *r.gate("acceleration");
+  EXPECT_EQ(g.value, 0.0);
+  EXPECT_EQ(g.status, GateStatus::kPass);
+  EXPECT_EQ(g.threshold.value, 0.25);  // the default
+  EXPECT_NE(g.detail.find("elastic over 2498 stencils"), std::string::npos) << g.detail;
+}
+
+// Every wall moved 1 cu along x from frame 1 on, the moving particles left as they are.
+Trajectory WallsMoved(const Trajectory& t) {
+  Trajectory out = t;
+  for (std::size_t f = 1; f < out.frame_count(); ++f)
+    for (std::size_t p = 0; p < out.particle_count(); ++p)
+      if (KindOf(out.type[p]) == ParticleKind::kBoundary) out.position(f, p)[0] += 1.0f;
+  return out;
+}
+
+TEST(BoundaryFixed, OneSprigWithItsWallsAndAnchorMovedFailsOnlyThis) {
+  const Trajectory& run = testing::BundledOneSprigRun();
+  const ParityReport same = CompareTrajectories(run, run, {});
+  EXPECT_EQ(same.gate("boundary.fixed")->value, 0.0);
+  EXPECT_EQ(same.gate("boundary.fixed")->detail,
+            "every boundary coordinate equal at every paired frame");
+  const ParityReport moved = CompareTrajectories(run, WallsMoved(run), {});
+  EXPECT_EQ(moved.FailedGates(), "boundary.fixed");  // boundary.worst_particle: 3% of the box
+  const Gate& g = *moved.gate("boundary.fixed");
+  EXPECT_GT(g.value, 1e3);
+  EXPECT_NE(g.detail.find("at reference frame 1 "), std::string::npos) << g.detail;
+}
+
+TEST(BoundaryFixed, ASceneWithoutWallsIsNotApplicable) {
+  const Trajectory t = FallingParticle({0, 0.1, 0.2});
+  const Gate& g = *CompareTrajectories(t, t, {}).gate("boundary.fixed");
+  EXPECT_EQ(g.status, GateStatus::kNotApplicable);
+}
+
+ParityReport Demo1Edited(const Trajectory& candidate) {
+  return CompareTrajectories(*testing::SiberneticDemo1Run(), candidate, {});
+}
+
+TEST(AccelerationParity, Demo1AgainstItselfMeasuresZero) {
+  OWVAL_REQUIRE_DEMO1();
+  const ParityReport r = Demo1Edited(*testing::SiberneticDemo1Run());
+  const Gate& g = *r.gate("acceleration");
+  EXPECT_EQ(g.value, 0.0);
+  EXPECT_NE(g.detail.find("elastic over 498 stencils"), std::string::npos) << g.detail;
+  EXPECT_NE(g.detail.find("liquid over 498 stencils"), std::string::npos) << g.detail;
+  EXPECT_TRUE(r.pass()) << r.FailedGates();
+}
+
+TEST(AccelerationParity, Demo1WithNoiseOnEveryFrameFailsOnlyThis) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& demo1 = *testing::SiberneticDemo1Run();
+  // 0.05 cu, a thirtieth of r0: every motion gate admits it.
+  const ParityReport r = Demo1Edited(Jittered(demo1, 0.05, 1));
+  EXPECT_EQ(r.FailedGates(), "acceleration");
+  const Gate& g = *r.gate("acceleration");
+  // The elastic median +86% (5.40e5 cu/s^2, 4.0 m/s^2, in the reference).
+  EXPECT_NEAR(g.value, 0.861, 0.01) << g.detail;
+}
+
+TEST(AccelerationParity, Demo1SmoothedOverThreeFramesFailsOnlyThis) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& demo1 = *testing::SiberneticDemo1Run();
+  const ParityReport r = Demo1Edited(MovingAverage(demo1, 3, 1));
+  EXPECT_EQ(r.FailedGates(), "acceleration");
+  const Gate& g = *r.gate("acceleration");
+  EXPECT_NEAR(g.value, 0.644, 0.01) << g.detail;  // the liquid's upper quartile -64%
+}
+
+// owval's PCISPH on demo1's configuration, gravity changed by 1e-6 of its magnitude: the same
+// physics, its chaos diverged from Sibernetic's within the first 50 frames.
+Trajectory HonestDemo1Rerun(double duration_s) {
+  engine::RunOptions o;
+  o.duration_s = duration_s;
+  o.log_step = 20;
+  o.threads = 1;
+  o.record_fields = false;
+  engine::SetConstant(&o.constants, "gravity_y", -9.79999);
+  return engine::Run(engine::ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
+                                                  "reference/demo1/configuration"),
+                     o);
+}
+
+TEST(AccelerationParity, AnHonestPerturbedRerunPassesAndTheSameWithNoiseFails) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory rerun = HonestDemo1Rerun(0.05);  // 125 frames
+  const Gate honest = *Demo1Edited(rerun).gate("acceleration");
+  EXPECT_EQ(honest.status, GateStatus::kPass) << honest.value << ": " << honest.detail;
+  EXPECT_GT(honest.value, 1e-3);  // diverged: not the reference's own frames
+  const Gate noisy = *Demo1Edited(Jittered(rerun, 0.05, 1)).gate("acceleration");
+  EXPECT_EQ(noisy.status, GateStatus::kFail) << noisy.value << ": " << noisy.detail;
+}
+
+}  // namespace
+}  // namespace owval::compare
