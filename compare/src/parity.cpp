@@ -223,6 +223,38 @@ struct InitialState {
   static constexpr double kFloatRounding = 1e-7;          // float32's epsilon, 6e-8, rounded up
 };
 
+// Paired frames at which the candidate's moving particles all stand exactly where they stood at
+// the paired frame before while the reference's moved by more than two prints' rounding: a frame
+// written twice (a readback that returned the last frame's buffer), not a simulation, which
+// moves something in every step. One such frame moved no particle farther than the motion gates
+// admit: demo1's frame 250 written again as 249 passed every gate (docs/checklist.md, round 7).
+struct StaleFrames {
+  std::size_t count = 0, first_reference_frame = 0;
+  std::vector<float> last[2];  // the moving particles' positions at the last pair (ref, cand)
+
+  void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
+               std::size_t reference_frame, double box_scale_cu) {
+    bool reference_moved = false, candidate_moved = false;
+    const bool first = last[0].empty();
+    if (first) last[0].resize(3 * moving.size()), last[1].resize(3 * moving.size());
+    for (std::size_t k = 0; k < moving.size(); ++k) {
+      const float* x = ref.trajectory.position(ref.frame, moving[k]);
+      const float* y = cand.trajectory.position(cand.frame, moving[k]);
+      for (int a = 0; a < 3; ++a) {
+        float& was_x = last[0][3 * k + a];
+        float& was_y = last[1][3 * k + a];
+        const double allowance = InitialState::kPrintedDigitsRounding * std::abs(double(x[a])) +
+                                 InitialState::kFloatRounding * box_scale_cu;
+        reference_moved |= std::abs(double(x[a]) - was_x) > allowance;
+        candidate_moved |= !(y[a] == was_y);
+        was_x = x[a], was_y = y[a];
+      }
+    }
+    if (!first && reference_moved && !candidate_moved && count++ == 0)
+      first_reference_frame = reference_frame;
+  }
+};
+
 // The closest approach of two particles (one of them moving) over the paired frames, in each
 // run (closest_approach.hpp): pressure holds an honest run's particles apart, so a candidate
 // whose particles come much closer than the reference's ever do has particles put where the
@@ -413,6 +445,7 @@ class PairReducer {
     for (WorstParticle& w : worst_) w.Observe(a, b, pairs_[k].first);
     if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
     walls_.Observe(a, b, r_->box_scale_cu, boundary_, pairs_[k].first);
+    if (!moving_.empty()) stale_.Observe(a, b, moving_, pairs_[k].first, r_->box_scale_cu);
     const std::array<internal::ClosestPair, 2> known = ObserveHeldPairs(k, a, b);
     if (!moving_.empty())
       closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
@@ -452,6 +485,7 @@ class PairReducer {
   }
   const InitialState& initial_state() const { return initial_; }
   const InitialState& walls() const { return walls_; }
+  const StaleFrames& stale_frames() const { return stale_; }
   const ClosestApproach& closest_approach() const { return closest_; }
   // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
   const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
@@ -487,6 +521,7 @@ class PairReducer {
   InitialState initial_;               // at the reference's first frame, when it is paired
   std::vector<std::size_t> boundary_;  // the reference's boundary particles
   InitialState walls_;                 // theirs, at every paired frame
+  StaleFrames stale_;                  // the candidate's frames written twice
   // Held pairs, of each run over the paired frames: the cap is half the reference's spacing at
   // its first paired frame (a pair held farther than that is no near-contact), the hold a tenth
   // of the paired frames, at least three.
@@ -889,6 +924,23 @@ void GateBoundaryFixed(const Trajectory& ref, const PairReducer& reduced, const 
 // so a candidate that wrote liquid as elastic (or dropped the sub-types the worm's midline bins by)
 // passed with its positions right. Equal to the printed precision (1e-5 relative: two 6-digit
 // prints), since a text file prints them with 6 significant digits and HDF5 keeps the float.
+// The candidate's paired frames that repeat the one before while the reference moves
+// (StaleFrames): none may, as no particle type may differ. n/a without moving particles.
+void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
+  if (!reduced.has_moving_particles()) return;
+  const StaleFrames& s = reduced.stale_frames();
+  Gate g = MakeGate("stale_frames",
+                    "paired frames at which no moving particle of the candidate moved since the "
+                    "paired frame before while the reference's moved",
+                    double(s.count), Threshold{1}, "frames");
+  g.detail = s.count == 0 ? "none"
+                          : std::to_string(s.count) + " (the first at reference frame " +
+                                std::to_string(s.first_reference_frame) +
+                                "): the candidate wrote the frame before again";
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
 void GateParticleTypes(const Trajectory& ref, const Trajectory& cand, ParityReport* r) {
   std::size_t differing = 0, first = 0;
   for (std::size_t p = 0; p < ref.particle_count(); ++p) {
@@ -1180,6 +1232,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateSamplingOscillation(ref, pairs, o, &r);
   GateTimeBase(cand, o, &r);
   GateParticleTypes(ref, cand, &r);
+  GateStaleFrames(reducer, &r);
   GateInitialState(ref, reducer, o, &r);
   GateBoundaryFixed(ref, reducer, o, &r);
   GateClosestApproach(ref, reducer, o, &r);

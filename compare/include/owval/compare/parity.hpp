@@ -32,6 +32,13 @@
 //    against the reference's: PCISPH holds the liquid at its rest density, and a liquid 3% less
 //    dense moves no particle far enough for the motion gates (liquid_packing.hpp,
 //    ParityGates::liquid_packing). Not applicable when the reference has no liquid.
+//  - acceleration: per moving kind, the particles' acceleration between paired frames
+//    (|x(t+dt) - 2x(t) + x(t-dt)| / dt^2), its median and upper quartile averaged over the
+//    stencils, against the reference's: noise added to every frame raises it, a time-filtered
+//    copy lowers it, and neither moves a particle far enough for the motion gates
+//    (frame_acceleration.hpp, ParityGates::acceleration).
+//  - boundary.fixed: the walls where the reference's are at every paired frame, to the printed
+//    precision (initial_state's measure and threshold): no boundary particle is ever integrated.
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
 //    range over the common window (or a stated scale): DD001's "delta < 5% of the reference
 //    scale".

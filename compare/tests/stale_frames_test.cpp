@@ -1,0 +1,56 @@
+// The stale_frames gate: a candidate frame that repeats the one before while the reference moves
+// (a frame written twice). One such frame in demo1 or one_sprig passed every other gate
+// (docs/checklist.md, "Attacks measured (round 7)").
+#include <gtest/gtest.h>
+
+#include "owval/compare/parity.hpp"
+#include "owval/testing/reference_runs.hpp"
+
+namespace owval::compare {
+namespace {
+
+// `t` with frame `f` a copy of frame f - 1 (its time kept).
+Trajectory WrittenTwice(const Trajectory& t, std::size_t f) {
+  Trajectory out = t;
+  for (std::size_t p = 0; p < out.particle_count(); ++p)
+    for (int a = 0; a < 3; ++a) out.position(f, p)[a] = out.position(f - 1, p)[a];
+  return out;
+}
+
+TEST(StaleFrames, OneSprigWithAFrameWrittenTwiceFailsOnlyThis) {
+  const Trajectory& run = testing::BundledOneSprigRun();
+  const ParityReport same = CompareTrajectories(run, run, {});
+  EXPECT_EQ(same.gate("stale_frames")->value, 0.0);
+  EXPECT_EQ(same.gate("stale_frames")->status, GateStatus::kPass);
+  const ParityReport stale = CompareTrajectories(run, WrittenTwice(run, 1250), {});
+  EXPECT_EQ(stale.FailedGates(), "stale_frames");  // frames: 0.07% of the range
+  EXPECT_EQ(stale.gate("stale_frames")->value, 1.0);
+  EXPECT_NE(stale.gate("stale_frames")->detail.find("at reference frame 1250"), std::string::npos)
+      << stale.gate("stale_frames")->detail;
+}
+
+TEST(StaleFrames, ASceneAtRestIsNoStaleFrame) {
+  Trajectory still;
+  still.box = {0, 10, 0, 10, 0, 10};
+  still.type = {1.1f};
+  for (int f = 0; f < 4; ++f) {
+    const float x[3] = {5, 5, 5};
+    still.AppendFrame(f * 1e-3, x);
+  }
+  Trajectory rounded = still;  // the reference moved by less than a print's rounding
+  rounded.position(2, 0)[0] += 2e-5f;
+  const Gate& g = *CompareTrajectories(rounded, still, {}).gate("stale_frames");
+  EXPECT_EQ(g.value, 0.0) << g.detail;
+}
+
+TEST(StaleFramesParity, Demo1WithAFrameWrittenTwiceFailsOnlyThis) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& demo1 = *testing::SiberneticDemo1Run();
+  const ParityReport r = CompareTrajectories(demo1, WrittenTwice(demo1, 250), {});
+  EXPECT_EQ(r.FailedGates(), "stale_frames");
+  EXPECT_EQ(r.gate("stale_frames")->value, 1.0);
+  EXPECT_TRUE(CompareTrajectories(demo1, demo1, {}).pass());
+}
+
+}  // namespace
+}  // namespace owval::compare
