@@ -18,6 +18,8 @@
 //  - time_base: the candidate's frames evenly spaced in time (n/a below three frames).
 //  - initial_state: the candidate at the reference's first frame equals it particle for
 //    particle, to the printed precision (a run that starts elsewhere is another experiment).
+//  - stale_frames: no paired frame at which the candidate's moving particles all stand where they
+//    stood at the paired frame before while the reference's moved (a frame written twice).
 //  - particle_types: the candidate's type codes equal the reference's (every other gate reads
 //    the kinds from the reference).
 //  - closest_approach: the reference's closest approach of two particles (one moving) over the
