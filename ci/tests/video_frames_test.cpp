@@ -8,6 +8,7 @@
 #include "owval/ci/checklist.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
+#include "owval/trajectory/formats.hpp"
 
 namespace owval::ci {
 namespace {
@@ -15,33 +16,91 @@ namespace fs = std::filesystem;
 
 const fs::path& kOneSprig = testing::kBundledOneSprig;
 
-// Item 4 of a directory with one_sprig as reference and candidate and an H.264 video of
-// `frames` black 320x160 frames made by ffmpeg's own encoder (not owval's).
-ChecklistItem ItemFour(int frames) {
-  const fs::path dir = owval::testing::TestScratch(std::to_string(frames));
-  fs::copy_file(kOneSprig, dir / "reference.txt");
-  fs::copy_file(kOneSprig, dir / "candidate.txt");
-  const std::string encode =
-      "ffmpeg -loglevel error -f lavfi -i color=c=black:s=320x160:r=30 -frames:v " +
-      std::to_string(frames) + " -c:v libx264 -pix_fmt yuv420p '" + (dir / "sxs.mp4").string() +
-      "'";
+// What sxs.mp4 is made of: `frames` black frames of `size`, by ffmpeg's encoder `encoder` (not
+// owval's).
+struct Video {
+  int frames = 5;
+  std::string size = "320x160";
+  std::string encoder = "libx264";
+};
+
+// Item 4 of a directory with `run` as reference and candidate and that video.
+ChecklistItem ItemFour(const Video& video, const fs::path& run = kOneSprig) {
+  const fs::path dir = owval::testing::TestScratch("video");
+  const std::string extension = run.extension().string();
+  fs::copy_file(run, dir / ("reference" + extension));
+  fs::copy_file(run, dir / ("candidate" + extension));
+  const std::string encode = "ffmpeg -loglevel error -f lavfi -i color=c=black:s=" + video.size +
+                             ":r=30 -frames:v " + std::to_string(video.frames) + " -c:v " +
+                             video.encoder + " -pix_fmt yuv420p '" + (dir / "sxs.mp4").string() +
+                             "'";
   if (std::system(encode.c_str()) != 0) throw std::runtime_error("ffmpeg failed: " + encode);
   const ChecklistReport r = RunChecklist(dir);
   return r.items.at(3);
 }
 
+bool NoFfmpeg() { return std::system("command -v ffmpeg > /dev/null") != 0; }
+
 TEST(VideoFrames, AOneFrameVideoOfTwoRunsFails) {
-  if (std::system("command -v ffmpeg > /dev/null") != 0) GTEST_SKIP() << "no ffmpeg";
-  const ChecklistItem i = ItemFour(1);
+  if (NoFfmpeg()) GTEST_SKIP() << "no ffmpeg";
+  const ChecklistItem i = ItemFour({.frames = 1});
   EXPECT_FALSE(i.pass);
   EXPECT_NE(i.detail.find("expected 2 to 2500 frames"), std::string::npos) << i.detail;
 }
 
 TEST(VideoFrames, AVideoOfSeveralFramesPasses) {
-  if (std::system("command -v ffmpeg > /dev/null") != 0) GTEST_SKIP() << "no ffmpeg";
-  const ChecklistItem i = ItemFour(5);
+  if (NoFfmpeg()) GTEST_SKIP() << "no ffmpeg";
+  const ChecklistItem i = ItemFour({.frames = 5});
   EXPECT_TRUE(i.pass) << i.detail;
   EXPECT_NE(i.detail.find("5 frames decoded"), std::string::npos) << i.detail;
+}
+
+// one_sprig's first four frames, as HDF5 in a scratch directory of their own.
+fs::path FourFrames() {
+  const Trajectory full = ReadTrajectory(kOneSprig);
+  Trajectory part;
+  part.box = full.box, part.type = full.type;
+  part.time_step_s = full.time_step_s, part.log_step = full.log_step;
+  for (std::size_t f = 0; f < 4; ++f) part.AppendFrame(full.time_s[f], full.position(f, 0));
+  const fs::path file = owval::testing::TestScratch("four_frames") / "four_frames.h5";
+  WriteTrajectory(part, file);
+  return file;
+}
+
+// `owval render sxs` draws one frame per paired frame at most: a video with more frames than the
+// runs pair shows something else (mutation audit 2026-11-30: without the upper bound, a 5-frame
+// video of two 4-frame runs passed).
+TEST(VideoFrames, AVideoWithMoreFramesThanTheRunsPairFails) {
+  if (NoFfmpeg()) GTEST_SKIP() << "no ffmpeg";
+  const fs::path run = FourFrames();
+  const ChecklistItem longer = ItemFour({.frames = 5}, run);
+  EXPECT_FALSE(longer.pass) << longer.detail;
+  EXPECT_NE(longer.detail.find("expected 2 to 4 frames"), std::string::npos) << longer.detail;
+  const ChecklistItem same = ItemFour({.frames = 4}, run);
+  EXPECT_TRUE(same.pass) << same.detail;
+}
+
+// The item names H.264 (what `owval render sxs` writes): an MPEG-4 part 2 video of the right
+// shape and length passed when the codec was not checked (mutation audit 2026-11-30).
+TEST(VideoFrames, AVideoInAnotherCodecFails) {
+  if (NoFfmpeg()) GTEST_SKIP() << "no ffmpeg";
+  const ChecklistItem i = ItemFour({.encoder = "mpeg4"});
+  EXPECT_FALSE(i.pass) << i.detail;
+  EXPECT_NE(i.detail.find("mpeg4 320x160"), std::string::npos) << i.detail;
+  EXPECT_NE(i.detail.find("(expected h264)"), std::string::npos) << i.detail;
+}
+
+// Two panels side by side are at least 1.5 times as wide as high: a single 4:3 panel (1.33) fails,
+// 3:2 passes. cli/tests/checklist_test.cpp's single panel is square, which a rule of "wider than
+// high" also fails (mutation audit 2026-11-30).
+TEST(VideoFrames, ASinglePanelWiderThanHighFails) {
+  if (NoFfmpeg()) GTEST_SKIP() << "no ffmpeg";
+  const ChecklistItem four_by_three = ItemFour({.size = "320x240"});
+  EXPECT_FALSE(four_by_three.pass) << four_by_three.detail;
+  EXPECT_NE(four_by_three.detail.find("not two panels wide"), std::string::npos)
+      << four_by_three.detail;
+  const ChecklistItem three_by_two = ItemFour({.size = "240x160"});
+  EXPECT_TRUE(three_by_two.pass) << three_by_two.detail;
 }
 
 }  // namespace
