@@ -1,15 +1,20 @@
 // The checklist's verdict rules on small constructed directories, without running a pipeline
 // (cli/tests/checklist_test.cpp covers every item end to end on a real one).
 #include <gtest/gtest.h>
+#include <png.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "owval/ci/checklist.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/track.hpp"
 
 namespace owval::ci {
 namespace {
@@ -173,6 +178,129 @@ TEST(ChecklistUnit, ACandidatePassingOnlyLoosenedGatesFailsTheParityGateNamingTh
   ChecklistOptions tight = WithReference();
   tight.gates.frame = {0.01, compare::ThresholdSource::kManifest};
   EXPECT_TRUE(RunChecklist(dir, tight).loosened_thresholds.empty());
+}
+
+// Mutation audit (2026-11-30, docs/checklist.md): cases no earlier test decided.
+
+// A wall particle does not move: its frame gate agrees with any candidate that leaves it alone,
+// so the parity gate fails and blocks, naming why. (cli/tests/checklist_test.cpp's case is a
+// failing candidate, which other gates fail anyway: the parity gate passed a still track.)
+TEST(ChecklistUnit, AStillTrackedQuantityFailsTheParityGate) {
+  const fs::path dir = Fresh("still_track");
+  fs::copy_file(kOneSprig, dir / "reference.txt");
+  fs::copy_file(kOneSprig, dir / "candidate.txt");
+  ChecklistOptions still = WithReference();
+  still.track = Track{};
+  still.track->particle = 1;  // a wall particle, y
+  const ChecklistReport r = RunChecklist(dir, still);
+  ASSERT_TRUE(r.parity);
+  EXPECT_TRUE(r.parity->pass());  // every gate, the frame gate included, agrees
+  EXPECT_FALSE(r.tracked_moves);
+  EXPECT_FALSE(r.parity_pass());
+  const std::string blocking = r.blocking.empty() ? "" : r.blocking.back();
+  EXPECT_NE(blocking.find("parity gate (particle 1 y does not move in the reference"),
+            std::string::npos)
+      << blocking;
+  EXPECT_TRUE(RunChecklist(dir, WithReference()).parity_pass());  // particle 0 y moves
+}
+
+// One frame is no run: items 2 and 3 need two, and the directory is unreviewable (it was "not
+// ready", for the parity gate, when one frame sufficed), the caller's reference one frame too.
+TEST(ChecklistUnit, OneFrameRunsAreUnreviewable) {
+  const fs::path dir = Fresh("one_frame");
+  const Trajectory one = FirstPart(1e-9);
+  ASSERT_EQ(one.frame_count(), 1u);
+  WriteTrajectory(one, dir / "reference.h5");
+  WriteTrajectory(one, dir / "candidate.h5");
+  ChecklistOptions options;
+  options.caller_reference = dir / "reference.h5";
+  const ChecklistReport r = RunChecklist(dir, options);
+  for (int i : {2, 3}) {
+    EXPECT_FALSE(Item(r, i).pass) << i;
+    EXPECT_NE(Item(r, i).detail.find(": 1 frames, "), std::string::npos) << Item(r, i).detail;
+    EXPECT_NE(Item(r, i).detail.find("(expected at least 2 frames)"), std::string::npos)
+        << Item(r, i).detail;
+  }
+  EXPECT_EQ(r.verdict, Verdict::kUnreviewable);
+}
+
+// A PNG of 2x2 black pixels, as libpng writes it.
+void WritePng(const fs::path& file) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 2, image.height = 2, image.format = PNG_FORMAT_GRAY;
+  const unsigned char black[4] = {0, 0, 0, 0};
+  ASSERT_TRUE(png_image_write_to_file(&image, file.c_str(), 0, black, 0, nullptr)) << file;
+}
+
+// frames/ of `dir`: the PNGs `images` and frames.json's entries, one per frame of `at` (the same
+// index in both runs), each naming its image of `named` and labelled with particle 0 y there, in
+// `reference` and in `candidate`.
+void WriteFrames(const fs::path& dir, const std::vector<std::string>& images,
+                 const std::vector<std::size_t>& at, const std::vector<std::string>& named,
+                 const Trajectory& reference, const Trajectory& candidate) {
+  fs::create_directories(dir / "frames");
+  for (const std::string& image : images) WritePng(dir / "frames" / image);
+  nlohmann::json entries = nlohmann::json::array();
+  for (std::size_t i = 0; i < at.size(); ++i)
+    entries.push_back({{"image", named[i]},
+                       {"reference_frame", at[i]},
+                       {"candidate_frame", at[i]},
+                       {"reference_value", Track{}.ValueAt(reference, at[i])},
+                       {"candidate_value", Track{}.ValueAt(candidate, at[i])}});
+  std::ofstream(dir / "frames/frames.json")
+      << nlohmann::json{{"track", Track{}.ToJson()}, {"frames", entries}}.dump(2);
+}
+
+// Item 5 asks for at least 3 PNGs and at least 3 entries: 3 and 3 pass; 2 entries (3 PNGs), or 2
+// PNGs (3 entries, two naming one image) fail. Either count one short passed before. And the frame
+// gate holds at the sampled frames: one_sprig's particle 0 raised 0.2 cu (5.9% of its range) fails
+// there, which the item did not say when the parity gate's own frame gate failed it too.
+TEST(ChecklistUnit, ItemFiveNeedsThreeImagesAndThreeEntriesWithinTheFrameGate) {
+  const Trajectory run = FirstPart(0.1);  // 250 frames, 7 periods: four checklists in seconds
+  ChecklistOptions options;
+  options.caller_reference = Fresh("caller") / "reference.h5";
+  WriteTrajectory(run, options.caller_reference);
+  const auto item_five = [&](const std::string& name, const std::vector<std::string>& images,
+                             const std::vector<std::size_t>& at,
+                             const std::vector<std::string>& named, const Trajectory& candidate) {
+    const fs::path dir = Fresh(name);
+    WriteTrajectory(run, dir / "reference.h5");
+    WriteTrajectory(candidate, dir / "candidate.h5");
+    WriteFrames(dir, images, at, named, run, candidate);
+    return Item(RunChecklist(dir, options), 5);
+  };
+  const std::vector<std::string> abc = {"a.png", "b.png", "c.png"};
+  const ChecklistItem three = item_five("three", abc, {0, 15, 100}, abc, run);
+  EXPECT_TRUE(three.pass) << three.detail;
+  const ChecklistItem two_entries = item_five("two_entries", abc, {0, 15}, {"a.png", "b.png"}, run);
+  EXPECT_FALSE(two_entries.pass) << two_entries.detail;
+  EXPECT_NE(two_entries.detail.find("3 PNGs decode; 2/2 labelled values agree"), std::string::npos)
+      << two_entries.detail;
+  const ChecklistItem two_images =
+      item_five("two_images", {"a.png", "b.png"}, {0, 15, 100}, {"a.png", "b.png", "b.png"}, run);
+  EXPECT_FALSE(two_images.pass) << two_images.detail;
+  EXPECT_NE(two_images.detail.find("2 PNGs decode; 3/3 labelled values agree"), std::string::npos)
+      << two_images.detail;
+  Trajectory raised = run;
+  for (std::size_t f = 1; f < raised.frame_count(); ++f) raised.position(f, 0)[1] += 0.2f;
+  const ChecklistItem off_gate = item_five("off_gate", abc, {0, 15, 100}, abc, raised);
+  EXPECT_FALSE(off_gate.pass) << off_gate.detail;
+  EXPECT_NE(off_gate.detail.find("3/3 labelled values agree"), std::string::npos)
+      << off_gate.detail;
+  EXPECT_NE(off_gate.detail.find(", FAILS at frames"), std::string::npos) << off_gate.detail;
+}
+
+// fd_tests.json with no test proves nothing: item 7 fails (it passed when "every test passes"
+// was the whole rule), and one passing test passes it.
+TEST(ChecklistUnit, AnEmptyListOfFiniteDifferenceTestsFailsItemSeven) {
+  const fs::path dir = Fresh("no_fd_tests");
+  std::ofstream(dir / "fd_tests.json") << R"({"tests": []})";
+  const ChecklistItem none = Item(RunChecklist(dir), 7);
+  EXPECT_FALSE(none.pass);
+  EXPECT_EQ(none.detail, "0/0 finite-difference tests pass");
+  std::ofstream(dir / "fd_tests.json") << R"({"tests": [{"name": "stretch", "pass": true}]})";
+  EXPECT_TRUE(Item(RunChecklist(dir), 7).pass);
 }
 
 }  // namespace
