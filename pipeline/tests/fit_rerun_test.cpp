@@ -222,5 +222,42 @@ TEST(FitRerun, AFitOfAnotherConfigurationThanTheScenariosFails) {
   EXPECT_TRUE(ci::RunChecklist(dir, options).items[5].pass);
 }
 
+// A residual is divided by its target's scale: a scale ten times the value's magnitude shrinks
+// every residual tenfold, and the rerun at that scale reproduces the shrunk ones. Held to the
+// pipeline's scale (the value's magnitude) the item fails before any rerun; without that bound it
+// passed (mutation audit 2026-11-30, docs/checklist.md).
+TEST(FitRerun, ATargetScaleLooserThanItsValueFails) {
+  const fs::path dir = FittedDirectory("fit_rerun_scale");
+  Edit(dir / "fit/history.json", [](nlohmann::json& h) {
+    h["targets"][0]["scale"] = h["targets"][0]["scale"].get<double>() * 10;
+    for (auto& it : h["iterations"]) {
+      it["residuals"][0] = it["residuals"][0].get<double>() / 10;
+      it["loss"] = it["loss"].get<double>() / 100;
+    }
+    h["final"]["loss"] = h["final"]["loss"].get<double>() / 100;
+  });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("FAILS: target period's scale"), std::string::npos) << item.detail;
+  EXPECT_NE(item.detail.find("is looser than its value's magnitude"), std::string::npos)
+      << item.detail;
+}
+
+// The best iteration's residual with its sign flipped: the same loss, a candidate on the other
+// side of the target. The rerun's residuals are compared, not only its loss (mutation audit
+// 2026-11-30).
+TEST(FitRerun, AResidualOfTheWrongSignFails) {
+  const fs::path dir = FittedDirectory("fit_rerun_sign");
+  Edit(dir / "fit/history.json", [](nlohmann::json& h) {
+    for (auto& it : h["iterations"])
+      if (it["parameters"] == h["final"]["parameters"])
+        it["residuals"][0] = -it["residuals"][0].get<double>();
+  });
+  const ci::ChecklistItem item = ItemSix(dir);
+  EXPECT_FALSE(item.pass) << item.detail;
+  EXPECT_NE(item.detail.find("FAILS: the rerun does not reproduce"), std::string::npos)
+      << item.detail;
+}
+
 }  // namespace
 }  // namespace owval::pipeline
