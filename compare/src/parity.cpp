@@ -919,11 +919,6 @@ void GateBoundaryFixed(const Trajectory& ref, const PairReducer& reduced, const 
   r->gates.push_back(g);
 }
 
-// The candidate's particle type codes against the reference's (Sibernetic's position.w: kind and
-// sub-type, fixed by the configuration). Every gate reads the kinds from the reference's types,
-// so a candidate that wrote liquid as elastic (or dropped the sub-types the worm's midline bins by)
-// passed with its positions right. Equal to the printed precision (1e-5 relative: two 6-digit
-// prints), since a text file prints them with 6 significant digits and HDF5 keeps the float.
 // The candidate's paired frames that repeat the one before while the reference moves
 // (StaleFrames): none may, as no particle type may differ. n/a without moving particles.
 void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
@@ -941,6 +936,11 @@ void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
   r->gates.push_back(g);
 }
 
+// The candidate's particle type codes against the reference's (Sibernetic's position.w: kind and
+// sub-type, fixed by the configuration). Every gate reads the kinds from the reference's types,
+// so a candidate that wrote liquid as elastic (or dropped the sub-types the worm's midline bins by)
+// passed with its positions right. Equal to the printed precision (1e-5 relative: two 6-digit
+// prints), since a text file prints them with 6 significant digits and HDF5 keeps the float.
 void GateParticleTypes(const Trajectory& ref, const Trajectory& cand, ParityReport* r) {
   std::size_t differing = 0, first = 0;
   for (std::size_t p = 0; p < ref.particle_count(); ++p) {
