@@ -920,7 +920,10 @@ void GateBoundaryFixed(const Trajectory& ref, const PairReducer& reduced, const 
 }
 
 // The candidate's paired frames that repeat the one before while the reference moves
-// (StaleFrames): none may, as no particle type may differ. n/a without moving particles.
+// (StaleFrames): none may, as no particle type may differ. n/a without moving particles. The
+// detail says what was seen, not why: XPBD's free_fall particle resting exactly on the floor
+// (its contact projection lands on the same float each step) while PCISPH's bounces is the
+// same observation as a frame written twice.
 void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
   if (!reduced.has_moving_particles()) return;
   const StaleFrames& s = reduced.stale_frames();
@@ -931,7 +934,8 @@ void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
   g.detail = s.count == 0 ? "none"
                           : std::to_string(s.count) + " (the first at reference frame " +
                                 std::to_string(s.first_reference_frame) +
-                                "): the candidate wrote the frame before again";
+                                "): a frame written twice, or moving particles held exactly "
+                                "still where the reference's move";
   Decide(&g);
   r->gates.push_back(g);
 }
