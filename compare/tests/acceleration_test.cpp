@@ -8,18 +8,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 
 #include "edited_runs.hpp"
 #include "frame_acceleration.hpp"
 #include "owval/compare/parity.hpp"
-#include "owval/engine/constants.hpp"
-#include "owval/engine/run.hpp"
 #include "owval/testing/reference_runs.hpp"
 
 namespace owval::compare {
 namespace {
 
+using testing_edits::HonestDemo1Rerun;
 using testing_edits::Jittered;
 using testing_edits::MovingAverage;
 
@@ -143,20 +141,6 @@ TEST(AccelerationParity, Demo1SmoothedOverThreeFramesFailsOnlyThis) {
   EXPECT_EQ(r.FailedGates(), "acceleration");
   const Gate& g = *r.gate("acceleration");
   EXPECT_NEAR(g.value, 0.644, 0.01) << g.detail;  // the liquid's upper quartile -64%
-}
-
-// owval's PCISPH on demo1's configuration, gravity changed by 1e-6 of its magnitude: the same
-// physics, its chaos diverged from Sibernetic's within the first 50 frames.
-Trajectory HonestDemo1Rerun(double duration_s) {
-  engine::RunOptions o;
-  o.duration_s = duration_s;
-  o.log_step = 20;
-  o.threads = 1;
-  o.record_fields = false;
-  engine::SetConstant(&o.constants, "gravity_y", -9.79999);
-  return engine::Run(engine::ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
-                                                  "reference/demo1/configuration"),
-                     o);
 }
 
 TEST(AccelerationParity, AnHonestPerturbedRerunPassesAndTheSameWithNoiseFails) {

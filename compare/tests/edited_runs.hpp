@@ -4,11 +4,28 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <random>
 
+#include "owval/engine/constants.hpp"
+#include "owval/engine/run.hpp"
 #include "owval/trajectory/trajectory.hpp"
 
 namespace owval::compare::testing_edits {
+
+// owval's PCISPH on demo1's configuration, gravity changed by 1e-6 of its magnitude: the same
+// physics, its chaos diverged from Sibernetic's within the first 50 frames.
+inline Trajectory HonestDemo1Rerun(double duration_s) {
+  engine::RunOptions o;
+  o.duration_s = duration_s;
+  o.log_step = 20;
+  o.threads = 1;
+  o.record_fields = false;
+  engine::SetConstant(&o.constants, "gravity_y", -9.79999);
+  return engine::Run(engine::ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
+                                                  "reference/demo1/configuration"),
+                     o);
+}
 
 // `t` with particle p put `distance_cu` from particle q (along q -> p) at frames [from, to).
 inline Trajectory HeldAt(const Trajectory& t, std::size_t p, std::size_t q, double distance_cu,

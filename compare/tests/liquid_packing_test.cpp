@@ -6,18 +6,16 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 
 #include "edited_runs.hpp"
 #include "liquid_packing.hpp"
 #include "owval/compare/parity.hpp"
-#include "owval/engine/constants.hpp"
-#include "owval/engine/run.hpp"
 #include "owval/testing/reference_runs.hpp"
 
 namespace owval::compare {
 namespace {
 
+using testing_edits::HonestDemo1Rerun;
 using testing_edits::ScaledAboutTheBoxCentre;
 
 ParityReport Demo1ScaledFromFrameOne(double factor) {
@@ -90,20 +88,6 @@ TEST(LiquidPackingParity, Demo1DilatedByAThirdOfAPercentCannotBeToldApart) {
   const Gate& g = *r.gate("liquid_packing");
   EXPECT_EQ(g.status, GateStatus::kPass) << g.value << ": " << g.detail;
   EXPECT_NEAR(g.value, 0.0075, 0.0005);
-}
-
-// owval's PCISPH on demo1's configuration, gravity changed by 1e-6 of its magnitude: the same
-// physics, its chaos diverged from Sibernetic's within the first 50 frames.
-Trajectory HonestDemo1Rerun(double duration_s) {
-  engine::RunOptions o;
-  o.duration_s = duration_s;
-  o.log_step = 20;
-  o.threads = 1;
-  o.record_fields = false;
-  engine::SetConstant(&o.constants, "gravity_y", -9.79999);
-  return engine::Run(engine::ReadSiberneticConfig(std::filesystem::path(OWVAL_SHARED_DIR) /
-                                                  "reference/demo1/configuration"),
-                     o);
 }
 
 TEST(LiquidPackingParity, AnHonestPerturbedRerunPassesAndTheSameDilatedFails) {
