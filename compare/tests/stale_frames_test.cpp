@@ -39,7 +39,8 @@ TEST(StaleFrames, ASceneAtRestIsNoStaleFrame) {
   }
   Trajectory rounded = still;  // the reference moved by less than a print's rounding
   rounded.position(2, 0)[0] += 2e-5f;
-  const Gate& g = *CompareTrajectories(rounded, still, {}).gate("stale_frames");
+  const Gate g = *CompareTrajectories(rounded, still, {})
+                      .gate("stale_frames");  // a copy: the report is a temporary
   EXPECT_EQ(g.value, 0.0) << g.detail;
 }
 
