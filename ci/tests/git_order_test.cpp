@@ -3,46 +3,35 @@
 // (mutation audit 2026-11-30, docs/checklist.md).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "owval/ci/checklist.hpp"
+#include "owval/testing/git_history.hpp"
 #include "owval/testing/scratch_directory.hpp"
 
 namespace owval::ci {
 namespace {
 namespace fs = std::filesystem;
 
-// A repository in a fresh directory holding prediction.json, reference.h5 and candidate.h5 (the
-// order reads names, not contents), tagged "base" at an empty first commit, then one commit per
-// entry of `commits` adding those files.
-fs::path CommittedInOrder(const std::string& name, const std::vector<std::string>& commits) {
+// A fresh directory holding prediction.json, reference.h5 and candidate.h5 (the order reads
+// names, not contents), committed in the order `commits` gives (owval::testing::CommitInOrder).
+fs::path CommittedInOrder(const std::string& name,
+                          const std::vector<std::vector<std::string>>& commits) {
   const fs::path d = owval::testing::TestScratch(name);
   for (const char* file : {"prediction.json", "reference.h5", "candidate.h5"})
     std::ofstream(d / file) << file << "\n";
-  const auto git = [&](const std::string& args) {
-    const std::string command = "git -C '" + d.string() +
-                                "' -c user.name=t -c user.email=t@t -c commit.gpgsign=false " +
-                                args + " > /dev/null 2>&1";
-    if (std::system(command.c_str()) != 0) throw std::runtime_error("failed: " + command);
-  };
-  git("init -q");
-  git("commit -q --allow-empty -m base");
-  git("tag base");
-  for (const std::string& files : commits) {
-    git("add " + files);
-    git("commit -q -m step");
-  }
+  owval::testing::CommitInOrder(d, commits);
   return d;
 }
 
 // "No later than the first trajectory": one commit adding the prediction with the runs is not a
 // prediction after them (a pull request made of a single commit).
 TEST(GitOrder, APredictionCommittedWithTheTrajectoriesComesFirst) {
-  const fs::path d = CommittedInOrder("one_commit", {"prediction.json reference.h5 candidate.h5"});
+  const fs::path d =
+      CommittedInOrder("one_commit", {{"prediction.json", "reference.h5", "candidate.h5"}});
   std::string detail;
   EXPECT_TRUE(PredictionCommittedFirst(d, "base..HEAD", &detail)) << detail;
   EXPECT_NE(detail.find(": prediction first"), std::string::npos) << detail;
@@ -51,7 +40,7 @@ TEST(GitOrder, APredictionCommittedWithTheTrajectoriesComesFirst) {
 // The trajectories committed and prediction.json never (left on disk, untracked): nothing shows
 // it was written before the runs.
 TEST(GitOrder, APredictionNeverCommittedFails) {
-  const fs::path d = CommittedInOrder("never", {"reference.h5 candidate.h5"});
+  const fs::path d = CommittedInOrder("never", {{"reference.h5", "candidate.h5"}});
   std::string detail;
   EXPECT_FALSE(PredictionCommittedFirst(d, "base..HEAD", &detail)) << detail;
   EXPECT_NE(detail.find("prediction.json was not committed before the first trajectory"),
@@ -59,7 +48,7 @@ TEST(GitOrder, APredictionNeverCommittedFails) {
       << detail;
   // Committed at BASE, before the range, it predates the runs added in the range.
   const fs::path before =
-      CommittedInOrder("before", {"prediction.json", "reference.h5 candidate.h5"});
+      CommittedInOrder("before", {{"prediction.json"}, {"reference.h5", "candidate.h5"}});
   EXPECT_TRUE(PredictionCommittedFirst(before, "HEAD~1..HEAD", &detail)) << detail;
   EXPECT_NE(detail.find("prediction.json predates HEAD~1..HEAD"), std::string::npos) << detail;
 }

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "owval/testing/git_history.hpp"
 
 namespace owval::testing {
 namespace {
@@ -178,33 +179,16 @@ TEST_F(Checklist, Item1FailsOnAnEmptyPrediction) {
   EXPECT_FALSE(ItemPasses(j, 1));
 }
 
-// A git repository holding the directory, its files committed in the given order.
-void CommitInOrder(const fs::path& d, const std::vector<std::vector<std::string>>& commits) {
-  auto git = [&](const std::string& args) {
-    const std::string command = "git -C " + d.string() +
-                                " -c user.name=t -c user.email=t@t -c commit.gpgsign=false " +
-                                args + " > /dev/null 2>&1";
-    ASSERT_EQ(std::system(command.c_str()), 0) << args;
-  };
-  git("init -q");
-  git("commit -q --allow-empty -m base");
-  git("tag base");
-  for (const auto& files : commits) {
-    std::string list;
-    for (const auto& f : files) list += " " + f;
-    git("add" + list);
-    git("commit -q -m step");
-  }
-}
-
 TEST_F(Checklist, Item1ChecksThePredictionWasCommittedBeforeTheTrajectories) {
   const fs::path late = Copy("item1_late");
-  CommitInOrder(late, {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
+  owval::testing::CommitInOrder(late,
+                                {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
   auto j = Judge(late, 1, "--git-range base..HEAD");
   EXPECT_FALSE(ItemPasses(j, 1));
   EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("AFTER"), std::string::npos);
   const fs::path early = Copy("item1_early");
-  CommitInOrder(early, {{"prediction.json"}, {"reference.h5", "candidate.h5"}, {"."}});
+  owval::testing::CommitInOrder(early,
+                                {{"prediction.json"}, {"reference.h5", "candidate.h5"}, {"."}});
   j = Judge(early, 0, "--git-range base..HEAD");
   EXPECT_TRUE(ItemPasses(j, 1)) << j["items"][0].dump();
   // A malformed or unreadable range is bad input, named as given.
@@ -218,7 +202,7 @@ TEST_F(Checklist, Item1ChecksThePredictionWasCommittedBeforeTheTrajectories) {
 // range, but the prediction still came after them.
 TEST_F(Checklist, Item1FailsWhenThePredictionFollowsRunsThatPredateTheRange) {
   const fs::path d = Copy("item1_runs_before_range");
-  CommitInOrder(d, {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
+  owval::testing::CommitInOrder(d, {{"reference.h5", "candidate.h5"}, {"prediction.json"}, {"."}});
   const auto j = Judge(d, 1, "--git-range HEAD~2..HEAD");
   EXPECT_FALSE(ItemPasses(j, 1));
   EXPECT_NE(j["items"][0]["detail"].get<std::string>().find("AFTER"), std::string::npos)
