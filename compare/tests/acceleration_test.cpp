@@ -20,6 +20,7 @@ namespace {
 using testing_edits::HonestDemo1Rerun;
 using testing_edits::Jittered;
 using testing_edits::MovingAverage;
+using testing_edits::ParticleAtRest;
 
 // One liquid particle falling from rest at 9.8 cu/s^2 along -y, logged at `times_s`.
 Trajectory FallingParticle(const std::vector<double>& times_s) {
@@ -56,13 +57,7 @@ TEST(FrameAcceleration, UnevenIntervalsMakeNoStencil) {
 }
 
 TEST(Acceleration, ARunAtRestIsJudgedAgainstThePrintedPrecision) {
-  Trajectory still;
-  still.box = {0, 10, 0, 10, 0, 10};
-  still.type = {1.1f};
-  for (int f = 0; f < 5; ++f) {
-    const float x[3] = {5, 5, 5};
-    still.AppendFrame(f * 1e-3, x);
-  }
+  const Trajectory still = ParticleAtRest(5);
   Trajectory rounded = still;  // moved by the rounding of a 6-digit print (5e-6 of 5 cu)
   rounded.position(2, 0)[1] += 2.5e-5f;
   const ParityReport r = CompareTrajectories(still, rounded, {});
@@ -105,8 +100,8 @@ TEST(BoundaryFixed, OneSprigWithItsWallsAndAnchorMovedFailsOnlyThis) {
 
 TEST(BoundaryFixed, ASceneWithoutWallsIsNotApplicable) {
   const Trajectory t = FallingParticle({0, 0.1, 0.2});
-  const Gate g =
-      *CompareTrajectories(t, t, {}).gate("boundary.fixed");  // a copy: the report is a temporary
+  // A copy: the report is a temporary.
+  const Gate g = *CompareTrajectories(t, t, {}).gate("boundary.fixed");
   EXPECT_EQ(g.status, GateStatus::kNotApplicable);
 }
 

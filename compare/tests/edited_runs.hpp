@@ -27,6 +27,19 @@ inline Trajectory HonestDemo1Rerun(double duration_s) {
                      o);
 }
 
+// One liquid particle at rest at the centre of a 10 cu box, `frames` frames 1 ms apart: a scene in
+// which nothing moves beyond a print's rounding.
+inline Trajectory ParticleAtRest(int frames) {
+  Trajectory t;
+  t.box = {0, 10, 0, 10, 0, 10};
+  t.type = {1.1f};
+  for (int f = 0; f < frames; ++f) {
+    const float x[3] = {5, 5, 5};
+    t.AppendFrame(f * 1e-3, x);
+  }
+  return t;
+}
+
 // `t` with particle p put `distance_cu` from particle q (along q -> p) at frames [from, to).
 inline Trajectory HeldAt(const Trajectory& t, std::size_t p, std::size_t q, double distance_cu,
                          std::size_t from, std::size_t to) {

@@ -3,6 +3,7 @@
 // (docs/checklist.md, "Attacks measured (round 7)").
 #include <gtest/gtest.h>
 
+#include "edited_runs.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/testing/reference_runs.hpp"
 
@@ -30,17 +31,11 @@ TEST(StaleFrames, OneSprigWithAFrameWrittenTwiceFailsOnlyThis) {
 }
 
 TEST(StaleFrames, ASceneAtRestIsNoStaleFrame) {
-  Trajectory still;
-  still.box = {0, 10, 0, 10, 0, 10};
-  still.type = {1.1f};
-  for (int f = 0; f < 4; ++f) {
-    const float x[3] = {5, 5, 5};
-    still.AppendFrame(f * 1e-3, x);
-  }
+  const Trajectory still = testing_edits::ParticleAtRest(4);
   Trajectory rounded = still;  // the reference moved by less than a print's rounding
   rounded.position(2, 0)[0] += 2e-5f;
-  const Gate g = *CompareTrajectories(rounded, still, {})
-                      .gate("stale_frames");  // a copy: the report is a temporary
+  // A copy: the report is a temporary.
+  const Gate g = *CompareTrajectories(rounded, still, {}).gate("stale_frames");
   EXPECT_EQ(g.value, 0.0) << g.detail;
 }
 
