@@ -121,6 +121,29 @@ TEST_F(Checklist, ReadyDirectoryPassesEveryItemAndTheParityGate) {
       << j["items"][5].dump();
 }
 
+// `owval pipeline one_sprig` through the executable: the shared ready directory is that run
+// (cli_support.hpp), judged here against the scenario's own reference; without its video, a copy
+// is not ready.
+using CliPipeline = Checklist;
+
+TEST_F(CliPipeline, OneSprigProducesAReadyDirectoryAndMissingVideoMakesItNotReady) {
+  const fs::path dir = Copy("pipeline");
+  for (const char* f :
+       {"prediction.json", "reference.h5", "candidate.h5", "sxs.mp4", "frames/frames.json",
+        "fit/history.json", "fd_tests.json", "parameters.json", "changes.md", "reconcile.json",
+        "index.html", "index.md", "parity.json", "scenario"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const Result ready = Owval("checklist " + dir.string() + " --json --scenario one_sprig");
+  EXPECT_EQ(ready.exit_code, 0);
+  const auto verdict = nlohmann::json::parse(ready.out);
+  EXPECT_EQ(verdict["verdict"], "ready");
+  for (const auto& item : verdict["items"]) EXPECT_TRUE(item["pass"].get<bool>()) << item.dump();
+  fs::remove(dir / "sxs.mp4");
+  const Result missing = Owval("checklist " + dir.string() + " --scenario one_sprig");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.out.find("not ready"), std::string::npos) << missing.out;
+}
+
 // `--markdown DIR/candidate.h5` would have replaced the evidence with the report on it.
 TEST_F(Checklist, AMarkdownOutputOverTheEvidenceIsRefused) {
   const fs::path d = Copy("markdown_over_evidence");

@@ -240,26 +240,6 @@ TEST(Cli, UnknownOptionIsBadUsage) { EXPECT_EQ(Owval("inspect --no-such-flag x")
 
 namespace {
 
-TEST(CliPipeline, OneSprigProducesAReadyDirectoryAndMissingVideoMakesItNotReady) {
-  const fs::path dir = Scratch() / "pipeline";
-  const Result run = Owval("pipeline one_sprig -o " + dir.string() + " --max-video-frames 60");
-  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  for (const char* f :
-       {"prediction.json", "reference.h5", "candidate.h5", "sxs.mp4", "frames/frames.json",
-        "fit/history.json", "fd_tests.json", "parameters.json", "changes.md", "reconcile.json",
-        "index.html", "index.md", "parity.json", "scenario"})
-    EXPECT_TRUE(fs::exists(dir / f)) << f;
-  const Result ready = Owval("checklist " + dir.string() + " --json --scenario one_sprig");
-  EXPECT_EQ(ready.exit_code, 0);
-  const auto verdict = nlohmann::json::parse(ready.out);
-  EXPECT_EQ(verdict["verdict"], "ready");
-  for (const auto& item : verdict["items"]) EXPECT_TRUE(item["pass"].get<bool>()) << item.dump();
-  fs::remove(dir / "sxs.mp4");
-  const Result missing = Owval("checklist " + dir.string() + " --scenario one_sprig");
-  EXPECT_EQ(missing.exit_code, 1);
-  EXPECT_NE(missing.out.find("not ready"), std::string::npos) << missing.out;
-}
-
 TEST(CliPredict, ReconcileNamesTheQuarterFactor) {
   const fs::path p = Scratch() / "p.json", p4 = Scratch() / "p4.json";
   ASSERT_EQ(Owval("predict one_sprig -o " + p.string()).exit_code, 0);

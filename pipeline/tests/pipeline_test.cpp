@@ -59,22 +59,21 @@ TEST_P(EveryScenario, PassesOrSaysWhatDoesNotApply) {
   ASSERT_NE(fd, nullptr);
   EXPECT_EQ(fd->applicable, scenario.manifest.contains("fd_test"));
   EXPECT_NE(s.checklist.verdict, ci::Verdict::kNotReady) << s.checklist.ToMarkdown();
+  // one_sprig, the demo's scenario, is ready outright and keeps its figures: checked on this run
+  // rather than on a second pipeline run of its own.
+  if (GetParam() == "one_sprig") {
+    EXPECT_EQ(s.checklist.verdict, ci::Verdict::kReady);
+    EXPECT_TRUE(s.prediction_holds);
+    ASSERT_TRUE(s.parity.reference_metrics.period_s.has_value());
+    EXPECT_NEAR(*s.parity.reference_metrics.period_s, 0.724611e-3, 1e-9);
+    EXPECT_NEAR(*s.parity.reference_metrics.half_amplitude, 1.694, 1e-3);
+  }
   fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Pipeline, EveryScenario,
                          ::testing::Values("one_sprig", "free_fall", "hanging_chain",
                                            "liquid_column"));
-
-TEST(Pipeline, OneSprigKeepsItsFigures) {
-  const Summary s = RunScenario("one_sprig");
-  EXPECT_EQ(s.checklist.verdict, ci::Verdict::kReady);
-  EXPECT_TRUE(s.prediction_holds);
-  ASSERT_TRUE(s.parity.reference_metrics.period_s.has_value());
-  EXPECT_NEAR(*s.parity.reference_metrics.period_s, 0.724611e-3, 1e-9);
-  EXPECT_NEAR(*s.parity.reference_metrics.half_amplitude, 1.694, 1e-3);
-  fs::remove_all(s.index_html.parent_path());
-}
 
 // An XPBD candidate: phase 5's finite-difference test is owval gradcheck on the candidate's own
 // kernels, and its fd_tests.json is what the checklist's item 7 judges.
