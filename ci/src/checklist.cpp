@@ -281,9 +281,9 @@ nlohmann::json ReadLabelledFrames(const Evidence& e) {
 void JudgeSampledFrames(const Evidence& e, FrameSource& ref, FrameSource& cand,
                         const std::vector<std::size_t>& sampled, ChecklistItem* item) {
   const Track& track = e.track;
-  const compare::ParityReport p =
-      compare::CompareFrameSources(ref, cand, {track, sampled, std::nullopt, e.options.gates});
-  const compare::Gate& gate = *p.gate("frames");
+  const compare::SampledFrameParity p =
+      compare::CompareSampledFrames(ref, cand, {track, sampled, std::nullopt, e.options.gates});
+  const compare::Gate& gate = p.frames;
   item->detail += "; " + track.Describe() + " |delta| at the sampled frames: worst " +
                   FormatPercent(gate.value) + " of the reference range (gate < " +
                   FormatPercent(gate.threshold.value) + ")";
@@ -294,7 +294,7 @@ void JudgeSampledFrames(const Evidence& e, FrameSource& ref, FrameSource& cand,
     // false positive (GCC bug 105329).
     for (std::size_t f : p.failing_frames) item->detail.append(" ").append(std::to_string(f));
   }
-  if (const compare::Gate* groups = p.gate("frames.group_centroids")) {
+  if (const std::optional<compare::Gate>& groups = p.group_centroids) {
     item->detail += "; group centroids at the sampled frames: worst " +
                     FormatPercent(groups->value) + " of the box (gate < " +
                     FormatPercent(groups->threshold.value) + ")";

@@ -380,10 +380,15 @@ struct AccelerationReduction {
 // the group centroid distances at the sampled pairs, and the scene gates' measures.
 class PairReducer {
  public:
+  // What the reduction is for: every gate of the report, or only the gates at the sample frames
+  // (GateFrames, GateSampledGroups), which need no per-frame work but the tracked scalar's.
+  enum class Scope { kEveryGate, kSampledFrameGates };
+
   PairReducer(const Trajectory& ref, const Trajectory& cand, FrameSource& ref_frames,
               const Pairs& pairs, const std::vector<std::size_t>& gated, const ParityOptions& o,
-              ParityReport* r)
-      : ref_(ref),
+              ParityReport* r, Scope scope = Scope::kEveryGate)
+      : scope_(scope),
+        ref_(ref),
         o_(o),
         r_(r),
         pairs_(pairs),
@@ -434,6 +439,10 @@ class PairReducer {
     cand_time_.push_back(cand_time);
     r_->reference_series.push_back(o_.track.ValueAt(a.trajectory, a.frame));
     r_->candidate_series.push_back(o_.track.ValueAt(b.trajectory, b.frame));
+    if (scope_ == Scope::kSampledFrameGates) {
+      if (sampled_[k]) ObserveSample(k, a, b);
+      return;
+    }
     const auto x = Centroid(a.trajectory, a.frame, tracked_members_),
                y = Centroid(b.trajectory, b.frame, tracked_members_);
     tracked_offset_cu_.push_back({y[0] - x[0], y[1] - x[1], y[2] - x[2]});
@@ -458,6 +467,7 @@ class PairReducer {
 
   // After the last pair.
   void Finish() {
+    if (scope_ == Scope::kSampledFrameGates) return;
     r_->l2_mean_cu = l2_sum_ / double(pairs_.size());
     for (DriftAccumulator& g : drift_) {
       g.FinishPose();
@@ -508,6 +518,7 @@ class PairReducer {
     sample_distance_[k] = d;
   }
 
+  Scope scope_;
   const Trajectory& ref_;
   const ParityOptions& o_;
   ParityReport* r_;
@@ -1208,7 +1219,19 @@ void Reduce(FrameSource& refs, FrameSource& cands, const Pairs& pairs, PairReduc
 
 }  // namespace
 
-ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const ParityOptions& o) {
+namespace {
+
+// The frames of both runs paired by time, and which pairs the frame gates judge.
+struct PairedFrames {
+  Pairs pairs;
+  std::vector<std::size_t> gated;
+  std::size_t misaligned = 0;
+};
+
+// What every comparison starts from: the runs checked against each other, their frames paired,
+// and the report's header.
+PairedFrames StartReport(FrameSource& refs, FrameSource& cands, const ParityOptions& o,
+                         ParityReport* r) {
   const Trajectory& ref = refs.header();
   const Trajectory& cand = cands.header();
   if (ref.particle_count() != cand.particle_count())
@@ -1216,22 +1239,33 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
                      std::to_string(ref.particle_count()) + " particles, the candidate " +
                      std::to_string(cand.particle_count()));
   o.track.Validate(ref);
-  std::size_t misaligned = 0;
-  const Pairs pairs = PairFramesByTime(ref, cand, &misaligned);
-  if (pairs.empty()) throw InputError("the reference and candidate share no frame time");
-  const std::vector<std::size_t> gated = GatedPairs(pairs, ref, o);
+  PairedFrames p;
+  p.pairs = PairFramesByTime(ref, cand, &p.misaligned);
+  if (p.pairs.empty()) throw InputError("the reference and candidate share no frame time");
+  p.gated = GatedPairs(p.pairs, ref, o);
+  r->subject = o.track.Describe();
+  r->paired_frames = p.pairs.size();
+  r->common_window_start_s = ref.time_s[p.pairs.front().first];
+  r->common_window_end_s = ref.time_s[p.pairs.back().first];
+  r->box_scale_cu = BoxScale(ref.box);
+  r->reference_partial = refs.partial(), r->candidate_partial = cands.partial();
+  return p;
+}
+
+}  // namespace
+
+ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const ParityOptions& o) {
+  const Trajectory& ref = refs.header();
+  const Trajectory& cand = cands.header();
   ParityReport r;
-  r.subject = o.track.Describe();
-  r.paired_frames = pairs.size();
-  r.common_window_start_s = ref.time_s[pairs.front().first];
-  r.common_window_end_s = ref.time_s[pairs.back().first];
-  r.box_scale_cu = BoxScale(ref.box);
-  r.reference_partial = refs.partial(), r.candidate_partial = cands.partial();
+  const PairedFrames paired = StartReport(refs, cands, o, &r);
+  const Pairs& pairs = paired.pairs;
+  const std::vector<std::size_t>& gated = paired.gated;
   PairReducer reducer(ref, cand, refs, pairs, gated, o, &r);
   Reduce(refs, cands, pairs, &reducer, o.quiet);
   MeasureSignals(reducer, o, &r);
   GateWindow(ref, o, &r);
-  r.misaligned_pairs = misaligned;
+  r.misaligned_pairs = paired.misaligned;
   GateSampling(ref, pairs, o, &r);
   GateSamplingOscillation(ref, pairs, o, &r);
   GateTimeBase(cand, o, &r);
@@ -1380,10 +1414,28 @@ std::string ParityReport::ToTable() const {
   return s.str();
 }
 
-std::vector<Gate> SampledFrameGates(FrameSource& reference, FrameSource& candidate,
-                                    const ParityOptions& options) {
-  const ParityReport r = CompareFrameSources(reference, candidate, options);
-  return {*r.gate("frames"), *r.gate("frames.group_centroids")};
+// CompareFrameSources's reduction with only the tracked scalar's per-frame work: the whole-run
+// gates' (the closest approach's neighbour grid above all) were most of the checklist's time,
+// which computes these gates after the full report.
+SampledFrameParity CompareSampledFrames(FrameSource& refs, FrameSource& cands,
+                                        const ParityOptions& o) {
+  ParityReport r;
+  const PairedFrames paired = StartReport(refs, cands, o, &r);
+  PairReducer reducer(refs.header(), cands.header(), refs, paired.pairs, paired.gated, o, &r,
+                      PairReducer::Scope::kSampledFrameGates);
+  Reduce(refs, cands, paired.pairs, &reducer, o.quiet);
+  MeasureSignals(reducer, o, &r);
+  GateFrames(refs.header(), paired.pairs, paired.gated, o, &r);
+  GateSampledGroups(paired.pairs, paired.gated, reducer, o, &r);
+  SampledFrameParity p{*r.gate("frames"), std::nullopt, std::move(r.failing_frames)};
+  if (const Gate* groups = r.gate("frames.group_centroids")) p.group_centroids = *groups;
+  return p;
+}
+
+std::vector<Gate> SampledFrameParity::gates() const {
+  std::vector<Gate> both{frames};
+  if (group_centroids) both.push_back(*group_centroids);
+  return both;
 }
 
 using G = ParityGates;

@@ -49,6 +49,34 @@ TEST(Parity, ElasticYScaledBy106FailsTheFrameGateAndNamesFrames) {
       std::string::npos);
 }
 
+// The checklist's item 5 and `owval frames` take the sample frames' gates from this lighter
+// reduction: it must give the whole report's two gates and failing frames, bit for bit.
+void ExpectSampledFramesAsTheWholeReport(const Trajectory& reference, const Trajectory& candidate,
+                                         const ParityOptions& options) {
+  const ParityReport whole = CompareTrajectories(reference, candidate, options);
+  const auto refs = MemoryFrameSource(reference), cands = MemoryFrameSource(candidate);
+  const SampledFrameParity sampled = CompareSampledFrames(*refs, *cands, options);
+  EXPECT_EQ(ToJson(sampled.frames), ToJson(*whole.gate("frames")));
+  ASSERT_TRUE(sampled.group_centroids.has_value());
+  EXPECT_EQ(ToJson(*sampled.group_centroids), ToJson(*whole.gate("frames.group_centroids")));
+  EXPECT_EQ(sampled.failing_frames, whole.failing_frames);
+}
+
+TEST(SampledFrames, GivesTheWholeReportsGatesAtTheSampleFrames) {
+  ParityOptions options;
+  options.sample_frames = {0, 15, 100, 200, 2499};
+  ExpectSampledFramesAsTheWholeReport(OneSprig(), OneSprig(), options);
+  Trajectory moved = OneSprig();  // particle 0 y 6% higher, the elastic centroid with it
+  for (std::size_t f = 0; f < moved.frame_count(); ++f) moved.position(f, 0)[1] *= 1.06f;
+  options.sample_frames = {0, 15, 100, 200};
+  ExpectSampledFramesAsTheWholeReport(OneSprig(), moved, options);
+  options.gates.centroid_distance = {1e-4, ThresholdSource::kFlag};  // and the centroids' gate
+  ExpectSampledFramesAsTheWholeReport(OneSprig(), moved, options);
+  const ParityReport whole = CompareTrajectories(OneSprig(), moved, options);
+  EXPECT_EQ(whole.gate("frames")->status, GateStatus::kFail);
+  EXPECT_EQ(whole.gate("frames.group_centroids")->status, GateStatus::kFail);
+}
+
 TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
   Trajectory coarse = OneSprig();
   // Keep every 10th frame: a candidate logged with log step 10.

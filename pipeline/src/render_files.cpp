@@ -78,7 +78,7 @@ FramesSummary RenderFrameFiles(const RenderRequest& request) {
   parity.sample_frames = at;
   parity.quiet = r.reading.quiet;
   if (r.threshold) parity.gates.frame = {*r.threshold, compare::ThresholdSource::kFlag};
-  s.gates = compare::SampledFrameGates(*reference, *candidate, parity);
+  s.gates = compare::CompareSampledFrames(*reference, *candidate, parity).gates();
   s.frames = render::RenderFrames(*reference, *candidate, at, options, r.out);
   s.at = r.at;
   s.gate = r.gate;

@@ -260,9 +260,17 @@ ParityReport CompareFrameSources(FrameSource& reference, FrameSource& candidate,
 ParityReport CompareTrajectories(const Trajectory& reference, const Trajectory& candidate,
                                  const ParityOptions& options);
 
-// Phase 7's frame gates at options.sample_frames (owval frames; owval compare --frames computes
-// the same): the tracked scalar's "frames" gate and the moving groups' "frames.group_centroids".
-std::vector<Gate> SampledFrameGates(FrameSource& reference, FrameSource& candidate,
-                                    const ParityOptions& options);
+// Phase 7's frame gates at options.sample_frames (owval frames, the checklist's item 5; owval
+// compare --frames computes the same in its whole report): the tracked scalar's "frames" gate and,
+// with sample frames, the moving groups' "frames.group_centroids". Every paired frame is read, so
+// a corrupt one throws as CompareFrameSources does.
+struct SampledFrameParity {
+  Gate frames;                              // the tracked scalar's
+  std::optional<Gate> group_centroids;      // with sample frames
+  std::vector<std::size_t> failing_frames;  // reference frames where `frames` fails
+  std::vector<Gate> gates() const;          // both, in that order
+};
+SampledFrameParity CompareSampledFrames(FrameSource& reference, FrameSource& candidate,
+                                        const ParityOptions& options);
 
 }  // namespace owval::compare
