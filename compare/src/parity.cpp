@@ -381,7 +381,8 @@ struct AccelerationReduction {
 class PairReducer {
  public:
   // What the reduction is for: every gate of the report, or only the gates at the sample frames
-  // (GateFrames, GateSampledGroups), which need no per-frame work but the tracked scalar's.
+  // (GateFrames, GateSampledGroups), which need the tracked scalar at every paired frame and the
+  // groups' centroids at the sample frames, nothing more.
   enum class Scope { kEveryGate, kSampledFrameGates };
 
   PairReducer(const Trajectory& ref, const Trajectory& cand, FrameSource& ref_frames,
@@ -1414,9 +1415,9 @@ std::string ParityReport::ToTable() const {
   return s.str();
 }
 
-// CompareFrameSources's reduction with only the tracked scalar's per-frame work. The checklist
-// makes the whole report first; making it again for these two gates had been a fifth of its time
-// (the closest approach's neighbour grid above all).
+// CompareFrameSources's reduction with only what these two gates need (PairReducer::Scope). The
+// checklist makes the whole report first; making it again for these two gates had been a fifth
+// of its time (the closest approach's neighbour grid above all).
 SampledFrameParity CompareSampledFrames(FrameSource& refs, FrameSource& cands,
                                         const ParityOptions& o) {
   ParityReport r;
