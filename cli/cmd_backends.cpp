@@ -7,7 +7,7 @@
 namespace owval::cli {
 namespace {
 
-void SetUp(CLI::App& app) {
+void SetUpBackends(CLI::App& app) {
   auto selection = std::make_shared<backends::BackendSelection>();
   auto json = std::make_shared<bool>(false);
   auto name = std::make_shared<std::string>();
@@ -27,7 +27,7 @@ void SetUp(CLI::App& app) {
       [selection, name] { std::cout << selection->Load().Find(*name).ToJson().dump(2) << "\n"; });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool backends_registered = RegisterCommand(&SetUpBackends);
 
 }  // namespace
 }  // namespace owval::cli

@@ -42,7 +42,7 @@ struct BenchArgs {
   double alpha_density = -1;  // gradient: < 0, the model's
 };
 
-void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+void SetUpBenchEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   backends::EngineBenchOptions& o = a->engine;
   CLI::App* cmd =
       bench.add_subcommand("engine", "PCISPH engine speed (steps/s), one thread and all threads");
@@ -66,7 +66,7 @@ void SetUpEngine(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   });
 }
 
-void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+void SetUpBenchIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   IoBenchmarkOptions& o = a->io;
   CLI::App* cmd =
       bench.add_subcommand("io", "Text parse and HDF5 read throughput on a large generated file");
@@ -83,7 +83,7 @@ void SetUpIo(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   });
 }
 
-void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+void SetUpBenchRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand("render", "Render + H.264 encode frames per second (JSON)");
   cmd->add_option("--frames", a->render.frames, "Frames per case")->check(PositiveCount());
   AddJsonOut(cmd, &a->json_out);
@@ -93,7 +93,7 @@ void SetUpRender(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   });
 }
 
-void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
+void SetUpBenchGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   CLI::App* cmd = bench.add_subcommand(
       "gradient", "XPBD reverse pass: backward cost per step over forward, tape memory (JSON)");
   AddInput(cmd, "config", &a->config, "Scenario name or Sibernetic configuration");
@@ -113,15 +113,15 @@ void SetUpGradient(CLI::App& bench, const std::shared_ptr<BenchArgs>& a) {
   });
 }
 
-void SetUp(CLI::App& app) {
+void SetUpBench(CLI::App& app) {
   auto a = std::make_shared<BenchArgs>();
-  SetUpEngine(Bench(app), a);
-  SetUpIo(Bench(app), a);
-  SetUpRender(Bench(app), a);
-  SetUpGradient(Bench(app), a);
+  SetUpBenchEngine(Bench(app), a);
+  SetUpBenchIo(Bench(app), a);
+  SetUpBenchRender(Bench(app), a);
+  SetUpBenchGradient(Bench(app), a);
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool bench_registered = RegisterCommand(&SetUpBench);
 
 }  // namespace
 }  // namespace owval::cli

@@ -24,7 +24,7 @@ void RunBench(backends::BenchRequest& r) {
   if (!QuietMode()) std::fprintf(stderr, "%s", report.ToMarkdown().c_str());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpBenchBackends(CLI::App& app) {
   auto r = std::make_shared<backends::BenchRequest>();
   r->reference_dir = SharedReference();
   CLI::App* cmd = Bench(app).add_subcommand(
@@ -48,7 +48,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([r] { RunBench(*r); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool bench_backends_registered = RegisterCommand(&SetUpBenchBackends);
 
 }  // namespace
 }  // namespace owval::cli

@@ -14,7 +14,7 @@ struct CheckArgs {
   compare::IncompressibilityOptions incompressibility;
 };
 
-void RunStability(const CheckArgs& a) {
+void RunCheckStability(const CheckArgs& a) {
   const auto frames = OpenTrajectoryArgument(a.path);  // frame by frame
   PrintReport(compare::CheckStability(*frames, a.stability), a.json,
               &compare::StabilityReport::ToTable);
@@ -31,7 +31,7 @@ void RunIncompressibility(const CheckArgs& a) {
   PrintReport(r, a.json, &compare::IncompressibilityReport::ToTable);
 }
 
-void SetUp(CLI::App& app) {
+void SetUpCheck(CLI::App& app) {
   CLI::App* check = app.add_subcommand("check", "Physical sanity gates on one trajectory");
   check->require_subcommand(1);
   auto args = std::make_shared<CheckArgs>();
@@ -49,7 +49,7 @@ void SetUp(CLI::App& app) {
   stability->add_option("--density-range", args->stability.density_max, "Maximum density (kg/m^3)")
       ->check(Positive());
   AddJsonFlag(stability, &args->json);
-  stability->callback([args] { RunStability(*args); });
+  stability->callback([args] { RunCheckStability(*args); });
   CLI::App* incompressible =
       check->add_subcommand("incompressibility", "Mean and max |rho/rho0 - 1| of liquid");
   AddInput(incompressible, "trajectory", &args->path);
@@ -65,7 +65,7 @@ void SetUp(CLI::App& app) {
   incompressible->callback([args] { RunIncompressibility(*args); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool check_registered = RegisterCommand(&SetUpCheck);
 
 }  // namespace
 }  // namespace owval::cli

@@ -25,7 +25,7 @@ void RunChecklistCommand(const ChecklistArgs& a) {
   SetExitCode(report.exit_code());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpChecklist(CLI::App& app) {
   auto args = std::make_shared<ChecklistArgs>();
   pipeline::ChecklistRequest& r = args->request;
   r.data_dir = DataDir();
@@ -68,7 +68,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([args] { RunChecklistCommand(*args); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool checklist_registered = RegisterCommand(&SetUpChecklist);
 
 }  // namespace
 }  // namespace owval::cli

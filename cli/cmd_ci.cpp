@@ -17,7 +17,7 @@ struct StabilityArgs {
   std::string scenario = (SharedReference() / "demo1/configuration").string();
 };
 
-void RunStability(StabilityArgs& a, bool json) {
+void RunValidateStability(StabilityArgs& a, bool json) {
   ci::StreamedStabilityOptions& o = a.options;
   if (o.out.empty()) throw InputError("owval ci validate --stability: give --out DIR");
   o.duration_s = ci::ParseDuration(a.duration, "--stability");
@@ -32,7 +32,7 @@ void RunStability(StabilityArgs& a, bool json) {
   PrintReport(report, json, &ci::GateReport::ToText);
 }
 
-void SetUp(CLI::App& app) {
+void SetUpCi(CLI::App& app) {
   CLI::App* group = app.add_subcommand("ci", "CI gates over an artifact directory");
   group->require_subcommand(1);
   auto dir = std::make_shared<std::string>();
@@ -73,13 +73,13 @@ void SetUp(CLI::App& app) {
     if (!stability->duration.empty() && !dir->empty())
       throw InputError("owval ci validate: give DIRECTORY or --stability TIME, not both ('" + *dir +
                        "' given with --stability)");
-    if (!stability->duration.empty()) return RunStability(*stability, *json);
+    if (!stability->duration.empty()) return RunValidateStability(*stability, *json);
     if (dir->empty()) throw InputError("owval ci validate: give DIRECTORY or --stability TIME");
     PrintReport(ci::Validate(*dir, {}, *reference), *json, &ci::GateReport::ToText);
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool ci_registered = RegisterCommand(&SetUpCi);
 
 }  // namespace
 }  // namespace owval::cli

@@ -34,7 +34,7 @@ void RunCompare(CompareArgs& a) {
   PrintReport(backends::CompareNamed(r), a.json, &backends::CompareOutcome::ToTable);
 }
 
-void SetUp(CLI::App& app) {
+void SetUpCompare(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
   backends::CompareRequest& r = args->request;
   r.scenarios.shared_reference = SharedReference();
@@ -74,7 +74,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([args] { RunCompare(*args); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool compare_registered = RegisterCommand(&SetUpCompare);
 
 }  // namespace
 }  // namespace owval::cli

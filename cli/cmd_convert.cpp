@@ -22,7 +22,7 @@ void RunConvert(const ConvertArgs& a) {
                  a.out.c_str());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpConvert(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
   CLI::App* cmd = app.add_subcommand("convert",
                                      "Convert trajectories: opencl/native text <-> HDF5 (.h5); "
@@ -39,7 +39,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([args] { RunConvert(*args); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool convert_registered = RegisterCommand(&SetUpConvert);
 
 }  // namespace
 }  // namespace owval::cli

@@ -33,7 +33,7 @@ void RunFit(FitArgs& a) {
   if (!summary.converged) SetExitCode(kExitGateFailed);
 }
 
-void SetUp(CLI::App& app) {
+void SetUpFit(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand(
       "fit", "Phase 5: fit parameters with Ceres (or gradient descent), history saved");
@@ -95,7 +95,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([a] { RunFit(*a); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool fit_registered = RegisterCommand(&SetUpFit);
 
 }  // namespace
 }  // namespace owval::cli

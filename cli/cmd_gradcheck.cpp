@@ -13,7 +13,7 @@ struct GradCheckArgs {
   bool json = false;
 };
 
-void SetUp(CLI::App& app) {
+void SetUpGradcheck(CLI::App& app) {
   auto a = std::make_shared<GradCheckArgs>();
   pipeline::GradCheckRequest& r = a->request;
   r.shared_reference = SharedReference();
@@ -58,7 +58,7 @@ void SetUp(CLI::App& app) {
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool gradcheck_registered = RegisterCommand(&SetUpGradcheck);
 
 }  // namespace
 }  // namespace owval::cli

@@ -22,7 +22,7 @@ void RunInspect(const InspectArgs& a) {
   std::cout << (a.json ? i.ToJson().dump(2) + "\n" : i.ToText());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpInspect(CLI::App& app) {
   auto args = std::make_shared<InspectArgs>();
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Phase 3: period, amplitude, equilibrium, drift, damping, settling");
@@ -36,7 +36,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([args] { RunInspect(*args); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool inspect_registered = RegisterCommand(&SetUpInspect);
 
 }  // namespace
 }  // namespace owval::cli

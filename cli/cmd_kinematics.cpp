@@ -24,7 +24,7 @@ void RunKinematics(const KinematicsArgs& a) {
   }
 }
 
-void SetUp(CLI::App& app) {
+void SetUpKinematics(CLI::App& app) {
   auto a = std::make_shared<KinematicsArgs>();
   CLI::App* cmd = app.add_subcommand(
       "kinematics", "Worm kinematics (Yemini et al. 2013): speed, bend frequency, wavelength");
@@ -34,7 +34,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([a] { RunKinematics(*a); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool kinematics_registered = RegisterCommand(&SetUpKinematics);
 
 }  // namespace
 }  // namespace owval::cli

@@ -24,7 +24,7 @@ void RunPipeline(pipeline::Options& o, bool json) {
   SetExitCode(summary.exit_code());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpPipeline(CLI::App& app) {
   auto o = std::make_shared<pipeline::Options>();
   o->data_dir = DataDir();
   CLI::App* cmd = app.add_subcommand(
@@ -47,7 +47,7 @@ void SetUp(CLI::App& app) {
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool pipeline_registered = RegisterCommand(&SetUpPipeline);
 
 }  // namespace
 }  // namespace owval::cli

@@ -12,7 +12,7 @@ struct PredictArgs {
   bool json = false;
 };
 
-void SetUp(CLI::App& app) {
+void SetUpPredict(CLI::App& app) {
   auto a = std::make_shared<PredictArgs>();
   predict::PredictRequest& p = a->predict;
   p.data_dir = DataDir();
@@ -47,7 +47,7 @@ void SetUp(CLI::App& app) {
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool predict_registered = RegisterCommand(&SetUpPredict);
 
 }  // namespace
 }  // namespace owval::cli

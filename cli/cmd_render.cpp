@@ -58,7 +58,7 @@ void AddCommon(CLI::App* cmd, RenderArgs* a, const std::string& out_help, bool v
       ->check(Count());
 }
 
-void SetUp(CLI::App& app) {
+void SetUpRender(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
   pipeline::RenderRequest& r = a->request;
   r.data_dir = DataDir();
@@ -104,7 +104,7 @@ void SetUp(CLI::App& app) {
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool render_registered = RegisterCommand(&SetUpRender);
 
 }  // namespace
 }  // namespace owval::cli

@@ -80,7 +80,7 @@ std::vector<CLI::Option*> AddRunFlags(CLI::App* cmd, pipeline::RunRequest* r) {
   return {all.begin() + std::ptrdiff_t(before), all.end()};
 }
 
-void SetUp(CLI::App& app) {
+void SetUpRun(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   pipeline::RunRequest& r = a->request;
   CLI::App* cmd = app.add_subcommand("run", "Phase 2/4: run the reference PCISPH engine");
@@ -107,7 +107,7 @@ void SetUp(CLI::App& app) {
   cmd->callback([a] { RunEngine(*a); });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool run_registered = RegisterCommand(&SetUpRun);
 
 }  // namespace
 }  // namespace owval::cli

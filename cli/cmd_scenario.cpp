@@ -14,7 +14,7 @@ struct ScenarioArgs {
   std::vector<std::string> params;
 };
 
-void SetUp(CLI::App& app) {
+void SetUpScenario(CLI::App& app) {
   auto a = std::make_shared<ScenarioArgs>();
   CLI::App* cmd = app.add_subcommand("scenario", "Built-in scenarios: list, show, generate");
   cmd->require_subcommand(1);
@@ -50,7 +50,7 @@ void SetUp(CLI::App& app) {
   });
 }
 
-const bool registered = RegisterCommand(&SetUp);
+const bool scenario_registered = RegisterCommand(&SetUpScenario);
 
 }  // namespace
 }  // namespace owval::cli

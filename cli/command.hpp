@@ -1,9 +1,10 @@
 #pragma once
 // How a command group plugs into the owval executable: a cmd_*.cpp file defines
-//   static const bool registered = owval::cli::RegisterCommand(&SetUpMyCommand);
+//   const bool my_command_registered = owval::cli::RegisterCommand(&SetUpMyCommand);
 // where SetUpMyCommand adds a subcommand to the app, binds its flags to the library's options and
 // sets its callback. Callbacks report bad input by throwing owval::InputError (exit 2) and gate
-// failures through SetExitCode(1).
+// failures through SetExitCode(1). Both names are the command's own: the build compiles several
+// command files as one (cli/CMakeLists.txt, unity batches).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>

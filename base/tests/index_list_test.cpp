@@ -10,7 +10,7 @@
 namespace owval {
 namespace {
 
-std::string ErrorOf(const std::string& text) {
+std::string IndexListError(const std::string& text) {
   try {
     ParseIndexList(text, "--at");
   } catch (const InputError& e) {
@@ -26,20 +26,20 @@ TEST(IndexList, ReadsCommaSeparatedIndicesInTheirOrder) {
 }
 
 TEST(IndexList, RefusesEmptyListsAndItemsNamingTheFlag) {
-  EXPECT_EQ(ErrorOf(""), "--at: expected comma-separated frame indices, found ''");
-  EXPECT_EQ(ErrorOf("0,"), "--at: expected comma-separated frame indices, found '0,'");
-  EXPECT_EQ(ErrorOf("0,,1"), "--at: expected comma-separated frame indices, found ''");
+  EXPECT_EQ(IndexListError(""), "--at: expected comma-separated frame indices, found ''");
+  EXPECT_EQ(IndexListError("0,"), "--at: expected comma-separated frame indices, found '0,'");
+  EXPECT_EQ(IndexListError("0,,1"), "--at: expected comma-separated frame indices, found ''");
 }
 
 TEST(IndexList, RefusesSignsNonDigitsAndIndicesPast64Bits) {
-  EXPECT_EQ(ErrorOf("-1"), "--at: expected comma-separated frame indices, found '-1'");
-  EXPECT_EQ(ErrorOf("0,1.5"), "--at: expected comma-separated frame indices, found '1.5'");
-  EXPECT_EQ(ErrorOf("99999999999999999999"),
+  EXPECT_EQ(IndexListError("-1"), "--at: expected comma-separated frame indices, found '-1'");
+  EXPECT_EQ(IndexListError("0,1.5"), "--at: expected comma-separated frame indices, found '1.5'");
+  EXPECT_EQ(IndexListError("99999999999999999999"),
             "--at: expected comma-separated frame indices, found '99999999999999999999'");
 }
 
 TEST(IndexList, RefusesAFrameListedTwice) {
-  EXPECT_EQ(ErrorOf("0,15,0"), "--at: frame 0 is listed twice");
+  EXPECT_EQ(IndexListError("0,15,0"), "--at: frame 0 is listed twice");
 }
 
 }  // namespace

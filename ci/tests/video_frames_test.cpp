@@ -14,8 +14,6 @@ namespace owval::ci {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path& kOneSprig = testing::kBundledOneSprig;
-
 // What sxs.mp4 is made of: `frames` black frames of `size`, by ffmpeg's encoder `encoder` (not
 // owval's).
 struct Video {
@@ -25,7 +23,7 @@ struct Video {
 };
 
 // Item 4 of a directory with `run` as reference and candidate and that video.
-ChecklistItem ItemFour(const Video& video, const fs::path& run = kOneSprig) {
+ChecklistItem ItemFour(const Video& video, const fs::path& run = testing::kBundledOneSprig) {
   const fs::path dir = owval::testing::TestScratch("video");
   const std::string extension = run.extension().string();
   fs::copy_file(run, dir / ("reference" + extension));
@@ -57,7 +55,7 @@ TEST(VideoFrames, AVideoOfSeveralFramesPasses) {
 
 // one_sprig's first four frames, as HDF5 in a scratch directory of their own.
 fs::path FourFrames() {
-  const Trajectory full = ReadTrajectory(kOneSprig);
+  const Trajectory full = ReadTrajectory(testing::kBundledOneSprig);
   Trajectory part;
   part.box = full.box, part.type = full.type;
   part.time_step_s = full.time_step_s, part.log_step = full.log_step;

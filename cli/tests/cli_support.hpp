@@ -11,6 +11,7 @@
 #include <string>
 
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::testing {
 
@@ -18,6 +19,9 @@ struct Result {
   int exit_code = -1;
   std::string out, err;
 };
+
+// The bundled one_sprig run (kBundledOneSprig) as a command-line argument.
+inline const std::string kOneSprig = kBundledOneSprig.string();
 
 // The running test's own directory, removed when it ends.
 inline std::filesystem::path Scratch() { return TestScratch(); }

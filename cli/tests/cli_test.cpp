@@ -11,29 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "owval/testing/scratch_directory.hpp"
+#include "cli_support.hpp"
 #include "owval/testing/test_files.hpp"
 
+namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
-using owval::testing::FileBytes;
-
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-fs::path Scratch() { return owval::testing::TestScratch(); }
-
-Result Owval(const std::string& args) {
-  const fs::path out = Scratch() / "stdout.txt", err = Scratch() / "stderr.txt";
-  const std::string command =
-      std::string(OWVAL_EXE) + " --quiet " + args + " > " + out.string() + " 2> " + err.string();
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, FileBytes(out), FileBytes(err)};
-}
-
-const std::string kOneSprig = owval::testing::kBundledOneSprig.string();
 
 TEST(Cli, InspectJsonReportsTheOneSprigPeriod) {
   const Result r = Owval("inspect " + kOneSprig + " --particle 0 --axis y --json");
@@ -372,7 +355,7 @@ TEST(CliRun, WcsphStepLogHasOneEntryPerFrame) {
 // Issue 18 items 12 and 14: usage errors are one short line; particle indices are not wrapped;
 // --max-memory bounds what an input may allocate.
 TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   for (const std::string& particle : {std::string("-1"), std::string(309, '9')}) {
     const Result r = Owval("inspect --particle " + particle + " " + traj);
     EXPECT_EQ(r.exit_code, 2);
@@ -438,7 +421,7 @@ TEST(CliBench, IoRemovesItsFilesAndTheDirectoriesItMade) {
 // killed), a stability gate's tolerance of NaN (which passed every frame). Each is now one line,
 // exit 2, and nothing written.
 TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   const fs::path out = Scratch() / "hostile";
   fs::remove_all(out);
   fs::create_directories(out);
@@ -471,7 +454,7 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
 // wrote one PNG but three entries: an empty, repeated or out-of-range list is one line, exit 2,
 // and nothing written.
 TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   const fs::path out = Scratch() / "frames_at";
   fs::remove_all(out);
   for (const std::string at : {"''", "0,0,0", "0,", "0,15,9999"}) {
@@ -486,7 +469,7 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
 // render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
 // place: Is a directory". -o is the MP4 file: a directory is refused before any work, by name.
 TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   const fs::path dir = Scratch() / "render_dir";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -561,7 +544,7 @@ TEST(Cli, FailedFitLeavesNoFolderBehind) {
 // and --size 101x101 failed after the trajectory was read, naming the temporary, leaving the
 // folder it had made. Each is one line naming what the user typed, before any work.
 TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   const fs::path out = Scratch() / "odd_size";
   fs::remove_all(out);
   for (const std::string& args :
@@ -591,7 +574,7 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
 // what stops it (/proc takes no new entries), exit 2.
 TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
-  const std::string traj = (owval::testing::kBundledOneSprig).string();
+  const std::string traj = (kBundledOneSprig).string();
   for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
            {"run one_sprig --time 0.0001 -o /proc/owval_x", "/proc/owval_x"},
            {"run one_sprig --time 0.0001 -o /proc/owval_x/y", "/proc/owval_x"},
@@ -622,3 +605,5 @@ TEST(Cli, MaxFramesHelpSaysZeroIsEveryFrame) {
   const Result pipeline = Owval("pipeline --help");
   EXPECT_NE(pipeline.out.find("(0: every frame)"), std::string::npos) << pipeline.out;
 }
+
+}  // namespace owval::testing

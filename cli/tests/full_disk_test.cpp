@@ -13,8 +13,6 @@ namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path& kOneSprig = testing::kBundledOneSprig;
-
 // `owval --quiet ARGS` with files limited to `kib` KiB.
 Result OwvalOnAFullDisk(const std::string& args, int kib) {
   return RunCaptured("bash -c 'trap \"\" XFSZ; ulimit -f " + std::to_string(kib) + "; exec " +
@@ -33,10 +31,9 @@ TEST(FullDisk, RenderIsExit2WithNoVideoAndNoTemporary) {
   const fs::path dir = Scratch() / "full_render";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const Result r =
-      OwvalOnAFullDisk("render " + kOneSprig.string() + " -o " + (dir / "v.mp4").string() +
-                           " --size 640x360 --max-frames 60",
-                       24);
+  const Result r = OwvalOnAFullDisk(
+      "render " + kOneSprig + " -o " + (dir / "v.mp4").string() + " --size 640x360 --max-frames 60",
+      24);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("v.mp4"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
@@ -49,7 +46,7 @@ TEST(FullDisk, ConvertIsExit2WithNoOutputAndNoTemporary) {
   fs::create_directories(dir);
   for (const char* name : {"t.h5", "t.txt"}) {
     const Result r = OwvalOnAFullDisk(
-        "convert " + kOneSprig.string() + " " + (dir / name).string() + " --out-layout native", 24);
+        "convert " + kOneSprig + " " + (dir / name).string() + " --out-layout native", 24);
     EXPECT_EQ(r.exit_code, 2) << name << ": " << r.err;
     EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
     EXPECT_EQ(Leftovers(dir), 0u) << name;

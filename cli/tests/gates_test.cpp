@@ -12,7 +12,6 @@ namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kOneSprig = testing::kBundledOneSprig.string();
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1";
 
 bool Mentions(const nlohmann::json& blocking, const std::string& what) {

@@ -25,8 +25,6 @@ namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kOneSprig = testing::kBundledOneSprig.string();
-
 // An empty directory of its own, for commands run inside it (cd DIR && owval ...).
 fs::path FreshDirectory(const std::string& name) { return TestScratch(name); }
 

@@ -11,8 +11,6 @@ namespace owval::testing {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kOneSprig = testing::kBundledOneSprig.string();
-
 // An artifact directory: the bundled one_sprig reference and, as candidate, owval's run of it
 // (which reproduces the reference) with `set` ("--set elasticity_coefficient=3.3e8" fails parity).
 fs::path ArtifactDirectory(const std::string& name, const std::string& set) {

@@ -12,17 +12,16 @@
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
 // Particle 0 moved along x by `offset_cu` from frame 1 on (its y, the tracked coordinate, kept).
 Trajectory SwungSideways(double offset_cu) {
-  Trajectory t = OneSprig();
+  Trajectory t = testing::BundledOneSprigRun();
   for (std::size_t f = 1; f < t.frame_count(); ++f) t.position(f, 0)[0] += float(offset_cu);
   return t;
 }
 
 TEST(FramesPosition, ReferenceAgainstItselfIsZero) {
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   ASSERT_NE(r.gate("frames.position"), nullptr);
   EXPECT_EQ(r.gate("frames.position")->value, 0.0);
   EXPECT_TRUE(r.pass());
@@ -30,7 +29,8 @@ TEST(FramesPosition, ReferenceAgainstItselfIsZero) {
 
 TEST(FramesPosition, ATrackedParticleOffItsAxisFails) {
   // 0.34 cu sideways: 10% of the 3.388 cu range of its y, 1% of the box.
-  const ParityReport r = CompareTrajectories(OneSprig(), SwungSideways(0.34), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), SwungSideways(0.34), {});
   EXPECT_EQ(r.FailedGates(), "frames.position");
   EXPECT_NEAR(r.gate("frames.position")->value, 0.34 / 3.388, 1e-3);
   EXPECT_EQ(r.gate("frames")->value, 0.0);
@@ -39,7 +39,8 @@ TEST(FramesPosition, ATrackedParticleOffItsAxisFails) {
 }
 
 TEST(FramesPosition, WithinTheFrameThresholdPasses) {
-  const ParityReport r = CompareTrajectories(OneSprig(), SwungSideways(0.1), {});  // 3%
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), SwungSideways(0.1), {});  // 3%
   EXPECT_TRUE(r.pass()) << r.FailedGates();
   EXPECT_NEAR(r.gate("frames.position")->value, 0.1 / 3.388, 1e-3);
 }

@@ -15,10 +15,9 @@
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
 TEST(InitialState, ReferenceAgainstItselfIsZero) {
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   ASSERT_NE(r.gate("initial_state"), nullptr);
   EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kPass);
   EXPECT_EQ(r.gate("initial_state")->value, 0.0);
@@ -45,18 +44,18 @@ TEST(InitialState, Demo1WithOneLiquidParticleOnANeighboursPlaceFromFrameZeroFail
 TEST(InitialState, OneParticleStartedAThousandthOfACuAwayFails) {
   // one_sprig's particle 0 (y = 20.04 at the start) 1e-3 cu higher at frame 0 only: beyond two
   // 6-digit roundings (2e-4 cu, with float32's 3e-6 at the box's 33.4 cu); no other gate sees it.
-  Trajectory moved = OneSprig();
+  Trajectory moved = testing::BundledOneSprigRun();
   const double y = moved.position(0, 0)[1];
   ASSERT_NEAR(y, 20.04, 1e-3);
   moved.position(0, 0)[1] += 1e-3f;
-  const ParityReport r = CompareTrajectories(OneSprig(), moved, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), moved, {});
   EXPECT_EQ(r.FailedGates(), "initial_state");
   EXPECT_NEAR(r.gate("initial_state")->value, 1e-3 / (1e-5 * (y + 1e-3) + 1e-7 * 33.4), 0.01);
 }
 
 TEST(InitialState, RoundingToSixSignificantDigitsPasses) {
   // Every coordinate rounded to 6 significant digits, as a second print of the same state.
-  Trajectory printed = OneSprig();
+  Trajectory printed = testing::BundledOneSprigRun();
   for (std::size_t p = 0; p < printed.particle_count(); ++p)
     for (int a = 0; a < 3; ++a) {
       float& x = printed.position(0, p)[a];
@@ -64,14 +63,14 @@ TEST(InitialState, RoundingToSixSignificantDigitsPasses) {
       std::snprintf(text, sizeof text, "%.6g", double(x) * (1 + 4e-6));
       x = std::strtof(text, nullptr);
     }
-  const ParityReport r = CompareTrajectories(OneSprig(), printed, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), printed, {});
   EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kPass) << r.gate("initial_state")->value;
 }
 
 TEST(InitialState, ACandidateWithoutTheReferencesFirstFrameFails) {
   // The candidate's frames from the reference's second frame on: within the window gate's 2%,
   // but where it started is unknown.
-  const Trajectory& ref = OneSprig();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   Trajectory late = ref;
   late.positions.erase(late.positions.begin(),
                        late.positions.begin() + std::ptrdiff_t(ref.particle_count() * 3));
@@ -83,9 +82,9 @@ TEST(InitialState, ACandidateWithoutTheReferencesFirstFrameFails) {
 }
 
 TEST(InitialState, ANonFiniteFirstFrameFails) {
-  Trajectory broken = OneSprig();
+  Trajectory broken = testing::BundledOneSprigRun();
   broken.position(0, 3)[0] = std::numeric_limits<float>::quiet_NaN();
-  const ParityReport r = CompareTrajectories(OneSprig(), broken, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), broken, {});
   EXPECT_EQ(r.gate("initial_state")->status, GateStatus::kFail);
 }
 

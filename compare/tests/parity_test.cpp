@@ -19,10 +19,9 @@
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
 TEST(Parity, ReferenceAgainstItselfPassesWithZeroError) {
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   EXPECT_TRUE(r.pass());
   EXPECT_EQ(r.paired_frames, 2500u);
   EXPECT_EQ(r.l2_mean_cu, 0.0);
@@ -31,11 +30,11 @@ TEST(Parity, ReferenceAgainstItselfPassesWithZeroError) {
 }
 
 TEST(Parity, ElasticYScaledBy106FailsTheFrameGateAndNamesFrames) {
-  Trajectory scaled = OneSprig();
+  Trajectory scaled = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < scaled.frame_count(); ++f) scaled.position(f, 0)[1] *= 1.06f;
   ParityOptions options;
   options.sample_frames = {0, 15, 100, 200};
-  const ParityReport r = CompareTrajectories(OneSprig(), scaled, options);
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), scaled, options);
   EXPECT_EQ(r.gate("frames")->status, GateStatus::kFail);
   EXPECT_FALSE(r.pass());
   // The amplitude scales by 6% too, and the scaled run starts elsewhere (initial_state).
@@ -65,20 +64,22 @@ void ExpectSampledFramesAsTheWholeReport(const Trajectory& reference, const Traj
 TEST(SampledFrames, GivesTheWholeReportsGatesAtTheSampleFrames) {
   ParityOptions options;
   options.sample_frames = {0, 15, 100, 200, 2499};
-  ExpectSampledFramesAsTheWholeReport(OneSprig(), OneSprig(), options);
-  Trajectory moved = OneSprig();  // particle 0 y 6% higher, the elastic centroid with it
+  ExpectSampledFramesAsTheWholeReport(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(),
+                                      options);
+  Trajectory moved =
+      testing::BundledOneSprigRun();  // particle 0 y 6% higher, the elastic centroid with it
   for (std::size_t f = 0; f < moved.frame_count(); ++f) moved.position(f, 0)[1] *= 1.06f;
   options.sample_frames = {0, 15, 100, 200};
-  ExpectSampledFramesAsTheWholeReport(OneSprig(), moved, options);
+  ExpectSampledFramesAsTheWholeReport(testing::BundledOneSprigRun(), moved, options);
   options.gates.centroid_distance = {1e-4, ThresholdSource::kFlag};  // and the centroids' gate
-  ExpectSampledFramesAsTheWholeReport(OneSprig(), moved, options);
-  const ParityReport whole = CompareTrajectories(OneSprig(), moved, options);
+  ExpectSampledFramesAsTheWholeReport(testing::BundledOneSprigRun(), moved, options);
+  const ParityReport whole = CompareTrajectories(testing::BundledOneSprigRun(), moved, options);
   EXPECT_EQ(whole.gate("frames")->status, GateStatus::kFail);
   EXPECT_EQ(whole.gate("frames.group_centroids")->status, GateStatus::kFail);
 }
 
 TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
-  Trajectory coarse = OneSprig();
+  Trajectory coarse = testing::BundledOneSprigRun();
   // Keep every 10th frame: a candidate logged with log step 10.
   Trajectory thinned;
   thinned.box = coarse.box;
@@ -94,14 +95,14 @@ TEST(Parity, PairsFramesByTimeAcrossLogSteps) {
 }
 
 TEST(Parity, RefusesDifferentParticleCounts) {
-  Trajectory fewer = OneSprig();
+  Trajectory fewer = testing::BundledOneSprigRun();
   fewer.type.pop_back();
   Trajectory rebuilt;
   rebuilt.type = fewer.type;
   rebuilt.box = fewer.box;
   std::vector<float> frame(fewer.type.size() * 3, 1.0f);
   rebuilt.AppendFrame(0, frame.data());
-  EXPECT_THROW(CompareTrajectories(OneSprig(), rebuilt, {}), InputError);
+  EXPECT_THROW(CompareTrajectories(testing::BundledOneSprigRun(), rebuilt, {}), InputError);
 }
 
 // The first `frames` frames of a trajectory: the same run recorded for a shorter time.
@@ -119,48 +120,51 @@ TEST(Parity, IdenticalRunsOfDifferentDurationsAgreeOverTheCommonWindow) {
   // 250 of 2500 frames (5 ms of 50 ms, about 7 periods): every measure on both sides is taken
   // over those 5 ms, so nothing differs; but the shorter candidate covers a tenth of the
   // reference, which the window gate fails unless the caller accepts it.
-  const Trajectory shorter = FirstFrames(OneSprig(), 250);
+  const Trajectory shorter = FirstFrames(testing::BundledOneSprigRun(), 250);
   ParityOptions over_the_common_window;
   over_the_common_window.gates.window = {1.0, ThresholdSource::kFlag};
   for (const ParityOptions& o : {ParityOptions{}, over_the_common_window}) {
-    const ParityReport r = CompareTrajectories(OneSprig(), shorter, o);
+    const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), shorter, o);
     EXPECT_EQ(r.paired_frames, 250u);
     EXPECT_EQ(*r.half_amplitude_gap, 0.0);
     EXPECT_EQ(r.gate("period")->status, GateStatus::kPass);
     EXPECT_NEAR(r.gate("window")->value, 0.9, 0.001);
   }
-  const ParityReport strict = CompareTrajectories(OneSprig(), shorter, {});
+  const ParityReport strict = CompareTrajectories(testing::BundledOneSprigRun(), shorter, {});
   EXPECT_FALSE(strict.pass());
   EXPECT_EQ(strict.FailedGates(), "window") << strict.ToTable();
-  EXPECT_TRUE(CompareTrajectories(OneSprig(), shorter, over_the_common_window).pass());
+  EXPECT_TRUE(
+      CompareTrajectories(testing::BundledOneSprigRun(), shorter, over_the_common_window).pass());
   // A candidate longer than the reference covers it.
-  const ParityReport longer = CompareTrajectories(shorter, OneSprig(), {});
+  const ParityReport longer = CompareTrajectories(shorter, testing::BundledOneSprigRun(), {});
   EXPECT_TRUE(longer.pass()) << longer.ToTable();
   EXPECT_EQ(longer.gate("window")->value, 0.0);
 }
 
 TEST(Parity, ACandidateOfOneFrameFailsTheWindowGate) {
-  const ParityReport r = CompareTrajectories(OneSprig(), FirstFrames(OneSprig(), 1), {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(),
+                                             FirstFrames(testing::BundledOneSprigRun(), 1), {});
   EXPECT_FALSE(r.pass()) << r.ToTable();
   EXPECT_EQ(r.gate("window")->status, GateStatus::kFail);
   EXPECT_EQ(r.gate("window")->value, 1.0);
 }
 
 TEST(Parity, AnInterruptedRunIsComparedOverItsFramesAndTheReportSaysSo) {
-  Trajectory interrupted = FirstFrames(OneSprig(), 250);
+  Trajectory interrupted = FirstFrames(testing::BundledOneSprigRun(), 250);
   interrupted.provenance["partial"] = "interrupted after step 2500";
-  const ParityReport r = CompareTrajectories(OneSprig(), interrupted, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), interrupted, {});
   EXPECT_FALSE(r.reference_partial);
   EXPECT_TRUE(r.candidate_partial);
   EXPECT_EQ(r.ToJson()["candidate_partial"], true);
   EXPECT_NE(r.ToTable().find("note: the candidate is partial"), std::string::npos);
   EXPECT_EQ(r.ToTable().find("the reference is partial"), std::string::npos);
-  EXPECT_FALSE(CompareTrajectories(OneSprig(), OneSprig(), {}).candidate_partial);
+  EXPECT_FALSE(CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {})
+                   .candidate_partial);
 }
 
 TEST(Parity, OscillationGatesDoNotApplyWithoutEnoughCrossings) {
   // 30 frames (0.6 ms) hold less than one period: one upward crossing at most.
-  const Trajectory short_run = FirstFrames(OneSprig(), 30);
+  const Trajectory short_run = FirstFrames(testing::BundledOneSprigRun(), 30);
   Trajectory shifted = short_run;
   for (std::size_t f = 0; f < shifted.frame_count(); ++f) shifted.position(f, 0)[1] += 0.01f;
   const ParityReport r = CompareTrajectories(short_run, shifted, {});
@@ -173,8 +177,8 @@ TEST(Parity, OscillationGatesDoNotApplyWithoutEnoughCrossings) {
 
 TEST(Parity, OscillationGatesApplyAndFailOnAStifferSpring) {
   // A candidate whose period is 5% shorter: the signal resampled at 1.05x the time.
-  Trajectory faster = OneSprig();
-  const Trajectory& ref = OneSprig();
+  Trajectory faster = testing::BundledOneSprigRun();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < faster.frame_count(); ++f) {
     const std::size_t g = std::min(ref.frame_count() - 1, std::size_t(double(f) * 1.05));
     faster.position(f, 0)[1] = ref.position(g, 0)[1];
@@ -189,7 +193,7 @@ TEST(Parity, OscillationGatesApplyAndFailOnAStifferSpring) {
 // were kept. Every gate that reads the paired frames agrees; the sampling gate and the
 // oscillation gates (the reference oscillates over its own frames) must not.
 TEST(Parity, ACandidateLoggedAtTwoWellChosenInstantsFails) {
-  const Trajectory& ref = OneSprig();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   const std::size_t frames = ref.frame_count();
   auto faster_y = [&](std::size_t f) {
     return ref.position(std::min(frames - 1, std::size_t(double(f) * 1.05)), 0)[1];
@@ -217,7 +221,7 @@ TEST(Parity, ACandidateLoggedAtTwoWellChosenInstantsFails) {
 
 TEST(Parity, ACandidateThatStopsOscillatingFailsTheOscillationGates) {
   // Dense frames, but the candidate holds the spring still at its mean: no crossings of its own.
-  Trajectory still = OneSprig();
+  Trajectory still = testing::BundledOneSprigRun();
   double mean = 0;
   for (std::size_t f = 0; f < still.frame_count(); ++f) mean += still.position(f, 0)[1];
   mean /= double(still.frame_count());
@@ -226,7 +230,7 @@ TEST(Parity, ACandidateThatStopsOscillatingFailsTheOscillationGates) {
   loose.gates.frame = {1.0, ThresholdSource::kFlag};
   loose.gates.centroid_distance = loose.gates.final_distance =
       loose.gates.particle_distance = {1.0, ThresholdSource::kFlag};
-  const ParityReport r = CompareTrajectories(OneSprig(), still, loose);
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), still, loose);
   EXPECT_EQ(r.gate("period")->status, GateStatus::kFail) << r.ToTable();
   EXPECT_EQ(r.gate("sampling")->status, GateStatus::kPass);
   EXPECT_EQ(r.gate("sampling")->value, 0.0);
@@ -235,11 +239,11 @@ TEST(Parity, ACandidateThatStopsOscillatingFailsTheOscillationGates) {
 // --scale replaces the reference's range as the frame gate's denominator: a large one loosens the
 // gate as a large threshold would, so the report says the scale was given and what it replaced.
 TEST(Parity, AGivenScaleIsReportedAsGiven) {
-  Trajectory scaled = OneSprig();
+  Trajectory scaled = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < scaled.frame_count(); ++f) scaled.position(f, 0)[1] *= 1.06f;
   ParityOptions loose;
   loose.scale = 1000.0;
-  const ParityReport r = CompareTrajectories(OneSprig(), scaled, loose);
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), scaled, loose);
   EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);
   EXPECT_TRUE(r.scale_given);
   EXPECT_NEAR(r.reference_range, 3.388, 1e-3);
@@ -249,14 +253,14 @@ TEST(Parity, AGivenScaleIsReportedAsGiven) {
   EXPECT_EQ(r.ToMarkdown().find("(reference range)"), std::string::npos);
   EXPECT_NE(r.ToTable().find("GIVEN by --scale"), std::string::npos);
   EXPECT_EQ(r.ToJson()["scale_given"], true);
-  EXPECT_FALSE(CompareTrajectories(OneSprig(), scaled, {}).scale_given);
+  EXPECT_FALSE(CompareTrajectories(testing::BundledOneSprigRun(), scaled, {}).scale_given);
 }
 
 TEST(Parity, FinalStateGateNamesAnOffsetAtTheEnd) {
-  Trajectory moved = OneSprig();
+  Trajectory moved = testing::BundledOneSprigRun();
   const std::size_t last = moved.frame_count() - 1;
   moved.position(last, 0)[0] += 5.0f;  // 5 cu of a 33.4 cu box: 15%
-  const ParityReport r = CompareTrajectories(OneSprig(), moved, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), moved, {});
   EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);  // y is untouched
   EXPECT_EQ(r.gate("elastic.final_distance")->status, GateStatus::kFail);
   EXPECT_NEAR(r.gate("elastic.final_distance")->value, 5.0 / 33.4, 1e-3);
@@ -292,9 +296,9 @@ TEST(GateThresholdFields, NewGatesHaveAManifestKeyAndAFlag) {
 TEST(Parity, ThresholdsCarryTheirSource) {
   ParityOptions options;
   options.gates.frame = {0.5, ThresholdSource::kFlag};
-  Trajectory scaled = OneSprig();
+  Trajectory scaled = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < scaled.frame_count(); ++f) scaled.position(f, 0)[1] *= 1.06f;
-  const ParityReport r = CompareTrajectories(OneSprig(), scaled, options);
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), scaled, options);
   EXPECT_EQ(r.gate("frames")->status, GateStatus::kPass);  // 0.35 < 0.5
   EXPECT_EQ(r.gate("frames")->threshold.source, ThresholdSource::kFlag);
   EXPECT_EQ(ToJson(*r.gate("frames"))["threshold_source"], "flag");
@@ -362,7 +366,8 @@ TEST(Parity, ABlownUpBodyHasNoTurn) {
 }
 
 TEST(Parity, AOneParticleBodyHasNoTurn) {
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   EXPECT_FALSE(r.drift[0].has_pose);
   EXPECT_EQ(r.gate("elastic.extent")->detail.find("turned"), std::string::npos);
   EXPECT_TRUE(r.ToJson()["group_drift"][0]["final_rotation_deg"].is_null());
@@ -371,7 +376,9 @@ TEST(Parity, AOneParticleBodyHasNoTurn) {
 TEST(Parity, RefusesATrackThatNamesNothing) {
   ParityOptions options;
   options.track.particle = 99999999;
-  EXPECT_THROW(CompareTrajectories(OneSprig(), OneSprig(), options), InputError);
+  EXPECT_THROW(
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), options),
+      InputError);
 }
 
 Trajectory TwoLiquidParticles(std::size_t frames) {
@@ -508,8 +515,8 @@ TEST(Incompressibility, MeasuresMeanAndMaxDeviation) {
 }
 
 TEST(Incompressibility, RefusesTrajectoryWithoutDensity) {
-  EXPECT_THROW(CheckIncompressibility(OneSprig()), InputError);
-  const Trajectory sprig = OneSprig();
+  EXPECT_THROW(CheckIncompressibility(testing::BundledOneSprigRun()), InputError);
+  const Trajectory sprig = testing::BundledOneSprigRun();
   EXPECT_THROW(CheckIncompressibility(*MemoryFrameSource(sprig)), InputError);
 }
 

@@ -15,13 +15,11 @@
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
 // one_sprig's spring as a stiffer one would move it: the reference's sine (equilibrium 18.3523,
 // half-amplitude 1.694, from its maximum) with the period of k = 3.3e8 (0.6908 ms, 4.7% short),
 // at the reference's steps, and frame times claiming a time step `claimed_dt_s`.
 Trajectory StifferSpring(double claimed_dt_s) {
-  Trajectory t = OneSprig();
+  Trajectory t = testing::BundledOneSprigRun();
   const double dt = t.time_step_s, period_s = 0.6908024e-3;
   for (std::size_t f = 0; f < t.frame_count(); ++f) {
     const double y = 18.352341 + 1.694013 * std::cos(2 * std::numbers::pi * f * dt / period_s);
@@ -33,14 +31,16 @@ Trajectory StifferSpring(double claimed_dt_s) {
 }
 
 TEST(TimeBase, AStifferSpringFailsOnItsOwnTimeBase) {
-  const ParityReport r = CompareTrajectories(OneSprig(), StifferSpring(2e-5), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), StifferSpring(2e-5), {});
   EXPECT_FALSE(r.pass());
   EXPECT_EQ(r.gate("period")->status, GateStatus::kFail);
 }
 
 TEST(TimeBase, AStifferSpringWithAStretchedTimeStepFails) {
   // 2e-5 s × 0.7246109 / 0.6908024: the stiffer spring's period looks like the reference's.
-  const ParityReport r = CompareTrajectories(OneSprig(), StifferSpring(2.09789e-5), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), StifferSpring(2.09789e-5), {});
   EXPECT_FALSE(r.pass()) << r.ToTable();
   EXPECT_GT(r.misaligned_pairs, 2000u);  // they met within half a frame, at other times
   EXPECT_EQ(r.gate("sampling.oscillation")->status, GateStatus::kFail) << r.ToTable();
@@ -48,7 +48,7 @@ TEST(TimeBase, AStifferSpringWithAStretchedTimeStepFails) {
 
 TEST(TimeBase, ACandidateLoggedEveryTenthStepStillPasses) {
   Trajectory thinned;
-  const Trajectory& ref = OneSprig();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   thinned.box = ref.box, thinned.type = ref.type;
   thinned.time_step_s = ref.time_step_s, thinned.log_step = 10;
   for (std::size_t f = 0; f < ref.frame_count(); f += 10)
@@ -63,7 +63,7 @@ TEST(TimeBase, ACandidateLoggedEveryTenthStepStillPasses) {
 TEST(TimeBase, SamplingTooSparseForTheOscillationFails) {
   // Every 20th step (0.4 ms, more than half the 0.7246 ms period): aliased, not resolved.
   Trajectory sparse;
-  const Trajectory& ref = OneSprig();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   sparse.box = ref.box, sparse.type = ref.type;
   sparse.time_step_s = ref.time_step_s, sparse.log_step = 20;
   for (std::size_t f = 0; f < ref.frame_count(); f += 20)
@@ -74,7 +74,7 @@ TEST(TimeBase, SamplingTooSparseForTheOscillationFails) {
 }
 
 TEST(TimeBase, ANonOscillatingReferenceLeavesTheGateNotApplicable) {
-  Trajectory still = OneSprig();
+  Trajectory still = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < still.frame_count(); ++f) still.position(f, 0)[1] = 18.35f;
   const ParityReport r = CompareTrajectories(still, still, {});
   EXPECT_EQ(r.gate("sampling.oscillation")->status, GateStatus::kNotApplicable);
@@ -89,7 +89,7 @@ namespace {
 // The stiffer spring's own frames, each relabelled with the reference frame time nearest its
 // stretched time (an HDF5 /time column can say anything): dense, aligned, in phase.
 TEST(TimeBase, AStifferSpringRelabelledFrameByFrameFails) {
-  const Trajectory& ref = OneSprig();
+  const Trajectory& ref = testing::BundledOneSprigRun();
   Trajectory warped = StifferSpring(2e-5);
   const double stretch = 0.7246109 / 0.6908024;
   Trajectory out;
@@ -107,8 +107,12 @@ TEST(TimeBase, AStifferSpringRelabelledFrameByFrameFails) {
 }
 
 TEST(TimeBase, EvenlySpacedCandidatesPassTheTimeBaseGate) {
-  EXPECT_LT(CompareTrajectories(OneSprig(), OneSprig(), {}).gate("time_base")->value, 1e-9);
-  const ParityReport r = CompareTrajectories(OneSprig(), StifferSpring(2.09789e-5), {});
+  EXPECT_LT(CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {})
+                .gate("time_base")
+                ->value,
+            1e-9);
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), StifferSpring(2.09789e-5), {});
   EXPECT_EQ(r.gate("time_base")->status, GateStatus::kPass);
 }
 

@@ -15,8 +15,6 @@
 namespace owval::compare {
 namespace {
 
-const Trajectory& OneSprig() { return testing::BundledOneSprigRun(); }
-
 // Particles p and q exchange positions from frame 1 on.
 Trajectory Swapped(const Trajectory& t, std::size_t p, std::size_t q) {
   Trajectory out = t;
@@ -26,7 +24,8 @@ Trajectory Swapped(const Trajectory& t, std::size_t p, std::size_t q) {
 }
 
 TEST(WorstParticle, ReferenceAgainstItselfIsZeroForEveryKind) {
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   ASSERT_NE(r.gate("elastic.worst_particle"), nullptr);
   ASSERT_NE(r.gate("boundary.worst_particle"), nullptr);
   EXPECT_EQ(r.gate("liquid.worst_particle"), nullptr);  // one_sprig has no liquid
@@ -38,12 +37,12 @@ TEST(WorstParticle, ReferenceAgainstItselfIsZeroForEveryKind) {
 TEST(WorstParticle, OneSprigWithItsSpringAnchorMovedFails) {
   // The spring's anchor (boundary particle 1180 at y = 32.565) moved 10 cu along x in every
   // frame: the tracked particle is untouched, so every other gate passed.
-  Trajectory moved = OneSprig();
+  Trajectory moved = testing::BundledOneSprigRun();
   const std::size_t anchor = 1180;
   ASSERT_EQ(KindOf(moved.type[anchor]), ParticleKind::kBoundary);
   ASSERT_NEAR(moved.position(0, anchor)[1], 32.565, 1e-3);
   for (std::size_t f = 0; f < moved.frame_count(); ++f) moved.position(f, anchor)[0] += 10;
-  const ParityReport r = CompareTrajectories(OneSprig(), moved, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), moved, {});
   // Moved from frame 0 on: it also starts elsewhere (initial_state), and a wall moves
   // (boundary.fixed).
   EXPECT_EQ(r.FailedGates(), "initial_state, boundary.fixed, boundary.worst_particle");
@@ -90,9 +89,9 @@ TEST(WorstParticle, Demo1WithOneLiquidParticleOnANeighboursPlaceFails) {
 }
 
 TEST(WorstParticle, ANonFiniteParticleFails) {
-  Trajectory broken = OneSprig();
+  Trajectory broken = testing::BundledOneSprigRun();
   broken.position(7, 1500)[2] = std::numeric_limits<float>::quiet_NaN();
-  const ParityReport r = CompareTrajectories(OneSprig(), broken, {});
+  const ParityReport r = CompareTrajectories(testing::BundledOneSprigRun(), broken, {});
   EXPECT_EQ(r.gate("boundary.worst_particle")->status, GateStatus::kFail);
   EXPECT_FALSE(r.pass());
 }
@@ -101,7 +100,8 @@ TEST(MinCrossingsOverride, IsLabelledOnTheOscillationGates) {
   // --min-crossings 1000 turns one_sprig's period gates n/a: the report must say who did it.
   ParityOptions options;
   options.gates.min_crossings = {1000, ThresholdSource::kFlag};
-  const ParityReport r = CompareTrajectories(OneSprig(), OneSprig(), options);
+  const ParityReport r =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), options);
   for (const char* name : {"period", "half_amplitude"}) {
     const Gate& g = *r.gate(name);
     EXPECT_EQ(g.status, GateStatus::kNotApplicable);
@@ -110,10 +110,12 @@ TEST(MinCrossingsOverride, IsLabelledOnTheOscillationGates) {
         << g.detail;
   }
   options.gates.min_crossings = {3, ThresholdSource::kManifest};
-  const ParityReport m = CompareTrajectories(OneSprig(), OneSprig(), options);
+  const ParityReport m =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), options);
   EXPECT_EQ(m.gate("period")->threshold.source, ThresholdSource::kManifest);
   EXPECT_EQ(m.gate("period")->status, GateStatus::kPass);
-  const ParityReport d = CompareTrajectories(OneSprig(), OneSprig(), {});
+  const ParityReport d =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
   EXPECT_EQ(d.gate("period")->threshold.source, ThresholdSource::kDefault);
   EXPECT_EQ(d.gate("period")->detail.find("min_crossings"), std::string::npos);
 }

@@ -12,8 +12,6 @@ namespace owval::engine {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kShared = OWVAL_SHARED_DIR;
-
 std::string Minimal(const std::string& connection_rows = "17.1\t14.195\t0\t0\n",
                     const std::string& box = "[simulation box]\n0\n10\n0\n10\n0\n10\n") {
   std::string text = box +
@@ -34,8 +32,9 @@ std::string ErrorOf(const std::string& text) {
 }
 
 TEST(Config, ReadsSiberneticsOwnOneSprigAndDemo1) {
-  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
-  const SiberneticConfig one = ReadSiberneticConfig(kShared / "reference/one_sprig/configuration");
+  if (!fs::exists(testing::kSharedDir / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  const SiberneticConfig one =
+      ReadSiberneticConfig(testing::kSharedDir / "reference/one_sprig/configuration");
   EXPECT_EQ(one.elastic_count(), 1u);
   EXPECT_EQ(one.liquid_count(), 0u);
   EXPECT_EQ(one.boundary_count(), 2168u);
@@ -43,7 +42,8 @@ TEST(Config, ReadsSiberneticsOwnOneSprigAndDemo1) {
   EXPECT_FLOAT_EQ(one.connection[0][0], 1180.1f);
   EXPECT_FLOAT_EQ(one.connection[0][1], 14.195f);
   EXPECT_FLOAT_EQ(one.box.ymax, 33.4f);
-  const SiberneticConfig demo = ReadSiberneticConfig(kShared / "reference/demo1/configuration");
+  const SiberneticConfig demo =
+      ReadSiberneticConfig(testing::kSharedDir / "reference/demo1/configuration");
   EXPECT_EQ(demo.elastic_count(), 218u);
   EXPECT_EQ(demo.liquid_count(), 125u);
   EXPECT_EQ(demo.boundary_count(), 17498u);

@@ -11,6 +11,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "pcisph/pcisph.hpp"
 
@@ -18,8 +19,6 @@ namespace owval::engine {
 namespace {
 namespace fs = std::filesystem;
 using internal::SphConstants;
-
-const fs::path kShared = OWVAL_SHARED_DIR;
 
 TEST(Kernels, ConstantsMatchSiberneticsHostValuesToTheLastBit) {
   // The float values Sibernetic's host passes to its kernels (physics sheet §1); one ULP off in
@@ -204,18 +203,19 @@ TEST(Run, RefusesParticleOutsideTheBox) {
 }
 
 TEST(Parity, OneSprigMatchesSibernetic) {
-  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  if (!fs::exists(testing::kSharedDir / "reference")) GTEST_SKIP() << "no ../shared/reference";
   RunOptions o;
   o.duration_s = 0.05;
   o.log_step = 1;
   o.record_fields = false;
-  const Trajectory t =
-      engine::Run(ReadSiberneticConfig(kShared / "reference/one_sprig/configuration"), o);
+  const Trajectory t = engine::Run(
+      ReadSiberneticConfig(testing::kSharedDir / "reference/one_sprig/configuration"), o);
   const auto m = compare::MeasureSignal(t.time_s, ParticleSeries(t, 0, 1));
   EXPECT_NEAR(*m.period_s, 0.7246e-3, 0.7246e-3 * 0.002);
   EXPECT_NEAR(*m.half_amplitude, 1.694, 1.694 * 0.005);
   EXPECT_NEAR(m.equilibrium, 18.352, 0.01);
-  const Trajectory ref = ReadTrajectory(kShared / "reference/one_sprig/position_buffer.txt");
+  const Trajectory ref =
+      ReadTrajectory(testing::kSharedDir / "reference/one_sprig/position_buffer.txt");
   ASSERT_EQ(ref.frame_count(), t.frame_count());
   for (std::size_t f = 0; f < ref.frame_count(); ++f)
     ASSERT_NEAR(t.coordinate(f, 0, 1), ref.coordinate(f, 0, 1), 2e-4) << "frame " << f;
@@ -247,37 +247,41 @@ Trajectory RunReference(const std::string& name, double duration_s, int log_step
   o.duration_s = duration_s;
   o.log_step = log_step;
   o.record_fields = false;
-  return engine::Run(ReadSiberneticConfig(kShared / "reference" / name / "configuration"), o);
+  return engine::Run(
+      ReadSiberneticConfig(testing::kSharedDir / "reference" / name / "configuration"), o);
 }
 
 TEST(Parity, TestGravityReproducesSiberneticAtEveryPrintedDigit) {
-  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  if (!fs::exists(testing::kSharedDir / "reference")) GTEST_SKIP() << "no ../shared/reference";
   // One liquid particle falls, hits the floor's wall particles (placed 0.167 cu outside the box)
   // and comes to rest: the Ihmsen wall correction, friction and the 4th normal component.
   const Trajectory t = RunReference("test_gravity", 0.05, 5);
-  const Trajectory ref = ReadTrajectory(kShared / "reference/test_gravity/position_buffer.txt");
+  const Trajectory ref =
+      ReadTrajectory(testing::kSharedDir / "reference/test_gravity/position_buffer.txt");
   ASSERT_EQ(t.frame_count(), ref.frame_count());
   const auto differences = PrintedDifferences(t, ref);
   EXPECT_TRUE(differences.empty()) << differences.size() << " differ, first " << differences[0];
 }
 
 TEST(Parity, TestEnergyLiquidBlockReproducesSiberneticWhileFalling) {
-  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  if (!fs::exists(testing::kSharedDir / "reference")) GTEST_SKIP() << "no ../shared/reference";
   // 29,791 liquid particles, 32-neighbour truncation everywhere: frames 0-2 (300 steps).
   const Trajectory t = RunReference("test_energy", 0.006, 100);
-  const Trajectory ref = ReadTrajectory(kShared / "reference/test_energy/position_buffer.txt.gz");
+  const Trajectory ref =
+      ReadTrajectory(testing::kSharedDir / "reference/test_energy/position_buffer.txt.gz");
   ASSERT_EQ(t.frame_count(), 3u);
   const auto differences = PrintedDifferences(t, ref);
   EXPECT_TRUE(differences.empty()) << differences.size() << " differ, first " << differences[0];
 }
 
 TEST(Parity, Demo1ReproducesSiberneticAtEveryPrintedDigit) {
-  if (!fs::exists(kShared / "reference")) GTEST_SKIP() << "no ../shared/reference";
+  if (!fs::exists(testing::kSharedDir / "reference")) GTEST_SKIP() << "no ../shared/reference";
   // Elastic cube, membranes and liquid over 10,000 steps: a one-ULP difference anywhere grows to
   // whole units within a few hundred steps (gotcha 20), so this holds only if every operation
   // is Sibernetic's.
   const Trajectory t = RunReference("demo1", 0.2, 20);
-  const Trajectory ref = ReadTrajectory(kShared / "reference/demo1/position_buffer.txt");
+  const Trajectory ref =
+      ReadTrajectory(testing::kSharedDir / "reference/demo1/position_buffer.txt");
   ASSERT_EQ(t.frame_count(), ref.frame_count());
   const auto differences = PrintedDifferences(t, ref);
   EXPECT_TRUE(differences.empty()) << differences.size() << " differ, first " << differences[0];

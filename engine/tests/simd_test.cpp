@@ -9,12 +9,11 @@
 #include "kernels/simd.hpp"
 #include "owval/engine/profile.hpp"
 #include "owval/engine/run.hpp"
+#include "owval/testing/test_files.hpp"
 
 namespace owval::engine {
 namespace {
 namespace fs = std::filesystem;
-
-const fs::path kShared = OWVAL_SHARED_DIR;
 
 enum class Path { kCpuChoice, kScalar, kAvx2 };
 
@@ -30,7 +29,8 @@ Trajectory RunWith(Path path, const std::string& name, double duration_s, int th
   o.log_step = 10;
   o.threads = threads;
   o.backend = backend;
-  const Trajectory t = Run(ReadSiberneticConfig(kShared / "reference" / name / "configuration"), o);
+  const Trajectory t =
+      Run(ReadSiberneticConfig(testing::kSharedDir / "reference" / name / "configuration"), o);
   internal::ForceScalarPaths(false);
   return t;
 }
@@ -121,7 +121,7 @@ TEST(PhaseProfile, CoversEveryStepAndFrame) {
   o.log_step = 20;
   o.threads = 1;
   const PhaseProfile p =
-      ProfilePhases(ReadSiberneticConfig(kShared / "reference/demo1/configuration"), o);
+      ProfilePhases(ReadSiberneticConfig(testing::kSharedDir / "reference/demo1/configuration"), o);
   EXPECT_EQ(p.steps, 50u);
   EXPECT_EQ(p.frames, 3u);  // steps 0, 20, 40
   ASSERT_EQ(p.step.size(), 10u);

@@ -19,7 +19,7 @@ namespace owval::kinematics {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kWorm =
+const fs::path kWormPositions =
     fs::path(OWVAL_SHARED_DIR) / "reference/worm_alone_0.6s/position_buffer.txt.gz";
 
 // A travelling sine on a translating body, 49 points, at irregular frame times (40 fps on
@@ -108,7 +108,7 @@ TEST(Analyser, HoldsTheSpeedWindowsFramesNotTheRuns) {
 // skeleton series, owval at c17facb, `owval kinematics position_buffer.txt.gz --json`), which
 // the streaming analysis must give bit for bit (JSON doubles round-trip exactly).
 TEST(Analyser, WormReferenceGivesTheBatchAnalysisReportBitForBit) {
-  if (!fs::exists(kWorm)) GTEST_SKIP() << "no " << kWorm;
+  if (!fs::exists(kWormPositions)) GTEST_SKIP() << "no " << kWormPositions;
   const nlohmann::json batch = nlohmann::json::parse(R"({
     "amplitude_mm": 0.10111925460583347, "duration_s": 0.5970000000000001,
     "fft_frequency_hz": 2.0123392922358967, "frames": 200, "frequency_hz": null,
@@ -117,11 +117,11 @@ TEST(Analyser, WormReferenceGivesTheBatchAnalysisReportBitForBit) {
     "max_amplitude_mm": 0.1892184839186127, "midbody_speed_mm_per_s": 0.08321880813099593,
     "regime": "crawling", "tail_speed_mm_per_s": 0.003917603078329838,
     "wavelength_mm": 0.8039366670070642, "zero_crossing_frequency_hz": null})");
-  EXPECT_EQ(AnalyseFile(kWorm).ToJson(), batch);
-  EXPECT_EQ(Analyse(LoadSkeletons(kWorm)).ToJson(), batch);
+  EXPECT_EQ(AnalyseFile(kWormPositions).ToJson(), batch);
+  EXPECT_EQ(Analyse(LoadSkeletons(kWormPositions)).ToJson(), batch);
   TextReadOptions quiet;
   quiet.quiet = true;
-  EXPECT_EQ(AnalyseFrames(*OpenFrameSource(kWorm, quiet)).ToJson(), batch);
+  EXPECT_EQ(AnalyseFrames(*OpenFrameSource(kWormPositions, quiet)).ToJson(), batch);
 }
 
 TEST(Analyser, RefusesWhatAnalyseRefusedAtFinish) {

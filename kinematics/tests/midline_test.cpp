@@ -80,8 +80,8 @@ TEST(Midline, FromSiberneticsPrintedPositionsAgreesWithItsLogToSixDigits) {
   const Trajectory t = ReadTrajectory(kWorm / "position_buffer.txt.gz", quiet);
   ASSERT_TRUE(IsWorm(t));
   const std::vector<std::string> ours = Lines(WormMotionLog(t));
-  const std::vector<std::string> theirs = Lines(
-      internal::Gunzip(ReadWholeFile(kWorm / "worm_motion_log.txt.gz"), "worm_motion_log.txt.gz"));
+  const std::vector<std::string> theirs = Lines(owval::internal::Gunzip(
+      ReadWholeFile(kWorm / "worm_motion_log.txt.gz"), "worm_motion_log.txt.gz"));
   ASSERT_EQ(ours.size(), theirs.size());
   std::size_t values = 0, equal = 0;
   double worst = 0;

@@ -27,8 +27,8 @@ TEST(RunMidline, OwvalRunOfTheWormWritesSiberneticsMotionLogByteForByte) {
                               out.string();
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   const std::string ours = ReadWholeFile(out / "worm_motion_log.txt");
-  const std::string all =
-      internal::Gunzip(ReadWholeFile(ref / "worm_motion_log.txt.gz"), "worm_motion_log.txt.gz");
+  const std::string all = owval::internal::Gunzip(ReadWholeFile(ref / "worm_motion_log.txt.gz"),
+                                                  "worm_motion_log.txt.gz");
   std::size_t end = 0;
   for (int line = 0; line < 5; ++line) end = all.find('\n', end) + 1;
   EXPECT_EQ(ours, all.substr(0, end));

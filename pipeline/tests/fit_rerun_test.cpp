@@ -28,7 +28,7 @@ namespace owval::pipeline {
 namespace {
 namespace fs = std::filesystem;
 
-ci::ChecklistItem ItemSix(const fs::path& dir) {
+ci::ChecklistItem RerunItemSix(const fs::path& dir) {
   for (const ci::ChecklistItem& i : ci::RunChecklist(dir).items)
     if (i.number == 6) return i;
   throw std::runtime_error("no item 6");
@@ -158,7 +158,7 @@ TEST(FitRerun, TheHistoryRecordsWhatWasSimulated) {
 
 TEST(FitRerun, ARealFitPassesItemSixByItsRerun) {
   const fs::path dir = FittedDirectory("fit_rerun_real");
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_TRUE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("rerun at the best parameters (pcisph, 0.005 s"), std::string::npos)
       << item.detail;
@@ -174,7 +174,7 @@ TEST(FitRerun, EditedBestParametersFail) {
     h["final"]["parameters"]["elasticity_coefficient"] =
         h["final"]["parameters"]["elasticity_coefficient"].get<double>() * 1.001;
   });
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_FALSE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("FAILS: the rerun does not reproduce"), std::string::npos)
       << item.detail;
@@ -185,7 +185,7 @@ TEST(FitRerun, MovedTargetsFail) {
   Edit(dir / "fit/history.json", [](nlohmann::json& h) {
     h["targets"][0]["value"] = h["targets"][0]["value"].get<double>() * 1.01;
   });
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_FALSE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("targets do not match the directory's reference: target period"),
             std::string::npos)
@@ -197,7 +197,7 @@ TEST(FitRerun, AnEditedConfigurationIsNotVerified) {
   std::string text = ReadWholeFile(dir / "fit/configuration.txt");
   text.insert(text.find("[position]"), "[physical parameters]\nelasticityCoefficient: 1\n");
   std::ofstream(dir / "fit/configuration.txt") << text;
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_FALSE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("not verified: configuration.txt is not the configuration the fit "
                              "recorded"),
@@ -236,7 +236,7 @@ TEST(FitRerun, ATargetScaleLooserThanItsValueFails) {
     }
     h["final"]["loss"] = h["final"]["loss"].get<double>() / 100;
   });
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_FALSE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("FAILS: target period's scale"), std::string::npos) << item.detail;
   EXPECT_NE(item.detail.find("is looser than its value's magnitude"), std::string::npos)
@@ -253,7 +253,7 @@ TEST(FitRerun, AResidualOfTheWrongSignFails) {
       if (it["parameters"] == h["final"]["parameters"])
         it["residuals"][0] = -it["residuals"][0].get<double>();
   });
-  const ci::ChecklistItem item = ItemSix(dir);
+  const ci::ChecklistItem item = RerunItemSix(dir);
   EXPECT_FALSE(item.pass) << item.detail;
   EXPECT_NE(item.detail.find("FAILS: the rerun does not reproduce"), std::string::npos)
       << item.detail;

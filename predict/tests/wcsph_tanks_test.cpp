@@ -56,7 +56,7 @@ TankRun RunSmallTank(bool density_diffusion) {
   return run;
 }
 
-const ReconcileRow& Row(const Reconciliation& r, const std::string& quantity) {
+const ReconcileRow& TankRow(const Reconciliation& r, const std::string& quantity) {
   for (const ReconcileRow& row : r.rows)
     if (row.quantity == quantity) return row;
   throw std::runtime_error("no row " + quantity);
@@ -70,11 +70,11 @@ const TankRun& WithDiffusion() {
 
 TEST(WcsphHydrostaticTank, SettlesToTheHydrostaticPressureAtMidDepthWithinFivePercent) {
   const TankRun& run = WithDiffusion();
-  const ReconcileRow& mean = Row(run.reconciliation, "mid_depth_pressure");
+  const ReconcileRow& mean = TankRow(run.reconciliation, "mid_depth_pressure");
   ASSERT_TRUE(mean.measured.has_value());
   EXPECT_TRUE(run.reconciliation.pass) << ReconcileMarkdown(run.reconciliation);
   EXPECT_LE(std::abs(*mean.gap), 0.05);
-  ASSERT_TRUE(Row(run.reconciliation, "mid_depth_pressure_rms_error").measured.has_value());
+  ASSERT_TRUE(TankRow(run.reconciliation, "mid_depth_pressure_rms_error").measured.has_value());
   // The optimistic steps stay within the rollback threshold: no accepted sub-step above 3%.
   EXPECT_GT(run.substeps, 0);
   EXPECT_LE(run.max_density_variation, 0.03);
@@ -84,7 +84,7 @@ TEST(WcsphHydrostaticTank, WithoutDensityDiffusionTheDensityAndThePressureVaryMo
   const TankRun without = RunSmallTank(false);
   EXPECT_GT(without.max_density_variation, WithDiffusion().max_density_variation);
   const auto error = [](const TankRun& run) {
-    return *Row(run.reconciliation, "mid_depth_pressure_rms_error").measured;
+    return *TankRow(run.reconciliation, "mid_depth_pressure_rms_error").measured;
   };
   EXPECT_GT(error(without), error(WithDiffusion()));
 }
@@ -120,7 +120,8 @@ TEST(WcsphDamBreak, FrontAdvancesAndStaysBehindTheShallowWaterFront) {
   }
   EXPECT_GE(measured, 4);  // the gated points up to T = 2.547
   // Koshizuka & Oka's series rides along, informative.
-  EXPECT_EQ(Row(r, "koshizuka_oka_front_Z_at_T_1.153").tolerance_kind, ToleranceKind::kInformative);
+  EXPECT_EQ(TankRow(r, "koshizuka_oka_front_Z_at_T_1.153").tolerance_kind,
+            ToleranceKind::kInformative);
 }
 
 // Issue 16: reconciled frame by frame from the run's HDF5 file (positions and pressure

@@ -17,7 +17,6 @@ namespace owval::scenarios {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kShared = OWVAL_SHARED_DIR;
 const fs::path kSource = OWVAL_SOURCE_DIR;
 
 // Writes through Sibernetic's format and reads back: what the engine and Sibernetic would load.
@@ -42,7 +41,7 @@ void ExpectRowsNear(const std::vector<engine::Row4>& a, const std::vector<engine
 }
 
 TEST(OneSprig, DefaultReproducesTheReferenceConfiguration) {
-  const fs::path reference = kShared / "reference/one_sprig/configuration";
+  const fs::path reference = testing::kSharedDir / "reference/one_sprig/configuration";
   if (!fs::exists(reference)) GTEST_SKIP() << "no " << reference;
   const engine::SiberneticConfig want = engine::ReadSiberneticConfig(reference);
   const engine::SiberneticConfig got = RoundTrip(OneSprig({}), "one_sprig");

@@ -22,7 +22,7 @@ using testing::FileBytes;
 using testing::ScratchFile;
 
 // 41 frames of 5 particles, every value distinct; density holds a NaN (a diverged run's may).
-Trajectory WithFields() {
+Trajectory FortyOneFramesWithFields() {
   Trajectory t;
   t.box = {0, 10, 0, 10, 0, 10};
   t.time_step_s = 1e-5;
@@ -54,7 +54,7 @@ const std::vector<float>& ArrayOf(const Trajectory& t, const std::string& array)
 }
 
 TEST(CopyFrames, EveryArrayOfAnHdf5FileEqualsTheWholeReadAcrossChunks) {
-  const Trajectory t = WithFields();
+  const Trajectory t = FortyOneFramesWithFields();
   const std::size_t n = t.particle_count();
   for (std::size_t chunk : {std::size_t{1}, std::size_t{16}}) {
     const fs::path h5 = ScratchFile("chunk" + std::to_string(chunk) + ".h5");
@@ -81,7 +81,7 @@ TEST(CopyFrames, EveryArrayOfAnHdf5FileEqualsTheWholeReadAcrossChunks) {
 }
 
 TEST(CopyFrames, TheDefaultGoesThroughFramesAndRefusesAnArrayTheFramesLack) {
-  const Trajectory t = WithFields();
+  const Trajectory t = FortyOneFramesWithFields();
   const auto memory = MemoryFrameSource(t);
   std::vector<float> out(3 * 3 * t.particle_count());
   memory->CopyFrames("velocities", 38, 3, out.data());
@@ -96,7 +96,7 @@ TEST(CopyFrames, TheDefaultGoesThroughFramesAndRefusesAnArrayTheFramesLack) {
 
 // `owval convert a.h5 b.h5` is WriteHdf5 of a.h5's frame source: the bytes WriteHdf5 writes.
 TEST(CopyFrames, WriteHdf5OfAnHdf5SourceWithFieldsIsByteIdenticalToTheWholeWrite) {
-  const Trajectory t = WithFields();
+  const Trajectory t = FortyOneFramesWithFields();
   const fs::path whole = ScratchFile("whole.h5"), streamed = ScratchFile("streamed.h5");
   WriteHdf5(t, whole);
   const auto source = OpenFrameSource(whole);

@@ -13,7 +13,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::ScratchFile;
 
-Trajectory WithFields() {
+Trajectory ThirtySevenFramesWithFields() {
   Trajectory t;
   t.box = {-1, 10, 0, 20, 0, 30};
   t.time_step_s = 2e-5;
@@ -35,7 +35,7 @@ Trajectory WithFields() {
 }
 
 TEST(Hdf5Format, RoundTripIsExact) {
-  const Trajectory t = WithFields();
+  const Trajectory t = ThirtySevenFramesWithFields();
   const fs::path path = ScratchFile("rt.h5");
   WriteHdf5(t, path);
   EXPECT_EQ(DetectFormat(path), FileFormat::kHdf5);
@@ -54,7 +54,7 @@ TEST(Hdf5Format, RoundTripIsExact) {
 }
 
 TEST(Hdf5Format, OptionalFieldsStayAbsent) {
-  Trajectory t = WithFields();
+  Trajectory t = ThirtySevenFramesWithFields();
   t.velocities.clear();
   t.density.clear();
   t.pressure.clear();
@@ -68,7 +68,7 @@ TEST(Hdf5Format, OptionalFieldsStayAbsent) {
 
 TEST(Hdf5Format, TruncatedFileIsRefusedWithItsName) {
   const fs::path path = ScratchFile("full.h5");
-  WriteHdf5(WithFields(), path);
+  WriteHdf5(ThirtySevenFramesWithFields(), path);
   const fs::path cut = ScratchFile("cut.h5");
   fs::copy_file(path, cut, fs::copy_options::overwrite_existing);
   fs::resize_file(cut, fs::file_size(path) / 2);
@@ -86,7 +86,7 @@ TEST(Hdf5Format, MissingFileIsRefused) {
 
 TEST(Hdf5Format, ConvertsOpenCLTextToHdf5AndBack) {
   const fs::path text = ScratchFile("in.txt");
-  WriteSiberneticText(WithFields(), text, TextLayout::kOpenCL);
+  WriteSiberneticText(ThirtySevenFramesWithFields(), text, TextLayout::kOpenCL);
   // Boundary particles do not move in the OpenCL layout, so compare against the re-read text.
   const Trajectory from_text = ReadTrajectory(text);
   const fs::path h5 = ScratchFile("conv.h5");

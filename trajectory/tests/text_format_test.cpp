@@ -60,7 +60,7 @@ TEST(TextFormat, ReadsOpenCLLayoutAndFillsBoundaryFromFrameZero) {
 }
 
 // Writes `text` gzip-compressed, cut to `keep` of its compressed bytes (1 = whole).
-fs::path WriteGzip(const std::string& name, const std::string& text, double keep = 1) {
+fs::path WriteGzipCut(const std::string& name, const std::string& text, double keep = 1) {
   const fs::path path = ScratchFile(name);
   gzFile out = gzopen(path.c_str(), "wb");
   gzwrite(out, text.data(), unsigned(text.size()));
@@ -72,7 +72,7 @@ fs::path WriteGzip(const std::string& name, const std::string& text, double keep
 TEST(TextFormat, ReadsGzipCompressedFilesAsTheyAre) {
   const std::string text = std::string(kHeader) + kFrame0 + "2.5\t2.25\t3\t2.1\n4\t4.5\t6\t1.1\n";
   const Trajectory plain = Parse(text);
-  const Trajectory unzipped = ReadTrajectory(WriteGzip("small.txt.gz", text));
+  const Trajectory unzipped = ReadTrajectory(WriteGzipCut("small.txt.gz", text));
   EXPECT_EQ(unzipped.positions, plain.positions);
   EXPECT_EQ(unzipped.type, plain.type);
 }
@@ -80,7 +80,7 @@ TEST(TextFormat, ReadsGzipCompressedFilesAsTheyAre) {
 TEST(TextFormat, TruncatedGzipIsRefusedWithItsName) {
   std::string text = kHeader;
   for (int i = 0; i < 2000; ++i) text += kFrame0;
-  const fs::path cut = WriteGzip("cut.txt.gz", text, 0.5);
+  const fs::path cut = WriteGzipCut("cut.txt.gz", text, 0.5);
   try {
     ReadTrajectory(cut);
     FAIL() << "truncated gzip accepted";

@@ -15,7 +15,6 @@ namespace owval {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path& kOneSprig = testing::kBundledOneSprig;
 const fs::path kDemo1 = fs::path(OWVAL_SHARED_DIR) / "reference/demo1/position_buffer.txt";
 
 // A particle and two group centroids (218 elastic, 125 liquid particles in demo1).
@@ -23,7 +22,7 @@ const std::vector<Track> kTracks = {
     {0, "", Axis::kY}, {0, "elastic", Axis::kY}, {0, "liquid", Axis::kX}, {0, "all", Axis::kZ}};
 
 TEST(TrackedSeries, ReadFrameByFrameEqualsTheWholeTrajectorysSeries) {
-  for (const fs::path& file : {kOneSprig, kDemo1}) {
+  for (const fs::path& file : {testing::kBundledOneSprig, kDemo1}) {
     const Trajectory whole = ReadTrajectory(file);
     for (const Track& track : kTracks) {
       if (track.group == "liquid" && whole.count(ParticleKind::kLiquid) == 0) continue;
@@ -54,7 +53,7 @@ TEST(TrackedSeries, RecorderGivenOneFrameAtATimeEqualsTheWholeTrajectorysSeries)
 }
 
 TEST(TrackedSeries, RecorderRefusesATrackThatNamesNothing) {
-  const Trajectory whole = ReadTrajectory(kOneSprig);
+  const Trajectory whole = ReadTrajectory(testing::kBundledOneSprig);
   EXPECT_THROW(TrackedSeriesRecorder(whole, Track{whole.particle_count(), "", Axis::kY}),
                InputError);
   EXPECT_THROW(TrackedSeriesRecorder(whole, Track{0, "liquid", Axis::kY}), InputError);
@@ -63,7 +62,7 @@ TEST(TrackedSeries, RecorderRefusesATrackThatNamesNothing) {
 // A reference at every frame against a candidate at every third frame, shifted by a thousandth of
 // a frame (rounding of its time column): the series pair exactly as the trajectories do.
 TEST(TrackedSeries, FramesPairAsTheTrajectoriesDo) {
-  const Trajectory reference = ReadTrajectory(kOneSprig);
+  const Trajectory reference = ReadTrajectory(testing::kBundledOneSprig);
   Trajectory candidate = reference;
   candidate.time_s.clear();
   candidate.positions.clear();

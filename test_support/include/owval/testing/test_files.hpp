@@ -19,6 +19,11 @@ inline const std::filesystem::path kBundledOneSprig =
     "reference_trajectories/one_sprig/position_buffer.txt";
 #endif
 
+#ifdef OWVAL_SHARED_DIR
+// ../shared: Sibernetic's own runs (reference/) and the fact sheets, when present.
+inline const std::filesystem::path kSharedDir = OWVAL_SHARED_DIR;
+#endif
+
 // NAME in the running test's scratch directory (not created).
 inline std::filesystem::path ScratchFile(const std::string& name) { return TestScratch() / name; }
 
