@@ -4,7 +4,7 @@
 // where SetUpMyCommand adds a subcommand to the app, binds its flags to the library's options and
 // sets its callback. Callbacks report bad input by throwing owval::InputError (exit 2) and gate
 // failures through SetExitCode(1). Both names are the command's own: the build compiles several
-// command files as one (cli/CMakeLists.txt, unity batches).
+// command files as one (owval_wiring_code in CMakeLists.txt: unity batches).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
