@@ -355,7 +355,7 @@ TEST(CliRun, WcsphStepLogHasOneEntryPerFrame) {
 // Issue 18 items 12 and 14: usage errors are one short line; particle indices are not wrapped;
 // --max-memory bounds what an input may allocate.
 TEST(Cli, UsageErrorsAreOneLineAndIndicesAreChecked) {
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   for (const std::string& particle : {std::string("-1"), std::string(309, '9')}) {
     const Result r = Owval("inspect --particle " + particle + " " + traj);
     EXPECT_EQ(r.exit_code, 2);
@@ -421,7 +421,7 @@ TEST(CliBench, IoRemovesItsFilesAndTheDirectoriesItMade) {
 // killed), a stability gate's tolerance of NaN (which passed every frame). Each is now one line,
 // exit 2, and nothing written.
 TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   const fs::path out = Scratch() / "hostile";
   fs::remove_all(out);
   fs::create_directories(out);
@@ -454,7 +454,7 @@ TEST(Cli, HostileNumbersAreOneLineExitTwoAndWriteNothing) {
 // wrote one PNG but three entries: an empty, repeated or out-of-range list is one line, exit 2,
 // and nothing written.
 TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   const fs::path out = Scratch() / "frames_at";
   fs::remove_all(out);
   for (const std::string at : {"''", "0,0,0", "0,", "0,15,9999"}) {
@@ -469,7 +469,7 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
 // render -o EXISTING_DIR (and render sxs) rendered for seconds, then failed "cannot rename into
 // place: Is a directory". -o is the MP4 file: a directory is refused before any work, by name.
 TEST(Cli, RenderIntoAnExistingDirectoryIsRefusedBeforeWork) {
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   const fs::path dir = Scratch() / "render_dir";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -544,7 +544,7 @@ TEST(Cli, FailedFitLeavesNoFolderBehind) {
 // and --size 101x101 failed after the trajectory was read, naming the temporary, leaving the
 // folder it had made. Each is one line naming what the user typed, before any work.
 TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   const fs::path out = Scratch() / "odd_size";
   fs::remove_all(out);
   for (const std::string& args :
@@ -574,7 +574,7 @@ TEST(Cli, OutputErrorsNameTheUsersPathAndOddVideoSizesAreRefusedFirst) {
 // what stops it (/proc takes no new entries), exit 2.
 TEST(Cli, AnOutputUnderProcNamesTheDirectoryAndWhatStopsIt) {
   if (!fs::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
-  const std::string traj = (kBundledOneSprig).string();
+  const std::string traj = kOneSprig;
   for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
            {"run one_sprig --time 0.0001 -o /proc/owval_x", "/proc/owval_x"},
            {"run one_sprig --time 0.0001 -o /proc/owval_x/y", "/proc/owval_x"},

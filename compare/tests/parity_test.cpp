@@ -66,8 +66,8 @@ TEST(SampledFrames, GivesTheWholeReportsGatesAtTheSampleFrames) {
   options.sample_frames = {0, 15, 100, 200, 2499};
   ExpectSampledFramesAsTheWholeReport(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(),
                                       options);
-  Trajectory moved =
-      testing::BundledOneSprigRun();  // particle 0 y 6% higher, the elastic centroid with it
+  // particle 0 y 6% higher, the elastic centroid with it
+  Trajectory moved = testing::BundledOneSprigRun();
   for (std::size_t f = 0; f < moved.frame_count(); ++f) moved.position(f, 0)[1] *= 1.06f;
   options.sample_frames = {0, 15, 100, 200};
   ExpectSampledFramesAsTheWholeReport(testing::BundledOneSprigRun(), moved, options);
