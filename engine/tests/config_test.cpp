@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "config_error.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
@@ -25,10 +26,6 @@ std::string Connections(const std::string& first) {
   std::string rows = first;
   for (int i = 1; i < 32; ++i) rows += "-1\t0\t0\t0\n";
   return rows;
-}
-
-std::string ErrorOf(const std::string& text) {
-  return testing::InputErrorOf([&] { ParseSiberneticConfig(text, "cfg"); });
 }
 
 TEST(Config, ReadsSiberneticsOwnOneSprigAndDemo1) {
@@ -74,7 +71,7 @@ TEST(Config, PhysicalParametersFollowSiberneticsParsingRule) {
 }
 
 TEST(Config, RefusesMissingBox) {
-  EXPECT_NE(ErrorOf(Minimal(Connections("1.1\t2\t0\t0\n"), "") + "[end]\n")
+  EXPECT_NE(ConfigErrorOf(Minimal(Connections("1.1\t2\t0\t0\n"), "") + "[end]\n")
                 .find("missing [simulation box]"),
             std::string::npos);
 }
@@ -84,23 +81,25 @@ TEST(Config, RefusesNonNumericFieldWithLine) {
   const std::size_t row = text.find("5\t5\t5");
   ASSERT_NE(row, std::string::npos);
   text[row] = 'x';
-  const std::string e = ErrorOf(text);
+  const std::string e = ConfigErrorOf(text);
   EXPECT_NE(e.find("cfg:9:"), std::string::npos) << e;
   EXPECT_NE(e.find("found 'x'"), std::string::npos) << e;
 }
 
 TEST(Config, RefusesWrongConnectionCount) {
-  EXPECT_NE(ErrorOf(Minimal("1.1\t2\t0\t0\n") + "[end]\n").find("expected 32 per elastic particle"),
-            std::string::npos);
+  EXPECT_NE(
+      ConfigErrorOf(Minimal("1.1\t2\t0\t0\n") + "[end]\n").find("expected 32 per elastic particle"),
+      std::string::npos);
 }
 
 TEST(Config, RefusesConnectionToMissingParticle) {
-  EXPECT_NE(ErrorOf(Minimal(Connections("17.1\t2\t0\t0\n")) + "[end]\n").find("does not exist"),
-            std::string::npos);
+  EXPECT_NE(
+      ConfigErrorOf(Minimal(Connections("17.1\t2\t0\t0\n")) + "[end]\n").find("does not exist"),
+      std::string::npos);
 }
 
 TEST(Config, RefusesTruncatedFile) {
-  EXPECT_NE(ErrorOf(Minimal(Connections("1.1\t2\t0\t0\n"))).find("expected an [end] line"),
+  EXPECT_NE(ConfigErrorOf(Minimal(Connections("1.1\t2\t0\t0\n"))).find("expected an [end] line"),
             std::string::npos);
 }
 
@@ -110,13 +109,13 @@ TEST(Config, RefusesElasticAfterOthers) {
       "box]\n0\n10\n0\n10\n0\n10\n[position]\n1\t1\t1\t3\n5\t5\t5\t2.1\n[velocity]"
       "\n0\t0\t0\t0\n0\t0\t0\t0\n";
   text += "[connection]\n" + Connections("0.1\t2\t0\t0\n") + "[end]\n";
-  EXPECT_NE(ErrorOf(text).find("elastic particles must come first"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf(text).find("elastic particles must come first"), std::string::npos);
 }
 
 TEST(Config, RefusesPositionVelocityMismatch) {
   std::string text =
       "[simulation box]\n0\n10\n0\n10\n0\n10\n[position]\n1\t1\t1\t3\n[velocity]\n[end]\n";
-  EXPECT_NE(ErrorOf(text).find("wrong particle count"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf(text).find("wrong particle count"), std::string::npos);
 }
 
 TEST(Config, WriteThenReadRoundTrips) {
