@@ -796,27 +796,26 @@ void CheckFitHistory(Evidence& e, ChecklistItem* item) {
   JudgeRerun(e, h, item);
 }
 
-// A test's "pass" is a claim; its own relative error against its own tolerance (gradcheck's
-// "tolerance", the pipeline's "relative_tolerance") is the evidence. A test that says pass with
-// an error beyond its tolerance (or a non-finite one) is counted as failing, by name.
+// A test's "pass" is a claim; its own "relative_error" against its own "tolerance" (every
+// fd_tests.json test has both: docs/schemas/fd_tests.schema.json) is the evidence. A test that
+// says pass with an error beyond its tolerance, a non-finite one or none at all is counted as
+// failing, by name.
 bool TestPasses(const nlohmann::json& t, std::string* contradicted) {
   if (!t.is_object() || !t.value("pass", false)) return false;
   const nlohmann::json none;
   const nlohmann::json& error = t.contains("relative_error") ? t["relative_error"] : none;
-  const nlohmann::json& tolerance = t.contains("tolerance")            ? t["tolerance"]
-                                    : t.contains("relative_tolerance") ? t["relative_tolerance"]
-                                                                       : none;
-  if (error.is_null() && tolerance.is_null()) return true;
+  const nlohmann::json& tolerance = t.contains("tolerance") ? t["tolerance"] : none;
   const bool holds = error.is_number() && tolerance.is_number() &&
                      std::isfinite(error.get<double>()) &&
                      error.get<double>() <= tolerance.get<double>();
-  if (!holds && contradicted->empty())
-    *contradicted = (t.contains("name") && t["name"].is_string() ? t["name"].get<std::string>()
-                                                                 : std::string("a test")) +
-                    " says pass, but its relative_error " + error.dump() +
-                    " is not within its "
-                    "tolerance " +
-                    tolerance.dump();
+  if (holds || !contradicted->empty()) return holds;
+  const std::string name = t.contains("name") && t["name"].is_string()
+                               ? t["name"].get<std::string>()
+                               : std::string("a test");
+  *contradicted = error.is_null() || tolerance.is_null()
+                      ? name + " says pass, but gives no relative_error and tolerance"
+                      : name + " says pass, but its relative_error " + error.dump() +
+                            " is not within its tolerance " + tolerance.dump();
   return holds;
 }
 

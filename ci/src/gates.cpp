@@ -188,7 +188,7 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
     g->pass = p.pass();
     g->measured = {{"subject", p.subject},
                    {"paired_frames", p.frames.size()},
-                   {"failing_frames", p.failing_frames.size()},
+                   {"failing_frame_count", p.failing_frames.size()},
                    {"gates", compare::ToJson(p.gates)}};
     g->detail = p.subject + ": " + std::to_string(p.frames.size() - p.failing_frames.size()) + "/" +
                 std::to_string(p.frames.size()) + " frames within the frame gate";

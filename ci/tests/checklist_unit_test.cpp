@@ -299,8 +299,21 @@ TEST(ChecklistUnit, AnEmptyListOfFiniteDifferenceTestsFailsItemSeven) {
   const ChecklistItem none = Item(RunChecklist(dir), 7);
   EXPECT_FALSE(none.pass);
   EXPECT_EQ(none.detail, "0/0 finite-difference tests pass");
-  std::ofstream(dir / "fd_tests.json") << R"({"tests": [{"name": "stretch", "pass": true}]})";
+  std::ofstream(dir / "fd_tests.json")
+      << R"({"tests": [{"name": "stretch", "pass": true, "relative_error": 1e-4,
+                        "tolerance": 1e-3}]})";
   EXPECT_TRUE(Item(RunChecklist(dir), 7).pass);
+}
+
+// "pass": true alone is a claim without its evidence: the test counts as failing, by name.
+TEST(ChecklistUnit, AFiniteDifferenceTestWithoutItsErrorAndToleranceFailsItemSeven) {
+  const fs::path dir = Fresh("fd_test_claim_only");
+  std::ofstream(dir / "fd_tests.json") << R"({"tests": [{"name": "stretch", "pass": true}]})";
+  const ChecklistItem item = Item(RunChecklist(dir), 7);
+  EXPECT_FALSE(item.pass);
+  EXPECT_EQ(item.detail,
+            "0/1 finite-difference tests pass (stretch says pass, but gives no relative_error "
+            "and tolerance)");
 }
 
 }  // namespace

@@ -466,7 +466,7 @@ TEST_F(Checklist, Items7To9FailingLeaveItIncompleteButNotBlocking) {
 TEST_F(Checklist, Item7CountsATestThatSaysPassBeyondItsToleranceAsFailing) {
   const fs::path d = Copy("item7_claim");
   EditJson(d / "fd_tests.json", [](nlohmann::json& j) {
-    j["tests"][0]["relative_error"] = 0.5;  // its relative_tolerance is 0.02
+    j["tests"][0]["relative_error"] = 0.5;  // its tolerance is 0.02
     j["tests"][0]["pass"] = true;
   });
   const auto j = Judge(d, 0);

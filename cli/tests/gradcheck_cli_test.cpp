@@ -20,7 +20,7 @@ TEST(GradCheckCli, WritesChecklistItemSevenInput) {
   for (const auto& t : j["tests"]) {
     EXPECT_TRUE(t["pass"].get<bool>()) << t.dump();
     EXPECT_LE(t["relative_error"].get<double>(), 1e-4);
-    EXPECT_TRUE(t.contains("name") && t.contains("kernel") && t.contains("epsilon"));
+    EXPECT_TRUE(t.contains("name") && t.contains("kernel") && t.contains("step"));
   }
 }
 

@@ -54,7 +54,7 @@ TEST(JsonOutput, CiGatesSayInJsonWhatTheirTextSaysWithTheSameExitCode) {
   for (const nlohmann::json& g : (*parity)["measured"]["gates"])
     frames_failed |= g["name"] == "frames" && g["status"] == "FAIL";
   EXPECT_TRUE(frames_failed) << parity->dump();
-  EXPECT_GT((*parity)["measured"]["failing_frames"].get<std::size_t>(), 0u);
+  EXPECT_GT((*parity)["measured"]["failing_frame_count"].get<std::size_t>(), 0u);
   const nlohmann::json* stability = GateNamed(report, "candidate stability");
   ASSERT_NE(stability, nullptr);
   EXPECT_TRUE((*stability)["measured"]["pass"].get<bool>()) << stability->dump();

@@ -164,7 +164,7 @@ bool RunFiniteDifferenceTest(const FitPhase& f, std::string* outcome) {
                                  -period(log_k) / 2, 0.02};
   sgd::RunFiniteDifferenceTest(period, &test);
   WriteFileAtomically(f.dir / "fd_tests.json",
-                      nlohmann::json{{"tests", {test.ToJson()}}}.dump(2) + "\n");
+                      sgd::FiniteDifferenceTestsJson({test}).dump(2) + "\n");
   *outcome = test.name + ": " + (test.pass ? "pass" : "FAIL");
   return true;
 }

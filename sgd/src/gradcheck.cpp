@@ -8,7 +8,7 @@ nlohmann::json GradCheckJson(const engine::GradCheckSummary& summary,
   for (const engine::GradCheckTest& t : summary.tests)
     tests.push_back({{"name", t.name},
                      {"kernel", t.kernel},
-                     {"epsilon", t.epsilon},
+                     {"step", t.epsilon},
                      {"direction", t.direction},
                      {"finite_difference", t.finite_difference},
                      {"analytic", t.analytic},
