@@ -352,18 +352,36 @@ struct PackingReduction {
 // How hard each run pushes its moving particles between paired frames (frame_acceleration.hpp),
 // per kind (elastic, liquid): each summary's mean over the stencils both runs complete (three
 // paired frames evenly spaced in time), so both are measured at the same instants and intervals
-// whatever their own log steps.
+// whatever their own log steps; and the one stencil where the two runs' medians differ most.
 struct AccelerationReduction {
+  // A second difference of three prints of 6 significant digits, as a fraction of the box's
+  // largest extent: 4 x 5e-6, rounded up. Below it a reference's particles barely move.
+  static constexpr double kPrintedSecondDifference = 2e-5;
   struct Kind {
+    Kind(const char* kind_name, const std::vector<std::size_t>& members)
+        : name(kind_name),
+          runs{internal::FrameAcceleration(members), internal::FrameAcceleration(members)} {}
     const char* name;
     internal::FrameAcceleration runs[2];  // reference, candidate
     std::size_t stencils = 0;
     double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // cu/s^2
     double inverse_interval_squared_sum = 0;                        // 1/s^2, for the floor
+    // Each stencil's middle reference frame and both medians (reference, candidate), for
+    // acceleration.worst_stencil: 24 bytes a stencil, as the tracked series keep 16 a frame.
+    struct Stencil {
+      std::size_t reference_frame;
+      double median[2];
+    };
+    std::vector<Stencil> each;
   };
   std::vector<Kind> kinds;
+  std::size_t previous_frame = 0;  // the reference frame of the pair observed before
 
-  void Observe(const FrameRef& ref, const FrameRef& cand, double time_s) {
+  // The pair at `reference_frame`, at `time_s`: the last frame of a stencil.
+  void Observe(const FrameRef& ref, const FrameRef& cand, double time_s,
+               std::size_t reference_frame) {
+    const std::size_t middle = previous_frame;
+    previous_frame = reference_frame;
     for (Kind& k : kinds) {
       const auto r = k.runs[0].Observe(ref, time_s), c = k.runs[1].Observe(cand, time_s);
       if (!r || !c) continue;
@@ -371,6 +389,7 @@ struct AccelerationReduction {
       k.median_sum[0] += r->median, k.median_sum[1] += c->median;
       k.upper_quartile_sum[0] += r->upper_quartile, k.upper_quartile_sum[1] += c->upper_quartile;
       k.inverse_interval_squared_sum += 1 / (r->interval_s * r->interval_s);
+      k.each.push_back({middle, {r->median, c->median}});
     }
   }
 };
@@ -403,9 +422,7 @@ class PairReducer {
       std::vector<std::size_t> members;
       for (std::size_t p : moving_)
         if (KindOf(ref.type[p]) == kind) members.push_back(p);
-      if (!members.empty())
-        acceleration_.kinds.push_back(
-            {name, {internal::FrameAcceleration(members), internal::FrameAcceleration(members)}});
+      if (!members.empty()) acceleration_.kinds.emplace_back(name, members);
     }
     for (const char* group : {"elastic", "liquid"}) {
       DriftAccumulator g;
@@ -461,7 +478,7 @@ class PairReducer {
       closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
                        known);
     ObservePacking(k, a, b);
-    acceleration_.Observe(a, b, ref_.time_s[pairs_[k].first]);
+    acceleration_.Observe(a, b, ref_.time_s[pairs_[k].first], pairs_[k].first);
     if (sampled_[k]) ObserveSample(k, a, b);
     bodies_.Observe(a, b, r_->box_scale_cu);
   }
@@ -1129,7 +1146,8 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
   for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
     if (k.stencils == 0) continue;
     const double n = double(k.stencils);
-    const double floor = 2e-5 * r->box_scale_cu * k.inverse_interval_squared_sum / n;
+    const double floor = AccelerationReduction::kPrintedSecondDifference * r->box_scale_cu *
+                         k.inverse_interval_squared_sum / n;
     const double median[2] = {k.median_sum[0] / n, k.median_sum[1] / n};
     const double quartile[2] = {k.upper_quartile_sum[0] / n, k.upper_quartile_sum[1] / n};
     const double median_gap = (median[1] - median[0]) / std::max(median[0], floor);
@@ -1144,6 +1162,71 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
                   quartile[0], 100 * quartile_gap);
     details += (details.empty() ? "" : "; ") + std::string(detail);
     if (std::isnan(g.value) || value > g.value) g.value = value;
+  }
+  if (std::isnan(g.value)) {
+    g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
+                                              : "the scene has no moving particles";
+    r->gates.push_back(g);
+    return;
+  }
+  g.detail = details;
+  Decide(&g);
+  r->gates.push_back(g);
+}
+
+// The stencil at which one run's median acceleration stands highest above the other run's
+// (AccelerationReduction::Kind::each): by how much it exceeds the other run's largest median
+// within kStencilWindow stencils either side, over that median or over the reference's mean over
+// the run, whichever is larger. A frame written displaced and the next one back (a glitch) makes
+// the stencils around it a spike that the averages of `acceleration` dilute over the run. Honest
+// runs whose chaos has diverged strike the floor or a wall a frame or two apart, so each run is
+// measured against the other's neighbourhood, not its same stencil; and against at least the
+// run's mean, since a stencil's median passes through zero (one particle's twice a period, a
+// body's at rest).
+constexpr std::size_t kStencilWindow = 5;
+struct StencilExcess {
+  double value = -1;
+  const AccelerationReduction::Kind::Stencil* stencil = nullptr;
+};
+StencilExcess WorstStencil(const std::vector<AccelerationReduction::Kind::Stencil>& each,
+                           double mean) {
+  StencilExcess worst;
+  for (std::size_t i = 0; i < each.size(); ++i)
+    for (int run = 0; run < 2; ++run) {
+      double other = 0;  // the other run's largest median within the window
+      const std::size_t first = i > kStencilWindow ? i - kStencilWindow : 0;
+      for (std::size_t j = first; j < std::min(each.size(), i + kStencilWindow + 1); ++j)
+        other = std::max(other, each[j].median[1 - run]);
+      double excess = std::max(0.0, each[i].median[run] - other) / std::max(other, mean);
+      if (std::isnan(excess)) excess = INFINITY;  // a median that overflowed
+      if (excess > worst.value) worst = {excess, &each[i]};
+    }
+  return worst;
+}
+
+void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  Gate g = MakeGate("acceleration.worst_stencil",
+                    "per moving kind, the most one run's median acceleration at a stencil of "
+                    "three paired frames exceeds the other run's largest within " +
+                        std::to_string(kStencilWindow) +
+                        " stencils, over that median or the reference's mean over the run "
+                        "(whichever is larger); worst kind",
+                    NAN, o.gates.acceleration_stencil, "relative");
+  std::string details;
+  for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
+    if (k.stencils == 0) continue;
+    const double n = double(k.stencils);
+    const double floor = AccelerationReduction::kPrintedSecondDifference * r->box_scale_cu *
+                         k.inverse_interval_squared_sum / n;
+    const StencilExcess worst = WorstStencil(k.each, std::max(k.median_sum[0] / n, floor));
+    char detail[320];
+    std::snprintf(detail, sizeof detail,
+                  "%s: %.3g at the stencil around reference frame %zu (median candidate %.4g, "
+                  "reference %.4g cu/s^2; the reference's mean %.4g, %zu stencils)",
+                  k.name, worst.value, worst.stencil->reference_frame, worst.stencil->median[1],
+                  worst.stencil->median[0], k.median_sum[0] / n, k.stencils);
+    details += (details.empty() ? "" : "; ") + std::string(detail);
+    if (std::isnan(g.value) || worst.value > g.value) g.value = worst.value;
   }
   if (std::isnan(g.value)) {
     g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
@@ -1278,6 +1361,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateHeldPair(ref, pairs, reducer, o, &r);
   GateLiquidPacking(reducer, o, &r);
   GateAcceleration(reducer, o, &r);
+  GateAccelerationStencil(reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -1492,7 +1576,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "quartile) to the reference's"},
     {"acceleration_threshold", "--acceleration-threshold", &G::acceleration,
      "acceleration gate: the relative gap of the moving particles' mean acceleration between "
-     "frames (median, upper quartile; worst kind) to the reference's"}};
+     "frames (median, upper quartile; worst kind) to the reference's"},
+    {"acceleration_stencil_threshold", "--acceleration-stencil-threshold", &G::acceleration_stencil,
+     "acceleration.worst_stencil gate: the most one run's median acceleration at a stencil of "
+     "three paired frames exceeds the other's nearby, relative (a frame written displaced)"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

@@ -20,6 +20,7 @@ namespace {
 using testing_edits::HonestDemo1Rerun;
 using testing_edits::Jittered;
 using testing_edits::MovingAverage;
+using testing_edits::OneFrameDisplaced;
 using testing_edits::ParticleAtRest;
 
 // One liquid particle falling from rest at 9.8 cu/s^2 along -y, logged at `times_s`.
@@ -147,6 +148,49 @@ TEST(AccelerationParity, AnHonestPerturbedRerunPassesAndTheSameWithNoiseFails) {
   EXPECT_GT(honest.value, 1e-3);  // diverged: not the reference's own frames
   const Gate noisy = *Demo1Edited(Jittered(rerun, 0.05, 1)).gate("acceleration");
   EXPECT_EQ(noisy.status, GateStatus::kFail) << noisy.value << ": " << noisy.detail;
+}
+
+// acceleration.worst_stencil: one frame of demo1 written with the liquid (or the elastic body)
+// 1 r0 (1.67 cu) aside, the frames around it untouched. Every motion gate admits it (the worst
+// particle 1.9% of the box) and the run's averages dilute it (`acceleration` 0.055 / 0.153),
+// but the stencils around the frame spike.
+TEST(AccelerationParity, Demo1WithOneFrameDisplacedFailsOnlyTheWorstStencil) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& demo1 = *testing::SiberneticDemo1Run();
+  const ParityReport liquid =
+      Demo1Edited(OneFrameDisplaced(demo1, ParticleKind::kLiquid, 250, 1.67f));
+  EXPECT_EQ(liquid.FailedGates(), "acceleration.worst_stencil");
+  const Gate& g = *liquid.gate("acceleration.worst_stencil");
+  EXPECT_NEAR(g.value, 13.85, 0.05) << g.detail;
+  EXPECT_NE(g.detail.find("liquid: 13.9 at the stencil around reference frame 250"),
+            std::string::npos)
+      << g.detail;
+  const ParityReport elastic =
+      Demo1Edited(OneFrameDisplaced(demo1, ParticleKind::kElastic, 250, 1.67f));
+  EXPECT_EQ(elastic.FailedGates(), "acceleration.worst_stencil");
+  EXPECT_NEAR(elastic.gate("acceleration.worst_stencil")->value, 38.0, 0.1);
+}
+
+TEST(AccelerationParity, TheWorstStencilOfAnHonestRerunPasses) {
+  OWVAL_REQUIRE_DEMO1();
+  const Gate same = *Demo1Edited(*testing::SiberneticDemo1Run()).gate("acceleration.worst_stencil");
+  EXPECT_EQ(same.value, 0.0) << same.detail;
+  // Its impacts fall a frame or two from the reference's: within the window, not a spike.
+  const Gate honest = *Demo1Edited(HonestDemo1Rerun(0.05)).gate("acceleration.worst_stencil");
+  EXPECT_EQ(honest.status, GateStatus::kPass) << honest.value << ": " << honest.detail;
+  EXPECT_GT(honest.value, 0.01) << honest.detail;  // diverged: not the reference's own frames
+}
+
+// One particle's acceleration passes through zero twice a period: measured against the run's
+// mean, one_sprig's own run measures 0, and one frame kicked 0.2 cu (a seventh of its amplitude)
+// fails (6.95; frames.position fails too): a jump d makes 2d/dt^2 at a 20 us stencil.
+TEST(Acceleration, OneSprigWithOneFrameKickedFailsTheWorstStencil) {
+  const Trajectory& run = testing::BundledOneSprigRun();
+  EXPECT_EQ(CompareTrajectories(run, run, {}).gate("acceleration.worst_stencil")->value, 0.0);
+  const ParityReport kicked =
+      CompareTrajectories(run, OneFrameDisplaced(run, ParticleKind::kElastic, 1250, 0.2f), {});
+  const Gate& g = *kicked.gate("acceleration.worst_stencil");
+  EXPECT_EQ(g.status, GateStatus::kFail) << g.value << ": " << g.detail;
 }
 
 }  // namespace

@@ -102,4 +102,14 @@ inline Trajectory MovingAverage(const Trajectory& t, std::size_t width, std::siz
   return out;
 }
 
+// `t` with every particle of `kind` moved `dx_cu` along x at frame `frame` only: one frame
+// written displaced, the frames before and after it as they were.
+inline Trajectory OneFrameDisplaced(const Trajectory& t, ParticleKind kind, std::size_t frame,
+                                    float dx_cu) {
+  Trajectory out = t;
+  for (std::size_t p = 0; p < t.particle_count(); ++p)
+    if (KindOf(t.type[p]) == kind) out.position(frame, p)[0] += dx_cu;
+  return out;
+}
+
 }  // namespace owval::compare::testing_edits
