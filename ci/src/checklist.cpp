@@ -12,6 +12,7 @@
 #include "owval/base/format.hpp"
 #include "owval/base/input_file.hpp"
 #include "owval/base/json_file.hpp"
+#include "owval/base/one_line.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/compare/signal_metrics.hpp"
 #include "owval/engine/config.hpp"
@@ -836,11 +837,43 @@ void CheckFdTests(Evidence& e, ChecklistItem* item) {
   item->pass = total > 0 && passed == total;
 }
 
+// The tuned values against the fit that claims them: each of fit/history.json's best
+// parameters ("final") must be in parameters.json with its value, to 6 significant digits (a
+// value copied from a printout). "" when they agree, or when there is no readable history to
+// hold them to (item 6 reports that); else the first disagreement. Values the fit did not tune
+// may stand beside them.
+std::string DisagreementWithFit(const fs::path& dir, const nlohmann::json& values) {
+  nlohmann::json history;
+  try {
+    history = ReadFitHistory(dir);
+  } catch (const InputError&) {
+    return "";
+  }
+  const nlohmann::json none;
+  const nlohmann::json& final = history.contains("final") ? history["final"] : none;
+  if (!final.is_object() || !final.contains("parameters") || !final["parameters"].is_object())
+    return "";
+  for (const auto& [name, best] : final["parameters"].items()) {
+    if (!best.is_number()) continue;
+    if (!values.contains(name)) return "lacks the fit's " + name;
+    const nlohmann::json& given = values[name];
+    const double b = best.get<double>();
+    if (!given.is_number() || !(std::abs(given.get<double>() - b) <= 5e-6 * std::abs(b)))
+      return name + " is " + OneLine(given.dump(), 40) + ", the fit's best (fit/history.json) " +
+             FormatNumber(b, 6);
+  }
+  return "";
+}
+
 void CheckParameters(Evidence& e, ChecklistItem* item) {
   const nlohmann::json j = ReadJsonFile(e.dir / "parameters.json");
   const nlohmann::json values = j.is_object() && j.contains("parameters") ? j["parameters"] : j;
   item->detail = std::to_string(values.size()) + " tuned values";
   item->pass = values.is_object() && !values.empty();
+  if (!item->pass) return;
+  const std::string disagreement = DisagreementWithFit(e.dir, values);
+  item->pass = disagreement.empty();
+  if (!item->pass) item->detail += "; parameters.json " + disagreement;
 }
 
 // A Markdown list item: optional indentation, then "-", "*", "+" or "1." and a space, then text.

@@ -463,6 +463,30 @@ TEST_F(Checklist, Items7To9FailingLeaveItIncompleteButNotBlocking) {
 
 // fd_tests.json edited to say pass over a failing test: the test's own error against its own
 // tolerance decides, and the item names the contradiction ("ready" before).
+// parameters.json holds the fit's best parameters (fit/history.json's "final"), to 6 significant
+// digits: {"viscosity": 42} beside a fit of the stiffness was ready before.
+TEST_F(Checklist, Item8HoldsTheTunedValuesToTheFit) {
+  const fs::path d = Copy("item8");
+  const double best = nlohmann::json::parse(
+      Slurp(d / "fit/history.json"))["final"]["parameters"]["elasticity_coefficient"];
+  const auto item8 = [&](const nlohmann::json& parameters) {
+    Write(d / "parameters.json", parameters.dump());
+    const auto j = Judge(d, 0);
+    return std::pair{ItemPasses(j, 8), j["items"][7]["detail"].get<std::string>()};
+  };
+  const auto [other_pass, other] = item8({{"viscosity", 42}});
+  EXPECT_FALSE(other_pass);
+  EXPECT_EQ(other, "1 tuned values; parameters.json lacks the fit's elasticity_coefficient");
+  const auto [off_pass, off] = item8({{"parameters", {{"elasticity_coefficient", best * 1.01}}}});
+  EXPECT_FALSE(off_pass);
+  EXPECT_NE(off.find("elasticity_coefficient is "), std::string::npos) << off;
+  char six_digits[32];
+  std::snprintf(six_digits, sizeof six_digits, "%.6g", best);
+  const auto [printed_pass, printed] =
+      item8({{"elasticity_coefficient", std::stod(six_digits)}, {"viscosity", 42}});
+  EXPECT_TRUE(printed_pass) << printed;
+}
+
 TEST_F(Checklist, Item7CountsATestThatSaysPassBeyondItsToleranceAsFailing) {
   const fs::path d = Copy("item7_claim");
   EditJson(d / "fd_tests.json", [](nlohmann::json& j) {
