@@ -352,7 +352,7 @@ struct PackingReduction {
 // How hard each run pushes its moving particles between paired frames (frame_acceleration.hpp),
 // per kind (elastic, liquid): each summary's mean over the stencils both runs complete (three
 // paired frames evenly spaced in time), so both are measured at the same instants and intervals
-// whatever their own log steps; and the one stencil where the two runs' medians differ most.
+// whatever their own log steps; and each stencil's two medians (acceleration.worst_stencil).
 struct AccelerationReduction {
   // A second difference of three prints of 6 significant digits, as a fraction of the box's
   // largest extent: 4 x 5e-6, rounded up. Below it a reference's particles barely move.
@@ -373,6 +373,12 @@ struct AccelerationReduction {
       double median[2];
     };
     std::vector<Stencil> each;
+    // Three prints' rounding over the stencils' mean dt^2 (cu/s^2): what a reference at rest
+    // measures, for the box's largest extent `box_scale_cu`.
+    double PrintedFloor(double box_scale_cu) const {
+      return kPrintedSecondDifference * box_scale_cu * inverse_interval_squared_sum /
+             double(stencils);
+    }
   };
   std::vector<Kind> kinds;
   std::size_t previous_frame = 0;  // the reference frame of the pair observed before
@@ -1146,8 +1152,7 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
   for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
     if (k.stencils == 0) continue;
     const double n = double(k.stencils);
-    const double floor = AccelerationReduction::kPrintedSecondDifference * r->box_scale_cu *
-                         k.inverse_interval_squared_sum / n;
+    const double floor = k.PrintedFloor(r->box_scale_cu);
     const double median[2] = {k.median_sum[0] / n, k.median_sum[1] / n};
     const double quartile[2] = {k.upper_quartile_sum[0] / n, k.upper_quartile_sum[1] / n};
     const double median_gap = (median[1] - median[0]) / std::max(median[0], floor);
@@ -1216,9 +1221,8 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
   for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
     if (k.stencils == 0) continue;
     const double n = double(k.stencils);
-    const double floor = AccelerationReduction::kPrintedSecondDifference * r->box_scale_cu *
-                         k.inverse_interval_squared_sum / n;
-    const StencilExcess worst = WorstStencil(k.each, std::max(k.median_sum[0] / n, floor));
+    const double mean = std::max(k.median_sum[0] / n, k.PrintedFloor(r->box_scale_cu));
+    const StencilExcess worst = WorstStencil(k.each, mean);
     char detail[320];
     std::snprintf(detail, sizeof detail,
                   "%s: %.3g at the stencil around reference frame %zu (median candidate %.4g, "
