@@ -1136,6 +1136,20 @@ void GateLiquidPacking(const PairReducer& reduced, const ParityOptions& o, Parit
   r->gates.push_back(g);
 }
 
+// An acceleration gate with its per-kind `details`, decided; not applicable (its value NaN) when
+// no kind completed a stencil, saying why.
+void PushAccelerationGate(Gate g, const std::string& details, const PairReducer& reduced,
+                          ParityReport* r) {
+  if (std::isnan(g.value)) {
+    g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
+                                              : "the scene has no moving particles";
+  } else {
+    g.detail = details;
+    Decide(&g);
+  }
+  r->gates.push_back(g);
+}
+
 // The candidate's accelerations between frames against the reference's (AccelerationReduction):
 // per kind, the relative gaps of the mean median and of the mean upper quartile; the value is the
 // worst kind's larger gap. A reference whose particles barely move is judged against the printed
@@ -1168,15 +1182,7 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
     details += (details.empty() ? "" : "; ") + std::string(detail);
     if (std::isnan(g.value) || value > g.value) g.value = value;
   }
-  if (std::isnan(g.value)) {
-    g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
-                                              : "the scene has no moving particles";
-    r->gates.push_back(g);
-    return;
-  }
-  g.detail = details;
-  Decide(&g);
-  r->gates.push_back(g);
+  PushAccelerationGate(std::move(g), details, reduced, r);
 }
 
 // The stencil at which one run's median acceleration stands highest above the other run's
@@ -1232,15 +1238,7 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
     details += (details.empty() ? "" : "; ") + std::string(detail);
     if (std::isnan(g.value) || worst.value > g.value) g.value = worst.value;
   }
-  if (std::isnan(g.value)) {
-    g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
-                                              : "the scene has no moving particles";
-    r->gates.push_back(g);
-    return;
-  }
-  g.detail = details;
-  Decide(&g);
-  r->gates.push_back(g);
+  PushAccelerationGate(std::move(g), details, reduced, r);
 }
 
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
