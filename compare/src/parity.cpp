@@ -1136,10 +1136,20 @@ void GateLiquidPacking(const PairReducer& reduced, const ParityOptions& o, Parit
   r->gates.push_back(g);
 }
 
-// An acceleration gate with its per-kind `details`, decided; not applicable (its value NaN) when
-// no kind completed a stencil, saying why.
-void PushAccelerationGate(Gate g, const std::string& details, const PairReducer& reduced,
-                          ParityReport* r) {
+// An acceleration gate over the kinds that completed a stencil: `measure(kind)` gives the kind's
+// value and its detail, and the gate's value is the worst kind's (a NaN value counts as
+// infinite). Not applicable when no kind completed a stencil, saying why.
+template <typename Measure>
+void PushAccelerationGate(Gate g, const PairReducer& reduced, ParityReport* r,
+                          const Measure& measure) {
+  std::string details;
+  for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
+    if (k.stencils == 0) continue;
+    const auto [value, detail] = measure(k);
+    details += (details.empty() ? "" : "; ") + detail;
+    const double judged = std::isnan(value) ? INFINITY : value;
+    if (std::isnan(g.value) || judged > g.value) g.value = judged;
+  }
   if (std::isnan(g.value)) {
     g.detail = reduced.has_moving_particles() ? "no three paired frames evenly spaced in time"
                                               : "the scene has no moving particles";
@@ -1162,27 +1172,21 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
                     "upper quartile over the kind averaged over the stencils; worst kind, the "
                     "larger",
                     NAN, o.gates.acceleration, "relative");
-  std::string details;
-  for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
-    if (k.stencils == 0) continue;
+  PushAccelerationGate(std::move(g), reduced, r, [r](const AccelerationReduction::Kind& k) {
     const double n = double(k.stencils);
     const double floor = k.PrintedFloor(r->box_scale_cu);
     const double median[2] = {k.median_sum[0] / n, k.median_sum[1] / n};
     const double quartile[2] = {k.upper_quartile_sum[0] / n, k.upper_quartile_sum[1] / n};
     const double median_gap = (median[1] - median[0]) / std::max(median[0], floor);
     const double quartile_gap = (quartile[1] - quartile[0]) / std::max(quartile[0], floor);
-    double value = std::max(std::abs(median_gap), std::abs(quartile_gap));
-    if (std::isnan(value)) value = INFINITY;
     char detail[400];
     std::snprintf(detail, sizeof detail,
                   "%s over %zu stencils: median candidate %.4g, reference %.4g cu/s^2 (%+.1f%%), "
                   "upper quartile candidate %.4g, reference %.4g cu/s^2 (%+.1f%%)",
                   k.name, k.stencils, median[1], median[0], 100 * median_gap, quartile[1],
                   quartile[0], 100 * quartile_gap);
-    details += (details.empty() ? "" : "; ") + std::string(detail);
-    if (std::isnan(g.value) || value > g.value) g.value = value;
-  }
-  PushAccelerationGate(std::move(g), details, reduced, r);
+    return std::pair{std::max(std::abs(median_gap), std::abs(quartile_gap)), std::string(detail)};
+  });
 }
 
 // The stencil at which one run's median acceleration stands highest above the other run's
@@ -1223,9 +1227,7 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
                         " stencils, over that median or the reference's mean over the run "
                         "(whichever is larger); worst kind",
                     NAN, o.gates.acceleration_stencil, "relative");
-  std::string details;
-  for (const AccelerationReduction::Kind& k : reduced.acceleration().kinds) {
-    if (k.stencils == 0) continue;
+  PushAccelerationGate(std::move(g), reduced, r, [r](const AccelerationReduction::Kind& k) {
     const double n = double(k.stencils);
     const double mean = std::max(k.median_sum[0] / n, k.PrintedFloor(r->box_scale_cu));
     const StencilExcess worst = WorstStencil(k.each, mean);
@@ -1235,10 +1237,8 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
                   "reference %.4g cu/s^2; the reference's mean %.4g, %zu stencils)",
                   k.name, worst.value, worst.stencil->reference_frame, worst.stencil->median[1],
                   worst.stencil->median[0], k.median_sum[0] / n, k.stencils);
-    details += (details.empty() ? "" : "; ") + std::string(detail);
-    if (std::isnan(g.value) || worst.value > g.value) g.value = worst.value;
-  }
-  PushAccelerationGate(std::move(g), details, reduced, r);
+    return std::pair{worst.value, std::string(detail)};
+  });
 }
 
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
