@@ -19,6 +19,7 @@
 #include "owval/base/format.hpp"
 #include "owval/base/progress.hpp"
 #include "owval/compare/metrics_json.hpp"
+#include "stencil_excess.hpp"
 
 namespace owval::compare {
 namespace {
@@ -366,13 +367,9 @@ struct AccelerationReduction {
     std::size_t stencils = 0;
     double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // cu/s^2
     double inverse_interval_squared_sum = 0;                        // 1/s^2, for the floor
-    // Each stencil's middle reference frame and both medians (reference, candidate), for
-    // acceleration.worst_stencil: 24 bytes a stencil, as the tracked series keep 16 a frame.
-    struct Stencil {
-      std::size_t reference_frame;
-      double median[2];
-    };
-    std::vector<Stencil> each;
+    // Each stencil's two medians (reference, candidate) against the other run's nearby, for
+    // acceleration.worst_stencil: a window of stencils and the pairs that can still be worst.
+    internal::StencilExcesses excesses;
     // Three prints' rounding over the stencils' mean dt^2 (cu/s^2): what a reference at rest
     // measures, for the box's largest extent `box_scale_cu`.
     double PrintedFloor(double box_scale_cu) const {
@@ -395,7 +392,7 @@ struct AccelerationReduction {
       k.median_sum[0] += r->median, k.median_sum[1] += c->median;
       k.upper_quartile_sum[0] += r->upper_quartile, k.upper_quartile_sum[1] += c->upper_quartile;
       k.inverse_interval_squared_sum += 1 / (r->interval_s * r->interval_s);
-      k.each.push_back({middle, {r->median, c->median}});
+      k.excesses.Push(middle, r->median, c->median);
     }
   }
 };
@@ -1190,53 +1187,30 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
 }
 
 // The stencil at which one run's median acceleration stands highest above the other run's
-// (AccelerationReduction::Kind::each): by how much it exceeds the other run's largest median
-// within kStencilWindow stencils either side, over that median or over the reference's mean over
-// the run, whichever is larger. A frame written displaced and the next one back (a glitch) makes
+// (internal::StencilExcesses). A frame written displaced and the next one back (a glitch) makes
 // the stencils around it a spike that the averages of `acceleration` dilute over the run. Honest
 // runs whose chaos has diverged strike the floor or a wall a frame or two apart, so each run is
 // measured against the other's neighbourhood, not its same stencil; and against at least the
 // run's mean, since a stencil's median passes through zero (one particle's twice a period, a
 // body's at rest).
-constexpr std::size_t kStencilWindow = 5;
-struct StencilExcess {
-  double value = -1;
-  const AccelerationReduction::Kind::Stencil* stencil = nullptr;
-};
-StencilExcess WorstStencil(const std::vector<AccelerationReduction::Kind::Stencil>& each,
-                           double mean) {
-  StencilExcess worst;
-  for (std::size_t i = 0; i < each.size(); ++i)
-    for (int run = 0; run < 2; ++run) {
-      double other = 0;  // the other run's largest median within the window
-      const std::size_t first = i > kStencilWindow ? i - kStencilWindow : 0;
-      for (std::size_t j = first; j < std::min(each.size(), i + kStencilWindow + 1); ++j)
-        other = std::max(other, each[j].median[1 - run]);
-      double excess = std::max(0.0, each[i].median[run] - other) / std::max(other, mean);
-      if (std::isnan(excess)) excess = INFINITY;  // a median that overflowed
-      if (excess > worst.value) worst = {excess, &each[i]};
-    }
-  return worst;
-}
-
 void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
   Gate g = MakeGate("acceleration.worst_stencil",
                     "per moving kind, the most one run's median acceleration at a stencil of "
                     "three paired frames exceeds the other run's largest within " +
-                        std::to_string(kStencilWindow) +
+                        std::to_string(internal::StencilExcesses::kStencilWindow) +
                         " stencils, over that median or the reference's mean over the run "
                         "(whichever is larger); worst kind",
                     NAN, o.gates.acceleration_stencil, "relative");
   PushAccelerationGate(std::move(g), reduced, r, [r](const AccelerationReduction::Kind& k) {
     const double n = double(k.stencils);
     const double mean = std::max(k.median_sum[0] / n, k.PrintedFloor(r->box_scale_cu));
-    const StencilExcess worst = WorstStencil(k.each, mean);
+    const internal::StencilExcess worst = k.excesses.Worst(mean);
     char detail[320];
     std::snprintf(detail, sizeof detail,
                   "%s: %.3g at the stencil around reference frame %zu (median candidate %.4g, "
                   "reference %.4g cu/s^2; the reference's mean %.4g, %zu stencils)",
-                  k.name, worst.value, worst.stencil->reference_frame, worst.stencil->median[1],
-                  worst.stencil->median[0], k.median_sum[0] / n, k.stencils);
+                  k.name, worst.value, worst.reference_frame, worst.median[1], worst.median[0],
+                  k.median_sum[0] / n, k.stencils);
     return std::pair{worst.value, std::string(detail)};
   });
 }
