@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "caller_reference.hpp"
@@ -46,6 +48,9 @@ struct Evidence {
   // Item 6's rerun judged at DD001's tolerance as well, when the caller's is looser: what
   // ChecklistReport::loosened_fit_rerun says of it ("" when no rerun was made).
   std::string rerun_at_default_tolerance;
+  // fit/history.json as FitHistory read it, once for items 6 and 8, or why it could not.
+  std::optional<nlohmann::json> fit_history;
+  std::exception_ptr fit_history_unreadable;
 };
 
 using Check = void (*)(Evidence& e, ChecklistItem* item);
@@ -727,6 +732,20 @@ nlohmann::json ReadFitHistory(const fs::path& dir) {
   return h;
 }
 
+// ReadFitHistory of the evidence's directory, read by the first item that asks (item 6, whose
+// verdict item 8 holds the tuned values to): both judge the same file's contents.
+const nlohmann::json& FitHistory(Evidence& e) {
+  if (!e.fit_history && !e.fit_history_unreadable) {
+    try {
+      e.fit_history = ReadFitHistory(e.dir);
+    } catch (...) {
+      e.fit_history_unreadable = std::current_exception();
+    }
+  }
+  if (e.fit_history_unreadable) std::rethrow_exception(e.fit_history_unreadable);
+  return *e.fit_history;
+}
+
 // "N iterations, stop reason: R[, final loss L]", as the history states them.
 std::string HistoryDescription(const nlohmann::json& h, std::size_t iterations) {
   std::ostringstream s;
@@ -780,7 +799,7 @@ void JudgeRerun(Evidence& e, const nlohmann::json& h, ChecklistItem* item) {
 }
 
 void CheckFitHistory(Evidence& e, ChecklistItem* item) {
-  const nlohmann::json h = ReadFitHistory(e.dir);
+  const nlohmann::json& h = FitHistory(e);
   const bool converged = h.value("converged", false);
   const std::size_t iterations =
       h.contains("iterations") && h["iterations"].is_array() ? h["iterations"].size() : 0;
@@ -842,13 +861,14 @@ void CheckFdTests(Evidence& e, ChecklistItem* item) {
 // value copied from a printout). "" when they agree, or when there is no readable history to
 // hold them to (item 6 reports that); else the first disagreement. Values the fit did not tune
 // may stand beside them.
-std::string DisagreementWithFit(const fs::path& dir, const nlohmann::json& values) {
-  nlohmann::json history;
+std::string DisagreementWithFit(Evidence& e, const nlohmann::json& values) {
+  const nlohmann::json* history_read = nullptr;
   try {
-    history = ReadFitHistory(dir);
+    history_read = &FitHistory(e);
   } catch (const InputError&) {
     return "";
   }
+  const nlohmann::json& history = *history_read;
   const nlohmann::json none;
   const nlohmann::json& final = history.contains("final") ? history["final"] : none;
   if (!final.is_object() || !final.contains("parameters") || !final["parameters"].is_object())
@@ -871,7 +891,7 @@ void CheckParameters(Evidence& e, ChecklistItem* item) {
   item->detail = std::to_string(values.size()) + " tuned values";
   item->pass = values.is_object() && !values.empty();
   if (!item->pass) return;
-  const std::string disagreement = DisagreementWithFit(e.dir, values);
+  const std::string disagreement = DisagreementWithFit(e, values);
   item->pass = disagreement.empty();
   if (!item->pass) item->detail += "; parameters.json " + disagreement;
 }
@@ -1140,6 +1160,8 @@ ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& 
              options.track ? "the caller's, from --scenario or --manifest"
                            : "the default: give --scenario or --manifest for a scenario's",
              options.caller_reference.empty() ? nullptr : Open(options.caller_reference),
+             {},
+             {},
              {}};
   ChecklistReport r;
   r.directory = directory;
