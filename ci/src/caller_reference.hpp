@@ -13,6 +13,13 @@ namespace owval::ci::internal {
 inline constexpr const char* kArtifactDirectory =
     "a directory of PR artifacts (reference.*, candidate.*)";
 
+// What quick-test, validate and the checklist say of a run whose own record marks it partial
+// (owval writes an interrupted or blown-up run under a .partial name, with HDF5 attribute
+// partial = 1): not a result, whatever its frames show.
+inline constexpr const char* kPartialRun =
+    "partial: its own record says the run was interrupted, or stopped on a NaN, before it "
+    "finished";
+
 // Why `got` is not `wanted`, or empty: the same particles and frame times, every position within
 // 1e-3 cu (a text file prints six or seven digits; another run differs by far more). Both are
 // read frame by frame, side by side.

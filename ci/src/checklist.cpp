@@ -128,9 +128,7 @@ void CheckTrajectory(const fs::path& file, std::unique_ptr<FrameSource>& source,
   // the reference's duration passed the window gate, and the checklist said ready.
   if (t.partial()) {
     item->pass = false;
-    item->detail +=
-        " (partial: its own record says the run was interrupted, or stopped on a "
-        "NaN, before it finished)";
+    item->detail += std::string(" (") + internal::kPartialRun + ")";
   }
 }
 

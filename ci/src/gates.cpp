@@ -44,11 +44,14 @@ GateResult Run(const std::string& name, const std::function<void(GateResult*)>& 
   return g;
 }
 
-void NoNaN(FrameSource& frames, GateResult* g) {
+// quick-test's "completed without NaN": no non-finite position, and not a partial run (a run
+// stopped on its first NaN leaves finite frames behind, and an interrupted one only finite ones).
+void CompletedWithoutNaN(FrameSource& frames, GateResult* g) {
   const compare::StabilityReport s = compare::CheckStability(frames);
-  g->pass = s.non_finite.count == 0;
+  g->pass = s.non_finite.count == 0 && !frames.partial();
   g->detail = std::to_string(frames.frame_count()) + " frames, " +
               std::to_string(s.non_finite.count) + " non-finite particle-frames";
+  if (frames.partial()) g->detail += std::string("; ") + internal::kPartialRun;
 }
 
 // What validate measures on one trajectory, in one pass over its frames: stability, the
@@ -120,7 +123,7 @@ GateReport QuickTest(const fs::path& dir) {
     r.gates.push_back(Run(std::string(stem) + " completed without NaN", [&](GateResult* g) {
       const auto frames = Open(dir, stem);
       worm = worm || kinematics::IsWorm(frames->header());
-      NoNaN(*frames, g);
+      CompletedWithoutNaN(*frames, g);
     }));
   if (worm) {
     fs::path candidate;
@@ -169,11 +172,16 @@ GateReport Validate(const fs::path& dir, const compare::ParityOptions& parity,
   const TrajectoryChecks ref_checks = Check(*ref, false, worm && kinematics::IsWorm(ref->header()));
   const TrajectoryChecks cand_checks = Check(*cand, true, worm);
   for (const auto* c : {&ref_checks, &cand_checks}) {
-    const std::string which = c == &ref_checks ? "reference" : "candidate";
+    const bool reference = c == &ref_checks;
+    const std::string which = reference ? "reference" : "candidate";
     r.gates.push_back(Run(which + " stability", [&](GateResult* g) {
       g->pass = c->stability.pass();
       g->measured = c->stability.ToJson();
       g->detail = g->measured.dump();
+    }));
+    r.gates.push_back(Run(which + " completed", [&](GateResult* g) {
+      g->pass = !(reference ? *ref : *cand).partial();
+      g->detail = g->pass ? "not marked partial" : internal::kPartialRun;
     }));
   }
   if (cand_checks.incompressibility) {

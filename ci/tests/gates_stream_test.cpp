@@ -16,6 +16,7 @@
 #include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/writer.hpp"
 
 namespace owval::ci {
 namespace {
@@ -127,6 +128,40 @@ TEST(StreamedGates, ValidateHoldsTheDirectorysReferenceToTheCallers) {
   EXPECT_FALSE(Gate(honest, "parity").pass);
   // An unreadable --reference is bad input, not a failed gate.
   EXPECT_THROW(Validate(dir, {}, dir / "missing.txt"), InputError);
+  fs::remove_all(dir);
+}
+
+// A run stopped on a NaN or interrupted leaves its finite frames as trajectory.partial.h5, marked
+// partial. Copied in as the candidate (or the reference), quick-test said "completed without
+// NaN" and validate passed every gate, though checklist item 3 refused it.
+TEST(StreamedGates, APartialRunFailsQuickTestAndValidate) {
+  const fs::path dir = Directory("partial");
+  const Trajectory whole = ReadTrajectory(owval::testing::kBundledOneSprig);
+  const auto write = [&whole](const fs::path& destination, std::size_t frames, bool stopped) {
+    TrajectoryHeader header{whole.box, whole.time_step_s, whole.log_step, whole.type, {}};
+    auto writer = OpenTrajectoryWriter(destination, header);
+    for (std::size_t f = 0; f < frames; ++f)
+      writer->AppendFrame(whole.time_s[f], whole.position(f, 0));
+    stopped ? writer->Abort() : writer->Close();
+  };
+  write(dir / "reference.h5", whole.frame_count(), false);
+  write(dir / "run.h5", 40, true);  // as run.partial.h5
+  fs::rename(dir / "run.partial.h5", dir / "candidate.h5");
+  const GateReport quick = QuickTest(dir);
+  EXPECT_FALSE(Gate(quick, "candidate completed without NaN").pass) << quick.ToText();
+  EXPECT_NE(Gate(quick, "candidate completed without NaN").detail.find("partial"),
+            std::string::npos);
+  EXPECT_TRUE(Gate(quick, "reference completed without NaN").pass);
+  EXPECT_FALSE(quick.pass());
+  const GateReport validate = Validate(dir, {}, owval::testing::kBundledOneSprig);
+  EXPECT_FALSE(Gate(validate, "candidate completed").pass) << validate.ToText();
+  EXPECT_TRUE(Gate(validate, "reference completed").pass);
+  EXPECT_FALSE(validate.pass());
+  // The same run finished: both pass those gates.
+  fs::remove(dir / "candidate.h5");
+  write(dir / "candidate.h5", 40, false);
+  EXPECT_TRUE(Gate(QuickTest(dir), "candidate completed without NaN").pass);
+  EXPECT_TRUE(Gate(Validate(dir), "candidate completed").pass);
   fs::remove_all(dir);
 }
 
