@@ -30,7 +30,11 @@ void RunFit(FitArgs& a) {
     pipeline::FitNamedIntoDirectory(r, a.config, DataDir(), StopRequested, &summary);
   }
   std::cout << (a.json ? summary.history.dump(2) + "\n" : summary.ToText());
-  if (!summary.converged) SetExitCode(kExitGateFailed);
+  // Interrupted: 128 + the signal, as `run` (an interrupted fit is not a failed one).
+  if (StopRequested())
+    SetExitCode(128 + StopSignal());
+  else if (!summary.converged)
+    SetExitCode(kExitGateFailed);
 }
 
 void SetUpFit(CLI::App& app) {
@@ -62,9 +66,11 @@ void SetUpFit(CLI::App& app) {
          "--threshold", a->request.threshold,
          "Stop when the loss is below this (default " + FormatNumber(a->request.threshold) + ")")
       ->check(NonNegative());
-  cmd->add_option("--max-iterations", a->request.max_iterations, "Iteration cap");
+  cmd->add_option("--max-iterations", a->request.max_iterations, "Iteration cap")
+      ->check(PositiveCount());
   cmd->add_option("--learning-rate", a->request.learning_rate,
-                  "Gradient descent step in internal units");
+                  "Gradient descent step in internal units")
+      ->check(Positive());
   cmd->add_option("--patience", a->request.patience,
                   "--solver adam: stop after this many iterations without a 0.1% lower best loss "
                   "(0: never); the result is the best iterate")
@@ -91,7 +97,8 @@ void SetUpFit(CLI::App& app) {
   cmd->add_option("--window", a->request.window,
                   "analytic: truncated backpropagation window (steps)");
   cmd->add_option("--clip-norm", a->request.clip_norm,
-                  "analytic: per-step state-gradient norm clip");
+                  "analytic: per-step state-gradient norm clip (0: off)")
+      ->check(NonNegative());
   cmd->callback([a] { RunFit(*a); });
 }
 

@@ -98,7 +98,8 @@ void SetUpRender(CLI::App& app) {
       "--no-gate", [&r] { r.gate = false; }, "Exit 0 even when a frame breaks the gate");
   frames->callback([a] {
     const pipeline::FramesSummary s = pipeline::RenderFrameFiles(Request(*a));
-    std::cerr << s.GatesText();
+    // --quiet silences the table, never the reason for exit 1.
+    if (!QuietMode() || !s.pass()) std::cerr << s.GatesText();
     std::cout << (a->json ? s.frames.dump(2) : s.ToText(a->request.out)) << "\n";
     if (!s.pass()) SetExitCode(kExitGateFailed);
   });

@@ -76,6 +76,52 @@ const CLI::Validator kNonNegative =
 const CLI::Validator kFraction =
     NumberThat([](double x) { return x >= 0 && x <= 1; }, "a number from 0 to 1", "0..1");
 
+// Every number on owval's command line is decimal. CLI11 reads an integer option's "010" as octal
+// and "0x10" as hex (`--particle 010` gated particle 8, `--log-step 010` logged every 8 steps),
+// and a number option without a check of its own took strtod's hex floats (`--time 0x10`).
+// After an option's own checks (their messages stay), leading zeros are dropped so that CLI11
+// reads what was typed. No description: --help is unchanged.
+constexpr const char* kDecimalName = "decimal";
+CLI::Validator DecimalInteger(bool may_be_negative) {
+  return CLI::Validator(
+      [may_be_negative](std::string& text) {
+        const bool negative = may_be_negative && text.size() > 1 && text[0] == '-';
+        const std::string digits = text.substr(negative ? 1 : 0);
+        if (!IsDigits(digits))
+          return "expected a whole number in decimal digits, found '" + OneLine(text, 40) + "'";
+        const std::size_t first = digits.find_first_not_of('0');
+        text = (negative ? "-" : "") + (first == std::string::npos ? "0" : digits.substr(first));
+        return std::string();
+      },
+      "", kDecimalName);
+}
+const CLI::Validator kDecimalNumber(
+    [](std::string& text) {
+      return owval::ParseDecimal(text)
+                 ? std::string()
+                 : "expected a decimal number, found '" + OneLine(text, 40) + "'";
+    },
+    "");
+// A text value given empty is refused too: commands read "" as "not given" (`pipeline
+// --candidate ''` judged owval's own engine as the candidate, ready; `compare --frames ''` gated
+// every frame). Options with a check of their own say what they expected first.
+const CLI::Validator kNotEmptyText = NotEmpty("a value", "");
+
+void CheckEveryValue(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    if (type.rfind("TEXT", 0) == 0) option->check(kNotEmptyText);
+    const bool unsigned_integer = type.rfind("UINT", 0) == 0;  // "-1" would wrap to 2^64 - 1
+    if (unsigned_integer || type.rfind("INT", 0) == 0) {
+      option->check(DecimalInteger(!unsigned_integer));
+      option->get_validator(kDecimalName)->non_modifying(false);  // check() appends it unmodifying
+    } else if (type.rfind("FLOAT", 0) == 0) {
+      option->check(kDecimalNumber);
+    }
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) CheckEveryValue(*sub);
+}
+
 // CLI11's "A excludes B" and "A requires B" in owval's words; "config" is a positional argument.
 std::string UsageLine(const CLI::ParseError& error) {
   const std::string what = error.what();
@@ -155,6 +201,7 @@ int main(int argc, char** argv) {
       owval::SetMemoryBudgetBytes(owval::ParseByteSize(max_memory, "--max-memory"));
   });
   for (const auto& set_up : Registry()) set_up(app);
+  CheckEveryValue(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "owval/engine/constants.hpp"
 #include "owval/engine/run.hpp"
 
 namespace owval::cli {
@@ -45,8 +46,12 @@ inline CLI::Option* AddTapeCheckpointFlag(CLI::App* cmd, std::size_t* every,
 // --set NAME=VALUE: a constant overridden (run, predict).
 inline CLI::Option* AddConstantOverrides(CLI::App* cmd, std::vector<std::string>* set,
                                          const std::string& scope = "") {
-  return cmd->add_option(
-      "--set", *set, "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=3e8)" + scope);
+  std::string names;
+  for (const engine::ConstantInfo& c : engine::PhysicsConstantTable())
+    names += (names.empty() ? "" : ", ") + std::string(c.name);
+  return cmd->add_option("--set", *set,
+                         "Override a constant, NAME=VALUE (e.g. elasticity_coefficient=3e8)" +
+                             scope + ". NAME: " + names);
 }
 // --param NAME=NUMBER: a scenario generator's parameter overridden (scenario generate, predict).
 inline CLI::Option* AddGeneratorParams(CLI::App* cmd, std::vector<std::string>* params) {

@@ -22,10 +22,11 @@ void RequireFilePartner(const std::string& file, const std::string& other) {
   throw InputError(other, 0, "no such trajectory file (and " + file + " is a file, not a backend)");
 }
 
-void CheckMarkdownOut(const CompareRequest& r) {
+// `registry`: the backends file a comparison of backend names reads ("" for two files).
+void CheckMarkdownOut(const CompareRequest& r, const fs::path& registry = {}) {
   if (r.markdown.empty()) return;
   CheckOutputPath(r.markdown);
-  CheckOutputIsNotAnInput(r.markdown, {r.reference, r.candidate, r.manifest});
+  CheckOutputIsNotAnInput(r.markdown, {r.reference, r.candidate, r.manifest, registry});
 }
 
 compare::ParityOptions FileParityOptions(const CompareRequest& r) {
@@ -40,6 +41,20 @@ compare::ParityOptions FileParityOptions(const CompareRequest& r) {
                                                           compare::ThresholdSource::kFlag};
   o.quiet = r.reading.quiet;
   return o;
+}
+
+// What compare::CompareFrameSources refuses, said of the files: a reference of fewer than two
+// frames, a candidate of none, a different number of particles.
+void RequireComparableFiles(const CompareRequest& r, const FrameSource& reference,
+                            const FrameSource& candidate) {
+  RequireFrames(reference, r.reference, 2);  // a run over time to compare with
+  RequireFrames(candidate, r.candidate, 1);
+  if (candidate.particle_count() != reference.particle_count())
+    throw InputError(r.candidate, 0,
+                     std::to_string(candidate.particle_count()) +
+                         " particles; expected the "
+                         "reference's " +
+                         std::to_string(reference.particle_count()));
 }
 
 // A flag of the other form of compare was ignored: `compare A.txt B.txt --scenarios demo1` and
@@ -70,7 +85,7 @@ SuiteReport CompareBackendNames(const CompareRequest& r) {
     throw InputError("compare " + r.reference + " " + r.candidate + ": " + flag +
                      " applies to two trajectory files; with backend names each scenario's "
                      "manifest sets the track and gates");
-  CheckMarkdownOut(r);
+  CheckMarkdownOut(r, RegistryFile(RegistryOptionsFromEnvironment(r.backends.file)));
   for (const std::string& arg : {r.reference, r.candidate}) {
     std::error_code ec;
     if (arg.find('/') != std::string::npos && !fs::is_regular_file(arg, ec))
@@ -128,6 +143,7 @@ CompareOutcome CompareNamed(const CompareRequest& r) {
     CheckMarkdownOut(r);
     const auto reference = OpenFrameSource(r.reference, r.reading);  // frame by frame
     const auto candidate = OpenFrameSource(r.candidate, r.reading);
+    RequireComparableFiles(r, *reference, *candidate);
     outcome.files = compare::CompareFrameSources(*reference, *candidate, options);
   }
   if (!r.markdown.empty()) WriteFileAtomically(r.markdown, outcome.ToMarkdown());

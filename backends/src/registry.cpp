@@ -5,6 +5,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/input_file.hpp"
 #include "owval/base/json_file.hpp"
+#include "owval/base/one_line.hpp"
 
 namespace owval::backends {
 namespace fs = std::filesystem;
@@ -133,6 +134,16 @@ Registry ParseRegistry(const nlohmann::json& document, const fs::path& file,
   if (!document.is_object() || !document.contains("backends") || !document["backends"].is_object())
     throw InputError(file.string(), 0, "expected {\"backends\": {NAME: {...}}}");
   for (const auto& [name, entry] : document["backends"].items()) {
+    // A name is typed on the command line and printed in tables: a newline or an escape in it
+    // went to the terminal raw.
+    const bool plain = !name.empty() && name.size() <= 64 && name.front() != '.' &&
+                       name.find_first_not_of(
+                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                           "0123456789_.-") == std::string::npos;
+    if (!plain)
+      throw InputError(file.string(), 0,
+                       "backend \"" + OneLine(name, 40) +
+                           "\": expected a name of letters, digits, '_', '-' and '.'");
     for (const std::string& taken : r.Names())
       if (taken == name || name == "pcisph")
         throw InputError(file.string(), 0, "backend \"" + name + "\" redefines a built-in name");

@@ -47,6 +47,7 @@ fs::path TemporarySibling(const fs::path& destination) {
 AtomicOutput::AtomicOutput(fs::path destination)
     : destination_(std::move(destination)), temporary_(TemporarySibling(destination_)) {
   RefuseSpecialFileOutput(destination_);
+  RefuseSymlinkOutput(destination_);
   CreateOutputDirectories(destination_.parent_path());
   signal_slot_ = internal::RememberTemporary(fs::absolute(temporary_));
 }

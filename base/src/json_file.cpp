@@ -1,9 +1,12 @@
 #include "owval/base/json_file.hpp"
 
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
+#include "owval/base/one_line.hpp"
 
 namespace owval {
 namespace {
@@ -17,6 +20,26 @@ std::string WithoutExceptionTag(const std::string& what) {
              : what;
 }
 
+// A key given twice in one object: nlohmann keeps the last, so a backends file's second "mine"
+// replaced the first without a word. Thrown from the parser's callback.
+struct DuplicateKey {
+  std::string key;
+};
+
+// nlohmann::json::parse, refusing a key given twice in one object.
+nlohmann::json ParseRefusingDuplicateKeys(const std::string& text) {
+  std::vector<std::set<std::string>> keys;  // of each object open around the parser
+  return nlohmann::json::parse(
+      text, [&keys](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using Event = nlohmann::json::parse_event_t;
+        if (event == Event::object_start) keys.emplace_back();
+        if (event == Event::object_end) keys.pop_back();
+        if (event == Event::key && !keys.back().insert(parsed.get<std::string>()).second)
+          throw DuplicateKey{parsed.get<std::string>()};
+        return true;
+      });
+}
+
 }  // namespace
 
 nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
@@ -24,7 +47,9 @@ nlohmann::json ParseJsonText(const std::string& text, const std::string& name) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw InputError(name, 0, "is empty; expected a JSON document");
   try {
-    return nlohmann::json::parse(text);
+    return ParseRefusingDuplicateKeys(text);
+  } catch (const DuplicateKey& d) {
+    throw InputError(name, 0, "\"" + OneLine(d.key, 40) + "\" is given twice in one object");
   } catch (const nlohmann::json::parse_error& e) {
     // Line of the error: count newlines up to the byte the parser stopped at.
     std::size_t line = 1;

@@ -88,12 +88,21 @@ void RefuseSpecialFileOutput(const fs::path& destination) {
                      "is a device, FIFO or socket, not a regular file; expected a file to write");
 }
 
+void RefuseSymlinkOutput(const fs::path& destination) {
+  std::error_code error;
+  if (fs::is_symlink(fs::symlink_status(destination, error)))
+    throw InputError(destination.string(), 0,
+                     "is a symbolic link; name its target (an output is replaced whole, which "
+                     "would replace the link)");
+}
+
 void CheckOutputPath(const fs::path& destination) {
   if (destination.empty()) throw InputError("output path is empty");
   std::error_code error;
   if (fs::is_directory(destination, error))
     throw InputError(destination.string(), 0, "is a directory; expected a file to write");
   RefuseSpecialFileOutput(destination);
+  RefuseSymlinkOutput(destination);
   CheckAncestor(destination, AncestryOf(destination));
 }
 

@@ -2,9 +2,25 @@
 
 #include <cmath>
 
+#include "owval/base/errors.hpp"
 #include "owval/base/format.hpp"
 
 namespace owval::ci::internal {
+
+std::filesystem::path RunFile(const std::filesystem::path& dir, const std::string& stem) {
+  std::filesystem::path found;
+  for (const char* extension : {".h5", ".txt", ".txt.gz"}) {
+    const std::filesystem::path file = dir / (stem + extension);
+    std::error_code error;
+    if (!std::filesystem::exists(file, error)) continue;
+    if (!found.empty())
+      throw InputError(dir.string(), 0,
+                       "holds both " + found.filename().string() + " and " +
+                           file.filename().string() + "; expected one " + stem);
+    found = file;
+  }
+  return found;
+}
 
 std::string DifferenceFromCallersReference(FrameSource& got, FrameSource& wanted) {
   const Trajectory& header = got.header();

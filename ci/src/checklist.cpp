@@ -55,13 +55,6 @@ struct Evidence {
 
 using Check = void (*)(Evidence& e, ChecklistItem* item);
 
-// The first of `names` that exists in dir, or empty.
-fs::path FirstExisting(const fs::path& dir, std::initializer_list<const char*> names) {
-  for (const char* n : names)
-    if (fs::exists(dir / n)) return dir / n;
-  return {};
-}
-
 std::unique_ptr<FrameSource> Open(const fs::path& file) {
   TextReadOptions quiet;
   quiet.quiet = true;
@@ -146,7 +139,7 @@ std::string NotReferenceEquivalent(const Trajectory& header) {
 }
 
 void CheckReference(Evidence& e, ChecklistItem* item) {
-  CheckTrajectory(FirstExisting(e.dir, {"reference.h5", "reference.txt"}), e.reference, item);
+  CheckTrajectory(internal::RunFile(e.dir, "reference"), e.reference, item);
   if (!e.caller_reference) {
     // The directory's own reference file could be its candidate under another name: without a
     // reference from the caller, the parity gate would judge the candidate against itself.
@@ -170,7 +163,7 @@ void CheckReference(Evidence& e, ChecklistItem* item) {
 // A worm candidate's side files (WCON, midline log, Zarr store: what other tools read) must
 // describe it, as in `owval ci quick-test`: a frozen worm beside the reference's WCON was ready.
 void CheckCandidate(Evidence& e, ChecklistItem* item) {
-  const fs::path file = FirstExisting(e.dir, {"candidate.h5", "candidate.txt"});
+  const fs::path file = internal::RunFile(e.dir, "candidate");
   CheckTrajectory(file, e.candidate, item);
   if (!kinematics::IsWorm(e.candidate->header())) return;
   const std::vector<GateResult> side_files = internal::WormSideFileGates(e.dir, file);
@@ -525,7 +518,7 @@ bool IsModelFit(const nlohmann::json& h) {
 // reference file, byte for byte (its recorded FNV-1a 64), else a fit against a trajectory of
 // the forger's making would rerun as recorded.
 std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::json& h) {
-  const fs::path mine = FirstExisting(e.dir, {"reference.h5", "reference.txt"});
+  const fs::path mine = internal::RunFile(e.dir, "reference");
   if (mine.empty())
     return "not verified: the directory holds no reference to hold the fit's loss reference to";
   const nlohmann::json none;
@@ -1152,8 +1145,8 @@ ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& 
   if (!options.git_range.empty()) CheckGitRange(directory, options.git_range);  // a bad flag: 2
   Evidence e{directory,
              options,
-             TryOpen(FirstExisting(directory, {"reference.h5", "reference.txt"})),
-             TryOpen(FirstExisting(directory, {"candidate.h5", "candidate.txt"})),
+             TryOpen(internal::RunFile(directory, "reference")),
+             TryOpen(internal::RunFile(directory, "candidate")),
              options.track.value_or(Track{}),
              options.track ? "the caller's, from --scenario or --manifest"
                            : "the default: give --scenario or --manifest for a scenario's",

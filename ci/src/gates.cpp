@@ -20,8 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path Find(const fs::path& dir, const std::string& stem) {
-  for (const char* ext : {".h5", ".txt", ".txt.gz"})
-    if (fs::exists(dir / (stem + ext))) return dir / (stem + ext);
+  if (fs::path file = internal::RunFile(dir, stem); !file.empty()) return file;
   throw InputError((dir / (stem + ".h5")).string(), 0,
                    "missing (expected " + stem + ".h5 or " + stem + ".txt)");
 }
@@ -117,6 +116,7 @@ nlohmann::json GateReport::ToJson() const {
 
 GateReport QuickTest(const fs::path& dir) {
   RequireInputDirectory(dir, internal::kArtifactDirectory);
+  for (const char* stem : {"reference", "candidate"}) internal::RunFile(dir, stem);  // not two
   GateReport r;
   bool worm = false;
   for (const char* stem : {"reference", "candidate"})

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -118,21 +119,23 @@ TEST(Cli, AnOutputThatIsAnInputIsRefusedAndTheInputKept) {
   fs::copy_file(a, b);
   fs::create_symlink(b, dir / "link.h5");
   const std::string original = FileBytes(b);
-  for (const auto& [args, named] : std::vector<std::pair<std::string, fs::path>>{
-           {"compare " + a.string() + " " + b.string() + " --markdown " + b.string(), b},
+  const std::string input = ": is also an input of this command";
+  // A link is refused as an output whatever it points to (the rename would replace the link).
+  const std::string link = ": is a symbolic link; name its target";
+  for (const auto& [args, named, says] :
+       std::vector<std::tuple<std::string, fs::path, std::string>>{
+           {"compare " + a.string() + " " + b.string() + " --markdown " + b.string(), b, input},
            {"compare " + a.string() + " " + b.string() + " --markdown " +
                 (dir / "link.h5").string(),
-            dir / "link.h5"},
-           {"render " + b.string() + " --size 64x64 -o " + b.string(), b},
+            dir / "link.h5", link},
+           {"render " + b.string() + " --size 64x64 -o " + b.string(), b, input},
            {"render sxs " + a.string() + " " + b.string() + " --size 64x64 -o " +
                 (dir / "." / "b.h5").string(),
-            dir / "." / "b.h5"},
-           {"convert " + b.string() + " " + b.string(), b}}) {
+            dir / "." / "b.h5", input},
+           {"convert " + b.string() + " " + b.string(), b, input}}) {
     const Result r = Owval(args);
     EXPECT_EQ(r.exit_code, 2) << args;
-    EXPECT_EQ(
-        r.err.rfind("owval: error: " + named.string() + ": is also an input of this command", 0),
-        0u)
+    EXPECT_EQ(r.err.rfind("owval: error: " + named.string() + says, 0), 0u)
         << args << ": " << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
     EXPECT_EQ(FileBytes(b), original) << args;
@@ -461,7 +464,9 @@ TEST(Cli, FramesRefuseAnEmptyOrRepeatedAtList) {
     const Result r = Owval("frames " + traj + " " + traj + " --at " + at + " -o " + out.string());
     EXPECT_EQ(r.exit_code, 2) << at << ": " << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << at << ": " << r.err;
-    EXPECT_NE(r.err.find("owval: error:"), std::string::npos) << at << ": " << r.err;
+    // '' is refused by the parser (a usage line), the others by the frame list's reader.
+    EXPECT_NE(r.err.find(at == "''" ? "owval: usage: --at:" : "owval: error:"), std::string::npos)
+        << at << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << at;
   }
 }

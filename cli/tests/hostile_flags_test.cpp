@@ -181,6 +181,107 @@ TEST(HostileFlags, NumbersAreDecimalOnlyInSetParamAndTarget) {
   EXPECT_TRUE(Entries(dir).empty());
 }
 
+// CLI11 read an integer flag's "010" as octal and "0x10" as hex, and `run --time` took strtod's
+// hex floats: `--log-step 010` logged every 8 steps and `compare --particle 010` gated particle 8,
+// both exit 0. Every number on the command line is decimal: leading zeros are zeros.
+TEST(HostileFlags, EveryNumberFlagIsDecimal) {
+  const fs::path dir = FreshDirectory("decimal");
+  const std::string out = " -o " + (dir / "run").string();
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"run one_sprig --time 0.001 --log-step 0x10" + out,
+       "--log-step: expected a number > 0, found '0x10'"},
+      {"run one_sprig --time 0x1p-6" + out, "--time: expected a decimal number, found '0x1p-6'"},
+      {"run one_sprig --time 0.001 --threads 0x2" + out, "--threads: expected a whole number"},
+      {"run one_sprig --time 0.001 --checkpoint-every -1" + out,
+       "--checkpoint-every: expected a whole number >= 0"},
+      {"compare " + kOneSprig + " " + kOneSprig + " --particle 0x1",
+       "--particle: expected a particle index"},
+      {"fit one_sprig --max-iterations 0x10" + out, "--max-iterations: expected a whole number"},
+      {"gradcheck one_sprig --directions 0x10" + out, "--directions: expected a whole number"},
+      {"bench io --hdf5-level 0x9 --size-mb 1", "--hdf5-level: expected a whole number"}};
+  for (const auto& [command, says] : refused)
+    ExpectOneLineRefusal(OwvalIn(dir, command), says, command);
+  EXPECT_TRUE(Entries(dir).empty());
+  // Leading zeros: ten, not eight.
+  const Result run = OwvalIn(dir, "run one_sprig --time 0.001 --log-step 010" + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream text(dir / "run/position_buffer.txt");
+  std::string line;
+  for (int n = 0; n < 11; ++n) std::getline(text, line);
+  EXPECT_EQ(line, "10");  // the header's log step (README of ../shared/reference)
+  const Result compare = Owval("compare " + kOneSprig + " " + kOneSprig + " --particle 00");
+  EXPECT_EQ(compare.exit_code, 0) << compare.err;
+  EXPECT_NE(compare.out.find("particle 0 y"), std::string::npos) << compare.out;
+  fs::remove_all(dir);
+}
+
+// Text values given empty were read as "not given": `pipeline --candidate ''` judged owval's own
+// engine as the candidate and said ready; `compare --frames ''` gated every frame.
+TEST(HostileFlags, AnEmptyTextValueIsRefusedByEveryOption) {
+  const fs::path dir = FreshDirectory("empty_text");
+  const std::string fit =
+      "fit one_sprig --param elasticity_coefficient=1.62e8:log --target "
+      "period=7e-4 --time 0.002 -o fit";
+  const std::vector<std::string> commands = {
+      "pipeline one_sprig -o p --candidate ''",
+      "compare " + kOneSprig + " " + kOneSprig + " --frames ''",
+      "render " + kOneSprig + " -o v.mp4 --connections ''",
+      "checklist . --reference " + kOneSprig + " --git-range ''",
+      fit + " --command ''",
+      fit + " --gradient analytic --reference " + kOneSprig + " --loss-group ''"};
+  ExpectEachRefusedLeavingNothing(dir, commands, "found an empty one");
+}
+
+// A fit's step and clip were taken as given (a learning rate of -1 or 0 ran, NaN ran one
+// iteration and left a history of no evaluation), and --max-iterations -1 reached Ceres, whose
+// log lines went to stderr.
+TEST(HostileFlags, FitStepsAreCheckedBeforeWork) {
+  const fs::path dir = FreshDirectory("fit_steps");
+  const std::string fit =
+      "fit one_sprig --param elasticity_coefficient=1.62e8:log --target "
+      "period=7e-4 --time 0.002 -o fit --solver gd";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {fit + " --learning-rate 0", "--learning-rate: expected a number > 0"},
+      {fit + " --learning-rate -1", "--learning-rate: expected a number > 0"},
+      {fit + " --learning-rate nan", "--learning-rate: expected a number > 0"},
+      {fit + " --clip-norm -1", "--clip-norm: expected a number >= 0"},
+      {fit + " --max-iterations -1", "--max-iterations: expected a whole number >= 1"},
+      {fit + " --max-iterations 0", "--max-iterations: expected a whole number >= 1"}};
+  for (const auto& [command, says] : cases)
+    ExpectOneLineRefusal(OwvalIn(dir, command), says, command);
+  EXPECT_TRUE(Entries(dir).empty());
+}
+
+// An unknown --set name listed every constant, a 314-character line cut off in the middle; a
+// 300-digit scenario name said "File name too long" of a manifests path.
+TEST(HostileFlags, UnknownNamesAreShortLines) {
+  const Result set = Owval("predict one_sprig --set elasticity_coeficient=3e8");
+  ExpectOneLineRefusal(set,
+                       "unknown engine constant 'elasticity_coeficient' (nearest: "
+                       "elasticity_coefficient, ",
+                       "--set");
+  EXPECT_LT(set.err.size(), 200u) << set.err;
+  const Result scenario = Owval("scenario show " + std::string(300, '9'));
+  ExpectOneLineRefusal(scenario, "no such scenario", "scenario show 300 digits");
+  EXPECT_EQ(scenario.err.find("too long"), std::string::npos) << scenario.err;
+}
+
+// An interrupted fit exited 1, as one that did not converge: 128 + the signal, as `run`.
+TEST(HostileFlags, AnInterruptedFitExits130WithItsHistory) {
+  const fs::path dir = FreshDirectory("fit_interrupted");
+  std::string line = "timeout --preserve-status -s INT 2 ";
+  line += OWVAL_EXE;
+  // Gradient descent with no threshold to stop at: it runs its 1,000 iterations unless stopped.
+  line +=
+      " --quiet fit one_sprig --param elasticity_coefficient=1.62e8:log --target "
+      "period=7.246e-4:scale=7.25e-4 --time 0.05 --solver gd --threshold 0 --max-iterations "
+      "1000 -o " +
+      (dir / "fit").string();
+  const Result r = RunCaptured(line);
+  EXPECT_EQ(r.exit_code, 130) << r.err << r.out;
+  EXPECT_TRUE(fs::exists(dir / "fit" / "history.json"));
+}
+
 // Probe round: `scenario generate -o DIR` failed only at the rename ("cannot rename into place: Is
 // a directory"), -o /proc/x with "No such file or directory"; `ci validate --stability 0x10s`
 // started a 16 s run.
@@ -311,7 +412,15 @@ TEST(HostileFlags, AnOutputThatIsAnInputIsRefusedBeforeWork) {
   fs::copy_file(kOneSprig, dir / "t.txt");
   ASSERT_EQ(OwvalIn(dir, "predict one_sprig -o p.json").exit_code, 0);
   fs::create_directories(dir / "out.json");
-  const std::vector<std::string> names = {"C", "run/position_buffer.txt", "t.txt", "p.json"};
+  fs::create_directories(dir / "pr");
+  // A backends file is read by compare of backend names and by checklist --fit-backend: a
+  // --markdown over it replaced it (exit 0), the implicit ./owval-backends.json as well.
+  const std::string registry =
+      R"({"backends": {"mine": {"command": "true {set:k} {out}", "output": "{out}/p.txt"}}})";
+  std::ofstream(dir / "b.json") << registry << "\n";
+  std::ofstream(dir / "owval-backends.json") << registry << "\n";
+  const std::vector<std::string> names = {"C",      "run/position_buffer.txt", "t.txt", "p.json",
+                                          "b.json", "owval-backends.json"};
   std::vector<std::string> before;
   for (const std::string& n : names) before.push_back(Bytes(dir / n));
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -320,7 +429,13 @@ TEST(HostileFlags, AnOutputThatIsAnInputIsRefusedBeforeWork) {
       {"reconcile p.json t.txt -o p.json", "p.json: is also an input of this command"},
       {"reconcile p.json t.txt -o t.txt", "t.txt: is also an input of this command"},
       {"run run/position_buffer.txt --time 0.0001 --out run",
-       "run/position_buffer.txt: is also an input of this command"}};
+       "run/position_buffer.txt: is also an input of this command"},
+      {"compare owval owval --scenarios one_sprig --no-cache --backends b.json --markdown b.json",
+       "b.json: is also an input of this command"},
+      {"compare owval owval --scenarios one_sprig --no-cache --markdown owval-backends.json",
+       "owval-backends.json: is also an input of this command"},
+      {"checklist pr --scenario one_sprig --backends b.json --fit-backend mine --markdown b.json",
+       "b.json: is also an input of this command"}};
   for (const auto& [command, says] : cases) {
     const Result r = OwvalIn(dir, command);
     ExpectOneLineRefusal(r, says, command);

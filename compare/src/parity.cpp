@@ -1298,6 +1298,11 @@ PairedFrames StartReport(FrameSource& refs, FrameSource& cands, const ParityOpti
     throw InputError("wrong particle count: the reference has " +
                      std::to_string(ref.particle_count()) + " particles, the candidate " +
                      std::to_string(cand.particle_count()));
+  // One frame is no run to compare with: its window is an instant, and a candidate frozen after
+  // its first frame passed every gate.
+  if (ref.frame_count() < 2)
+    throw InputError("the reference holds " + std::to_string(ref.frame_count()) +
+                     " frame(s); expected at least 2, a run over time to compare with");
   o.track.Validate(ref);
   PairedFrames p;
   p.pairs = PairFramesByTime(ref, cand, &p.misaligned);

@@ -2,12 +2,15 @@
 // parameters], validation and the provenance's list of differences.
 #include "owval/engine/constants.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <type_traits>
+#include <vector>
 
 #include "owval/base/errors.hpp"
 #include "owval/base/number_text.hpp"
+#include "owval/base/one_line.hpp"
 
 namespace owval::engine {
 namespace {
@@ -162,10 +165,32 @@ const ConstantInfo kTable[] = {
 #undef OWVAL_FIELD
 #undef OWVAL_COMPONENT
 
-std::string KnownNames() {
-  std::string known;
-  for (const ConstantInfo& c : kTable) known += (known.empty() ? "" : ", ") + std::string(c.name);
-  return known;
+// Edits (insert, delete, replace a character) from `a` to `b`.
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The three names nearest to `name`: the whole list ran past a line (`owval run --help` has it).
+std::string NearestNames(const std::string& name) {
+  std::vector<std::pair<std::size_t, const char*>> by_distance;
+  for (const ConstantInfo& c : kTable) by_distance.emplace_back(EditDistance(name, c.name), c.name);
+  std::stable_sort(by_distance.begin(), by_distance.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string nearest;
+  for (std::size_t k = 0; k < 3 && k < by_distance.size(); ++k)
+    nearest += (k ? ", " : "") + std::string(by_distance[k].second);
+  return nearest;
 }
 
 }  // namespace
@@ -208,7 +233,9 @@ std::string CheckConstant(const ConstantInfo& constant, double value) {
 void SetConstant(PhysicsConstants* constants, const std::string& name, double value) {
   const ConstantInfo* c = FindConstant(name);
   if (!c)
-    throw InputError("unknown engine constant '" + name + "': expected one of " + KnownNames());
+    throw InputError("unknown engine constant '" + OneLine(name, 40) +
+                     "' (nearest: " + NearestNames(name) + "; owval run --help lists all " +
+                     std::to_string(std::size(kTable)) + ")");
   const std::string expected = CheckConstant(*c, value);
   if (!expected.empty()) {
     std::ostringstream msg;

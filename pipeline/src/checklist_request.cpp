@@ -44,6 +44,9 @@ ci::ChecklistReport CheckDirectory(const ChecklistRequest& r) {
     CheckOutputPath(r.markdown);
     std::vector<std::filesystem::path> inputs = ci::EvidenceFiles(r.directory);
     inputs.insert(inputs.end(), {r.manifest, r.reference});
+    if (!r.fit_backend.empty())  // read for --fit-backend: `--markdown` over it replaced it
+      inputs.push_back(
+          backends::RegistryFile(backends::RegistryOptionsFromEnvironment(r.backends_file)));
     CheckOutputIsNotAnInput(r.markdown, inputs);
   }
   ScenarioReference reference;  // its temporary file lives until the checklist is done

@@ -42,6 +42,7 @@ Inspection InspectTrajectory(const std::filesystem::path& path, const TextReadOp
   i.file = path;
   TextReadReport report;
   const auto frames = OpenFrameSource(path, read, &report);
+  RequireFrames(*frames, path, 2);  // a period, an amplitude: a signal over time
   i.layout = report.description;
   i.subject = track.Describe();
   CheckWindow(frames->header().time_s, window);

@@ -282,6 +282,8 @@ void ConvertTrajectoryFile(const fs::path& in, const TextReadOptions& read, cons
   CheckTrajectoryOutput(out);          // before the input is read
   CheckOutputIsNotAnInput(out, {in});  // atomic, yet a no-op at best
   const std::unique_ptr<FrameSource> frames = OpenFrameSource(in, read, report);
+  // Sibernetic's text of no frame is a header no reader takes (frame 0 lists the walls).
+  if (frames->frame_count() == 0) throw InputError(in.string(), 0, "holds no frame to convert");
   const std::string extension = out.extension().string();
   if (extension == ".wcon")
     ConvertToWcon(*frames, in, out);

@@ -168,5 +168,24 @@ TEST(StreamedOutputs, ACorruptFrameMidwayThroughAConvertLeavesNoOutput) {
   }
 }
 
+// An HDF5 trajectory of no frame converted to Sibernetic text no reader takes (frame 0 lists the
+// walls): refused, naming the file, and nothing written in any format.
+TEST(StreamedOutputs, ConvertRefusesATrajectoryOfNoFrame) {
+  if (!fs::exists(kWorm)) GTEST_SKIP() << "needs " << kWorm;
+  const fs::path dir = Scratch("no_frame");
+  const fs::path h5 = dir / "none.h5";
+  WriteHdf5(FirstFramesWithFields(ReadTrajectory(kWorm, Quiet()), 0), h5);
+  for (const char* out : {"out.txt", "out.h5", "out.zarr", "out.wcon"}) {
+    try {
+      ConvertTrajectoryFile(h5, Quiet(), dir / out, TextLayout::kOpenCL);
+      ADD_FAILURE() << out << ": a trajectory of no frame was converted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("none.h5: holds no frame to convert"), std::string::npos)
+          << out << ": " << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / out)) << out;
+  }
+}
+
 }  // namespace
 }  // namespace owval::pipeline

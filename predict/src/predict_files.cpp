@@ -45,6 +45,7 @@ Reconciliation ReconcileFiles(const ReconcileRequest& r) {
   for (const std::string& t : r.tolerances) options.AddTolerance(t);
   CheckTolerances(p, options);                                   // before the trajectory is opened
   const auto frames = OpenFrameSource(r.trajectory, r.reading);  // frame by frame
+  RequireFrames(*frames, r.trajectory, 2);                       // a measurement over time
   const Reconciliation reconciliation = Reconcile(p, *frames, options);
   if (!r.out.empty()) WriteFileAtomically(r.out, reconciliation.ToJson().dump(2) + "\n");
   return reconciliation;

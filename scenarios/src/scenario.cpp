@@ -8,6 +8,7 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/json_file.hpp"
 #include "owval/base/number_text.hpp"
+#include "owval/base/one_line.hpp"
 
 namespace owval::scenarios {
 namespace fs = std::filesystem;
@@ -31,18 +32,22 @@ std::size_t WholeNumber(const nlohmann::json& object, const char* field, double 
 
 // A scenario is a manifest's file name, never a path: `scenario show ../manifests/one_sprig`
 // read a manifest through "..", and `../../tmp/x` any x.json as one (nlohmann's own line then).
+// Nor longer than a file name may be (a 300-digit name said "File name too long").
 bool IsScenarioName(const std::string& name) {
-  return !name.empty() && name.front() != '.' && name.find_first_of("/\\") == std::string::npos;
+  return !name.empty() && name.size() <= 200 && name.front() != '.' &&
+         name.find_first_of("/\\") == std::string::npos;
 }
 
 }  // namespace
 
 Scenario LoadScenario(const std::string& name, const fs::path& data_dir) {
   const fs::path path = data_dir / "scenarios" / "manifests" / (name + ".json");
-  if (!IsScenarioName(name) || !fs::exists(path)) {
+  std::error_code error;
+  if (!IsScenarioName(name) || !fs::exists(path, error)) {
     std::string known;
     for (const auto& n : ListScenarios(data_dir)) known += (known.empty() ? "" : ", ") + n;
-    throw InputError(name, 0, "no such scenario (built-in: " + known + ") or configuration file");
+    throw InputError(OneLine(name, 60), 0,
+                     "no such scenario (built-in: " + known + ") or configuration file");
   }
   nlohmann::json m;
   try {
@@ -144,7 +149,8 @@ engine::SiberneticConfig ResolveConfig(const std::string& name_or_path, const fs
 ResolvedScenario ResolveScenario(const std::string& name_or_path,
                                  const std::vector<std::string>& overrides,
                                  const fs::path& data_dir) {
-  if (fs::exists(name_or_path) && !fs::is_directory(name_or_path)) {
+  std::error_code error;  // a name too long for a file is no file
+  if (fs::exists(name_or_path, error) && !fs::is_directory(name_or_path, error)) {
     if (!overrides.empty())
       throw InputError("--param applies to a scenario's generator, not to a configuration file");
     return {engine::ReadSiberneticConfig(name_or_path), fs::path(name_or_path).filename().string(),

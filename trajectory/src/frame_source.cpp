@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "owval/base/errors.hpp"
 #include "owval/trajectory/writer.hpp"
 #include "text_stream.hpp"
 
@@ -109,6 +110,14 @@ void FrameSource::CopyFrames(const std::string& array, std::size_t first, std::s
 
 std::unique_ptr<FrameSource> MemoryFrameSource(const Trajectory& trajectory) {
   return std::make_unique<MemorySource>(trajectory);
+}
+
+void RequireFrames(const FrameSource& frames, const std::filesystem::path& file,
+                   std::size_t at_least) {
+  if (frames.frame_count() < at_least)
+    throw InputError(file.string(), 0,
+                     "holds " + std::to_string(frames.frame_count()) +
+                         " frame(s); expected at least " + std::to_string(at_least));
 }
 
 std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,

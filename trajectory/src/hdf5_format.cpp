@@ -491,6 +491,10 @@ FileFormat DetectFormat(const std::filesystem::path& path) {
     return FileFormat::kHdf5;
   const std::string ext = path.extension().string();
   if (ext == ".h5" || ext == ".hdf5") return FileFormat::kHdf5;
+  if (ext == ".wcon")  // read as text it said "expected box xmin, found '{'"
+    throw InputError(path.string(), 0,
+                     "is WCON, which owval writes but does not read as a trajectory; expected "
+                     "owval HDF5 or Sibernetic text");
   return FileFormat::kSiberneticText;
 }
 

@@ -157,6 +157,10 @@ void CheckOutputPath(const std::filesystem::path& destination);
 // a regular file holding the JSON). CheckOutputPath, AtomicOutput's constructor and every commit
 // call it.
 void RefuseSpecialFileOutput(const std::filesystem::path& destination);
+// InputError naming `destination` when it is a symbolic link: the rename that commits an output
+// replaces the link, not its target (`predict -o /dev/stdout` replaced the system's link with a
+// regular file). CheckOutputPath and AtomicOutput's constructor call it.
+void RefuseSymlinkOutput(const std::filesystem::path& destination);
 // The same for a directory written whole (AtomicDirectory: a Zarr store, a report): not an
 // existing file, and its parent (or nearest existing ancestor) takes new entries. InputError
 // naming `directory`, or the outermost missing directory above it.

@@ -64,6 +64,11 @@ class FrameSource {
   bool partial() const { return header().provenance.count("partial") > 0; }
 };
 
+// InputError naming `file` when `frames` holds fewer than `at_least` frames ("holds 1 frame(s);
+// expected at least 2"): what a measurement over time needs, said of the file, not of a window.
+void RequireFrames(const FrameSource& frames, const std::filesystem::path& file,
+                   std::size_t at_least);
+
 // A trajectory already in memory (no copy: it must outlive the source).
 std::unique_ptr<FrameSource> MemoryFrameSource(const Trajectory& trajectory);
 
