@@ -52,8 +52,7 @@ void RequireComparableFiles(const CompareRequest& r, const FrameSource& referenc
   if (candidate.particle_count() != reference.particle_count())
     throw InputError(r.candidate, 0,
                      std::to_string(candidate.particle_count()) +
-                         " particles; expected the "
-                         "reference's " +
+                         " particles; expected the reference's " +
                          std::to_string(reference.particle_count()));
 }
 

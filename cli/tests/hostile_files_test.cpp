@@ -69,6 +69,13 @@ TEST(HostileFiles, AOneFrameTrajectoryIsRefusedNamingTheFile) {
                 "one.h5: holds 1 frame(s)", "reconcile");
   // As a candidate it is a run that stopped early: the window gate fails it.
   EXPECT_EQ(Owval("compare " + kOneSprig + " " + (dir / "one.h5").string()).exit_code, 1);
+  // Another scene's run: the line names the candidate ("wrong particle count: ..." named none).
+  ASSERT_EQ(Owval("run hanging_chain --time 0.001 -o " + (dir / "chain").string()).exit_code, 0);
+  ExpectRefused(Owval("compare " + kOneSprig + " " + (dir / "chain/trajectory.h5").string()),
+                "chain/trajectory.h5: ", "another scene");
+  EXPECT_NE(Owval("compare " + kOneSprig + " " + (dir / "chain/trajectory.h5").string())
+                .err.find(" particles; expected the reference's "),
+            std::string::npos);
 }
 
 TEST(HostileFiles, WconIsRefusedAsATrajectoryToRead) {

@@ -230,29 +230,41 @@ struct InitialState {
 // moves something in every step. One such frame moved no particle farther than the motion gates
 // admit: demo1's frame 250 written again as 249 passed every gate (docs/checklist.md, round 7).
 struct StaleFrames {
+  // A paired frame is stale when no moving particle of the candidate moved since the paired
+  // frame before while the reference's did, or when at least this fraction of the moving
+  // particles held exactly still where the reference's moved: a frame read back mid-update (one
+  // particle, the tracked one, new and the rest the frame before's) repeats all but a few.
+  static constexpr double kStillFraction = 0.5;
   std::size_t count = 0, first_reference_frame = 0;
-  std::vector<float> last[2];  // the moving particles' positions at the last pair (ref, cand)
+  std::size_t held_at_first = 0;  // particles held still where the reference's moved, first frame
+  std::vector<float> last[2];     // the moving particles' positions at the last pair (ref, cand)
 
   void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
                std::size_t reference_frame, double box_scale_cu) {
     bool reference_moved = false, candidate_moved = false;
+    std::size_t held = 0;  // moving particles the reference moved and the candidate held still
     const bool first = last[0].empty();
     if (first) last[0].resize(3 * moving.size()), last[1].resize(3 * moving.size());
     for (std::size_t k = 0; k < moving.size(); ++k) {
       const float* x = ref.trajectory.position(ref.frame, moving[k]);
       const float* y = cand.trajectory.position(cand.frame, moving[k]);
+      bool reference_moves = false, candidate_moves = false;
       for (int a = 0; a < 3; ++a) {
         float& was_x = last[0][3 * k + a];
         float& was_y = last[1][3 * k + a];
         const double allowance = InitialState::kPrintedDigitsRounding * std::abs(double(x[a])) +
                                  InitialState::kFloatRounding * box_scale_cu;
-        reference_moved |= std::abs(double(x[a]) - was_x) > allowance;
-        candidate_moved |= !(y[a] == was_y);
+        reference_moves |= std::abs(double(x[a]) - was_x) > allowance;
+        candidate_moves |= !(y[a] == was_y);
         was_x = x[a], was_y = y[a];
       }
+      reference_moved |= reference_moves, candidate_moved |= candidate_moves;
+      held += reference_moves && !candidate_moves;
     }
-    if (!first && reference_moved && !candidate_moved && count++ == 0)
-      first_reference_frame = reference_frame;
+    if (first) return;
+    const bool stale = (reference_moved && !candidate_moved) ||
+                       double(held) >= kStillFraction * double(moving.size());
+    if (stale && count++ == 0) first_reference_frame = reference_frame, held_at_first = held;
   }
 };
 
@@ -961,13 +973,16 @@ void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
   const StaleFrames& s = reduced.stale_frames();
   Gate g = MakeGate("stale_frames",
                     "paired frames at which no moving particle of the candidate moved since the "
-                    "paired frame before while the reference's moved",
+                    "paired frame before while the reference's moved, or half of them or more "
+                    "held exactly still where the reference's moved",
                     double(s.count), Threshold{1}, "frames");
   g.detail = s.count == 0 ? "none"
                           : std::to_string(s.count) + " (the first at reference frame " +
-                                std::to_string(s.first_reference_frame) +
-                                "): a frame written twice, or moving particles held exactly "
-                                "still where the reference's move";
+                                std::to_string(s.first_reference_frame) + ", " +
+                                std::to_string(s.held_at_first) +
+                                " particles held still): a frame written twice or read back "
+                                "mid-update, or moving particles held exactly still where the "
+                                "reference's move";
   Decide(&g);
   r->gates.push_back(g);
 }

@@ -252,7 +252,18 @@ std::string SolveWithGradientDescent(const FitOptions& o, Problem* problem, std:
   std::vector<double> previous_u;
   for (int k = 0; k < o.max_iterations; ++k) {
     std::vector<double> jacobian;
-    problem->ResidualsAndJacobian(*u, &jacobian);
+    try {
+      problem->ResidualsAndJacobian(*u, &jacobian);
+    } catch (const InputError&) {
+      // The step left what the simulation takes (a constant made unphysical, a run gone
+      // unstable): as Ceres does, a shorter one from the last point. The start is bad input.
+      if (summary->iterations.empty()) throw;
+      rate /= 2;
+      for (std::size_t j = 0; j < u->size(); ++j)
+        (*u)[j] = std::clamp(previous_u[j] - rate * summary->iterations.back().gradient[j],
+                             problem->Lower(j), problem->Upper(j));
+      continue;
+    }
     Iteration it = problem->Record(k, *u, previous_u);
     const Iteration* last = summary->iterations.empty() ? nullptr : &summary->iterations.back();
     if (last && it.loss > last->loss && SignFlipped(it.gradient, last->gradient)) {

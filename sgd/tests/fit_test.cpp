@@ -101,6 +101,27 @@ TEST(Fit, CancellationKeepsTheHistory) {
   EXPECT_EQ(summary.iterations.size(), 2u);
 }
 
+// A gradient-descent step that left what the simulation takes (--learning-rate 1e300 made
+// elasticity_coefficient infinite) ended the fit with exit 2 after its first history was written.
+// As Ceres does, the step is shortened instead; an unphysical start is still bad input.
+TEST(Fit, AGradientStepTheSimulationRefusesIsShortened) {
+  const auto physical_only = [](const std::vector<double>& x) {
+    if (!(x[0] > 1e6 && x[0] < 1e10)) throw InputError("engine constant k is not physical");
+    return SpringResiduals(x);
+  };
+  FitOptions options;
+  options.solver = Solver::kGradientDescent;
+  options.learning_rate = 1e6;  // every first step leaves (1e6, 1e10)
+  options.max_iterations = 60;
+  options.loss_threshold = 1e-6;
+  FitSummary summary;
+  Fit(options, {{"k", 1.62e8, true}}, physical_only, &summary);
+  EXPECT_TRUE(summary.converged) << summary.BriefReport();
+  EXPECT_NEAR(summary.final_values[0], 3e8, 3e8 * 1e-2);
+  FitSummary refused;
+  EXPECT_THROW(Fit(options, {{"k", 1e11, true}}, physical_only, &refused), InputError);
+}
+
 TEST(Targets, ParseTargetAndParameterSpecifications) {
   const Target t = ParseTarget("half_amplitude=1.694:scale=1.694:weight=0.25");
   EXPECT_EQ(t.metric, "half_amplitude");
