@@ -238,12 +238,45 @@ struct StaleFrames {
   std::size_t count = 0, first_reference_frame = 0;
   std::size_t held_at_first = 0;  // particles held still where the reference's moved, first frame
   std::vector<float> last[2];     // the moving particles' positions at the last pair (ref, cand)
+  // A candidate logged more finely than the reference has frames between the paired ones, which
+  // no other gate reads: its frame just after the last pair, when it repeated that pair's frame
+  // (bit for bit), and its frame just before the next pair (the moving particles' positions).
+  // Either repeating its paired neighbour while the reference moved over the interval is a
+  // frame written twice: logging twice as often with every other frame a copy passed every gate.
+  bool after_repeated = false;
+  std::vector<float> before;
+
+  static bool Repeats(const FrameRef& cand, const std::vector<std::size_t>& moving,
+                      const std::vector<float>& positions) {
+    for (std::size_t k = 0; k < moving.size(); ++k) {
+      const float* y = cand.trajectory.position(cand.frame, moving[k]);
+      for (int a = 0; a < 3; ++a)
+        if (!(y[a] == positions[3 * k + a])) return false;
+    }
+    return true;
+  }
+  // The unpaired candidate frame just after the last pair.
+  void ObserveAfterPair(const FrameRef& cand, const std::vector<std::size_t>& moving) {
+    after_repeated = !last[1].empty() && Repeats(cand, moving, last[1]);
+  }
+  // The unpaired candidate frame just before the next pair.
+  void ObserveBeforePair(const FrameRef& cand, const std::vector<std::size_t>& moving) {
+    before.resize(3 * moving.size());
+    for (std::size_t k = 0; k < moving.size(); ++k)
+      for (int a = 0; a < 3; ++a)
+        before[3 * k + a] = cand.trajectory.position(cand.frame, moving[k])[a];
+  }
+
+  void Count(std::size_t reference_frame, std::size_t held) {
+    if (count++ == 0) first_reference_frame = reference_frame, held_at_first = held;
+  }
 
   void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
                std::size_t reference_frame, double box_scale_cu) {
     bool reference_moved = false, candidate_moved = false;
     std::size_t held = 0;  // moving particles the reference moved and the candidate held still
     const bool first = last[0].empty();
+    const bool before_repeats = !before.empty() && Repeats(cand, moving, before);
     if (first) last[0].resize(3 * moving.size()), last[1].resize(3 * moving.size());
     for (std::size_t k = 0; k < moving.size(); ++k) {
       const float* x = ref.trajectory.position(ref.frame, moving[k]);
@@ -261,10 +294,14 @@ struct StaleFrames {
       reference_moved |= reference_moves, candidate_moved |= candidate_moves;
       held += reference_moves && !candidate_moves;
     }
+    const bool after_repeated_last = after_repeated;
+    after_repeated = false, before.clear();
     if (first) return;
-    const bool stale = (reference_moved && !candidate_moved) ||
-                       double(held) >= kStillFraction * double(moving.size());
-    if (stale && count++ == 0) first_reference_frame = reference_frame, held_at_first = held;
+    if ((reference_moved && !candidate_moved) ||
+        double(held) >= kStillFraction * double(moving.size()))
+      Count(reference_frame, held);
+    if (reference_moved && after_repeated_last) Count(reference_frame, moving.size());
+    if (reference_moved && before_repeats) Count(reference_frame, moving.size());
   }
 };
 
@@ -529,6 +566,12 @@ class PairReducer {
   const InitialState& initial_state() const { return initial_; }
   const InitialState& walls() const { return walls_; }
   const StaleFrames& stale_frames() const { return stale_; }
+  // The candidate's unpaired frames beside a pair (StaleFrames): read only when every gate is.
+  bool wants_unpaired_candidate_frames() const {
+    return scope_ == Scope::kEveryGate && !moving_.empty();
+  }
+  void ObserveCandidateAfterPair(const FrameRef& b) { stale_.ObserveAfterPair(b, moving_); }
+  void ObserveCandidateBeforePair(const FrameRef& b) { stale_.ObserveBeforePair(b, moving_); }
   const ClosestApproach& closest_approach() const { return closest_; }
   // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
   const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
@@ -974,7 +1017,8 @@ void GateStaleFrames(const PairReducer& reduced, ParityReport* r) {
   Gate g = MakeGate("stale_frames",
                     "paired frames at which no moving particle of the candidate moved since the "
                     "paired frame before while the reference's moved, or half of them or more "
-                    "held exactly still where the reference's moved",
+                    "held exactly still where the reference's moved; and unpaired candidate "
+                    "frames repeating the paired frame beside them while the reference moved",
                     double(s.count), Threshold{1}, "frames");
   g.detail = s.count == 0 ? "none"
                           : std::to_string(s.count) + " (the first at reference frame " +
@@ -1284,6 +1328,16 @@ void Reduce(FrameSource& refs, FrameSource& cands, const Pairs& pairs, PairReduc
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     for (std::size_t f = k ? pairs[k - 1].first + 1 : pairs[k].first; f < pairs[k].first; ++f)
       reducer->ObserveReferenceFrame(f, refs.Frame(f));
+    // A candidate logged more finely: its frames beside the pairs (one frame between two pairs
+    // is beside both).
+    const std::size_t after = k ? pairs[k - 1].second + 1 : pairs[k].second;
+    if (reducer->wants_unpaired_candidate_frames() && after < pairs[k].second) {
+      const FrameRef u = cands.Frame(after);
+      reducer->ObserveCandidateAfterPair(u);
+      if (after + 1 == pairs[k].second) reducer->ObserveCandidateBeforePair(u);
+    }
+    if (reducer->wants_unpaired_candidate_frames() && after + 1 < pairs[k].second)
+      reducer->ObserveCandidateBeforePair(cands.Frame(pairs[k].second - 1));
     const FrameRef a = refs.Frame(pairs[k].first);
     const FrameRef b = cands.Frame(pairs[k].second);
     reducer->Observe(k, a, b, cands.header().time_s[pairs[k].second]);

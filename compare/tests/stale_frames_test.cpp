@@ -48,6 +48,53 @@ TEST(StaleFramesParity, Demo1WithAFrameWrittenTwiceFailsOnlyThis) {
   EXPECT_TRUE(CompareTrajectories(demo1, demo1, {}).pass());
 }
 
+// `t` logged twice as often, the frame between each two of its frames a copy of the one before
+// (at the time halfway).
+Trajectory LoggedTwiceAsOftenWithCopies(const Trajectory& t) {
+  Trajectory out = t;
+  out.time_s.clear();
+  out.positions.clear();
+  out.log_step = t.log_step;
+  out.time_step_s = t.time_step_s / 2;
+  for (std::size_t f = 0; f < t.frame_count(); ++f) {
+    out.AppendFrame(t.time_s[f], t.position(f, 0));
+    if (f + 1 < t.frame_count())
+      out.AppendFrame(0.5 * (t.time_s[f] + t.time_s[f + 1]), t.position(f, 0));
+  }
+  return out;
+}
+
+// Every other frame of `t`: a reference logged half as often as `t`.
+Trajectory EveryOtherFrame(const Trajectory& t) {
+  Trajectory out = t;
+  out.time_s.clear();
+  out.positions.clear();
+  out.time_step_s = t.time_step_s * 2;
+  for (std::size_t f = 0; f < t.frame_count(); f += 2)
+    out.AppendFrame(t.time_s[f], t.position(f, 0));
+  return out;
+}
+
+// Logged twice as often with every other frame a copy: the copies are no paired frame, and no
+// gate read them (round 5's "every odd frame a copy", caught at the reference's own log step,
+// passed so). An honest candidate logged twice as often measures 0.
+TEST(StaleFrames, CopiesBetweenThePairedFramesFail) {
+  const Trajectory& run = testing::BundledOneSprigRun();
+  const ParityReport copies = CompareTrajectories(run, LoggedTwiceAsOftenWithCopies(run), {});
+  const Gate& g = *copies.gate("stale_frames");
+  EXPECT_EQ(g.status, GateStatus::kFail) << g.detail;
+  // Every copy but the first: the spring starts at rest, and over the first interval the
+  // reference moves by less than two prints' rounding.
+  EXPECT_EQ(g.value, double(run.frame_count() - 2)) << g.detail;
+  const Trajectory coarse = EveryOtherFrame(run);
+  const ParityReport honest = CompareTrajectories(coarse, run, {});
+  EXPECT_EQ(honest.gate("stale_frames")->value, 0.0) << honest.gate("stale_frames")->detail;
+  EXPECT_EQ(CompareTrajectories(coarse, LoggedTwiceAsOftenWithCopies(coarse), {})
+                .gate("stale_frames")
+                ->value,
+            double(coarse.frame_count() - 2));
+}
+
 // `t` with frames first, first + every, ... read back mid-update: every moving particle but
 // `fresh` of them at the frame before's position (a GPU read-back racing the step).
 Trajectory ReadBackMidUpdate(const Trajectory& t, std::size_t first, std::size_t every,
