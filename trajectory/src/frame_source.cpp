@@ -136,8 +136,7 @@ std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
   } else {
     source = internal::OpenTextFrameSource(path.string(), options, report, named_partial);
   }
-  if (report && source->partial())
-    report->description += " (partial: an interrupted run's, see its checkpoint)";
+  if (report && source->partial()) report->description += " (partial: an interrupted run's)";
   return source;
 }
 

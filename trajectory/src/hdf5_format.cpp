@@ -512,7 +512,7 @@ Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptio
   // The text format has no metadata: its name (PartialPath) says it is partial.
   if (path.stem().extension() == ".partial") t.provenance["partial"].assign(1, '1');
   if (report && t.provenance.count("partial"))
-    report->description += " (partial: an interrupted run's, see its checkpoint)";
+    report->description += " (partial: an interrupted run's)";
   return t;
 }
 
