@@ -20,6 +20,7 @@
 #include "owval/base/progress.hpp"
 #include "owval/compare/metrics_json.hpp"
 #include "stencil_excess.hpp"
+#include "unpaired_frames.hpp"
 
 namespace owval::compare {
 namespace {
@@ -446,6 +447,16 @@ struct AccelerationReduction {
   }
 };
 
+// Per moving kind (unpaired_frames.hpp): the reference's peak speed over its frames in the common
+// window, and the excursions of the candidate's frames between its paired ones.
+struct SpeedKind {
+  SpeedKind(const char* kind_name, const std::vector<std::size_t>& members)
+      : name(kind_name), reference(members), candidate(members) {}
+  const char* name;
+  internal::PeakSpeed reference;
+  internal::Excursions candidate;
+};
+
 // Everything the gates need, reduced frame pair by frame pair in time order (one frame of each
 // trajectory at a time): the tracked series, the per-particle distances, each group's drift,
 // the group centroid distances at the sampled pairs, and the scene gates' measures.
@@ -474,7 +485,9 @@ class PairReducer {
       std::vector<std::size_t> members;
       for (std::size_t p : moving_)
         if (KindOf(ref.type[p]) == kind) members.push_back(p);
-      if (!members.empty()) acceleration_.kinds.emplace_back(name, members);
+      if (members.empty()) continue;
+      acceleration_.kinds.emplace_back(name, members);
+      speeds_.emplace_back(name, members);
     }
     for (const char* group : {"elastic", "liquid"}) {
       DriftAccumulator g;
@@ -513,6 +526,7 @@ class PairReducer {
       if (sampled_[k]) ObserveSample(k, a, b);
       return;
     }
+    for (SpeedKind& s : speeds_) s.candidate.ObservePaired(b, pairs_[k].second, cand_time);
     const auto x = Centroid(a.trajectory, a.frame, tracked_members_),
                y = Centroid(b.trajectory, b.frame, tracked_members_);
     tracked_offset_cu_.push_back({y[0] - x[0], y[1] - x[1], y[2] - x[2]});
@@ -550,6 +564,8 @@ class PairReducer {
   void ObserveReferenceFrame(std::size_t f, const FrameRef& a) {
     resolved_time_.push_back(ref_.time_s[f]);
     resolved_series_.push_back(o_.track.ValueAt(a.trajectory, a.frame));
+    if (scope_ == Scope::kEveryGate)
+      for (SpeedKind& s : speeds_) s.reference.Observe(a, f, ref_.time_s[f]);
   }
   const std::vector<double>& candidate_time() const { return cand_time_; }
   const std::vector<double>& resolved_time() const { return resolved_time_; }
@@ -566,12 +582,18 @@ class PairReducer {
   const InitialState& initial_state() const { return initial_; }
   const InitialState& walls() const { return walls_; }
   const StaleFrames& stale_frames() const { return stale_; }
-  // The candidate's unpaired frames beside a pair (StaleFrames): read only when every gate is.
+  // The candidate's unpaired frames (a candidate logged more finely than the reference), each
+  // between the pairs k - 1 and k: read only when every gate is.
+  // The excursions read them all, StaleFrames those beside a pair (one frame between two pairs is
+  // beside both).
   bool wants_unpaired_candidate_frames() const {
     return scope_ == Scope::kEveryGate && !moving_.empty();
   }
-  void ObserveCandidateAfterPair(const FrameRef& b) { stale_.ObserveAfterPair(b, moving_); }
-  void ObserveCandidateBeforePair(const FrameRef& b) { stale_.ObserveBeforePair(b, moving_); }
+  void ObserveUnpairedCandidate(std::size_t k, std::size_t f, const FrameRef& b) {
+    for (SpeedKind& s : speeds_) s.candidate.ObserveUnpaired(b);
+    if (f == pairs_[k - 1].second + 1) stale_.ObserveAfterPair(b, moving_);
+    if (f + 1 == pairs_[k].second) stale_.ObserveBeforePair(b, moving_);
+  }
   const ClosestApproach& closest_approach() const { return closest_; }
   // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
   const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
@@ -581,6 +603,7 @@ class PairReducer {
   bool has_liquid() const { return !liquid_.empty(); }
   const PackingReduction& packing() const { return packing_; }
   const AccelerationReduction& acceleration() const { return acceleration_; }
+  const std::vector<SpeedKind>& speeds() const { return speeds_; }
 
  private:
   void ObserveSample(std::size_t k, const FrameRef& a, const FrameRef& b) {
@@ -642,6 +665,7 @@ class PairReducer {
   std::vector<std::size_t> liquid_;  // the reference's liquid particles
   PackingReduction packing_;
   AccelerationReduction acceleration_;  // per moving kind the reference has
+  std::vector<SpeedKind> speeds_;       // the same kinds
   ClosestApproach closest_;             // of each run, over the paired frames
   // The closest-pair search's first cell width, of the box's largest extent (it widens itself).
   static constexpr double kClosestApproachCell = 0.01;
@@ -1274,6 +1298,49 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
   });
 }
 
+// Per moving kind, how far the candidate's frames between two of its paired frames stray
+// outside the box its positions at the pair span, over the distance the reference's fastest
+// particle of the kind covers in that interval (internal::Excursions, internal::PeakSpeed): the
+// only gate that reads a finer candidate's frames between the pairs. An honest excursion is at
+// most half the path, so at most 0.5 where the candidate is no faster than the reference. A
+// reference whose kind barely moves is judged against the printed precision instead: two prints
+// of 6 significant digits, 1e-5 of the box's largest extent, over its mean frame interval.
+void GateUnpairedFrames(const PairReducer& reduced, const ParityOptions& o, ParityReport* r) {
+  if (!reduced.has_moving_particles()) return;
+  Gate g = MakeGate("unpaired_frames",
+                    "per moving kind, the farthest a particle at a candidate frame between two "
+                    "paired frames strays outside the box its positions at the pair span (largest "
+                    "axis), over the distance the reference's fastest particle between two of its "
+                    "frames covers in that interval; worst kind",
+                    NAN, o.gates.unpaired_frames, "of the reference's reach");
+  for (const SpeedKind& s : reduced.speeds()) {
+    const internal::PeakSpeed& ref = s.reference;
+    const internal::Excursions& cand = s.candidate;
+    if (ref.intervals() == 0 || cand.unpaired_frames() == 0) continue;
+    constexpr double kPrintedDistance = 1e-5;  // of the box: two 6-digit prints' rounding
+    const double floor =
+        kPrintedDistance * r->box_scale_cu * double(ref.intervals()) / ref.duration_s();
+    const double value = cand.speed_cu_s() / std::max(ref.speed_cu_s(), floor);
+    if (std::isnan(g.value) || !(value <= g.value)) g.value = std::isnan(value) ? INFINITY : value;
+    char detail[400];
+    std::snprintf(detail, sizeof detail,
+                  "%s: particle %zu %.4g cu outside its box between the candidate's paired frames "
+                  "%zu and %zu (%zu unpaired frames read); the reference's fastest %.4g cu/s "
+                  "(particle %zu, frames %zu to %zu)",
+                  s.name, cand.particle(), cand.excursion_cu(), cand.from_frame(), cand.to_frame(),
+                  cand.unpaired_frames(), ref.speed_cu_s(), ref.particle(), ref.from_frame(),
+                  ref.to_frame());
+    g.detail += (g.detail.empty() ? "" : "; ") + std::string(detail);
+  }
+  if (std::isnan(g.value))
+    g.detail =
+        "the candidate has no frames between its paired ones (it is not logged more "
+        "finely than the reference)";
+  else
+    Decide(&g);
+  r->gates.push_back(g);
+}
+
 // At sample frames, the scene as well as the tracked scalar: each moving group's centroid
 // distance against the box (the centroid_distance threshold), so a labelled frame whose picture
 // is off fails even when the tracked particle happens to agree. Over all frames this is the
@@ -1328,16 +1395,10 @@ void Reduce(FrameSource& refs, FrameSource& cands, const Pairs& pairs, PairReduc
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     for (std::size_t f = k ? pairs[k - 1].first + 1 : pairs[k].first; f < pairs[k].first; ++f)
       reducer->ObserveReferenceFrame(f, refs.Frame(f));
-    // A candidate logged more finely: its frames beside the pairs (one frame between two pairs
-    // is beside both).
-    const std::size_t after = k ? pairs[k - 1].second + 1 : pairs[k].second;
-    if (reducer->wants_unpaired_candidate_frames() && after < pairs[k].second) {
-      const FrameRef u = cands.Frame(after);
-      reducer->ObserveCandidateAfterPair(u);
-      if (after + 1 == pairs[k].second) reducer->ObserveCandidateBeforePair(u);
-    }
-    if (reducer->wants_unpaired_candidate_frames() && after + 1 < pairs[k].second)
-      reducer->ObserveCandidateBeforePair(cands.Frame(pairs[k].second - 1));
+    // A candidate logged more finely: its frames between the pairs.
+    if (k && reducer->wants_unpaired_candidate_frames())
+      for (std::size_t f = pairs[k - 1].second + 1; f < pairs[k].second; ++f)
+        reducer->ObserveUnpairedCandidate(k, f, cands.Frame(f));
     const FrameRef a = refs.Frame(pairs[k].first);
     const FrameRef b = cands.Frame(pairs[k].second);
     reducer->Observe(k, a, b, cands.header().time_s[pairs[k].second]);
@@ -1412,6 +1473,7 @@ ParityReport CompareFrameSources(FrameSource& refs, FrameSource& cands, const Pa
   GateLiquidPacking(reducer, o, &r);
   GateAcceleration(reducer, o, &r);
   GateAccelerationStencil(reducer, o, &r);
+  GateUnpairedFrames(reducer, o, &r);
   GateFrames(ref, pairs, gated, o, &r);
   GateFramesPosition(pairs, gated, reducer, o, &r);
   GateSampledGroups(pairs, gated, reducer, o, &r);
@@ -1629,7 +1691,10 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "frames (median, upper quartile; worst kind) to the reference's"},
     {"acceleration_stencil_threshold", "--acceleration-stencil-threshold", &G::acceleration_stencil,
      "acceleration.worst_stencil gate: the most one run's median acceleration at a stencil of "
-     "three paired frames exceeds the other's nearby, relative (a frame written displaced)"}};
+     "three paired frames exceeds the other's nearby, relative (a frame written displaced)"},
+    {"unpaired_frames_threshold", "--unpaired-frames-threshold", &G::unpaired_frames,
+     "unpaired_frames gate: how far a finer candidate's frames between two paired frames stray "
+     "outside the box of the pair, of the reference's fastest reach over the interval"}};
 
 std::string GateThresholdHelp(const GateThresholdField& field) {
   return std::string(field.help) + " (default " +

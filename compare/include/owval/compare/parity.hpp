@@ -42,6 +42,10 @@
 //  - acceleration.worst_stencil: the same medians stencil by stencil, each run's against the
 //    other's nearby: a frame written displaced (and the next one back) spikes its stencils,
 //    which the averages of `acceleration` dilute over the run (ParityGates::acceleration_stencil).
+//  - unpaired_frames: a candidate logged more finely than the reference, per moving kind: how far
+//    its frames between two paired frames stray outside the box of the pair, over the reference's
+//    fastest reach in the interval: the one gate that reads those frames, where a frame written
+//    aside was seen by nothing (ParityGates::unpaired_frames).
 //  - boundary.fixed: the walls where the reference's are at every paired frame, to the printed
 //    precision (initial_state's measure and threshold): no boundary particle is ever integrated.
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
@@ -160,6 +164,14 @@ struct ParityGates {
   // 38.0), honest reruns of demo1 1.36 at most (over 2,498 stencils), which the run's averages
   // above cannot tell apart. Measured: docs/checklist.md, "A frame written displaced".
   Threshold acceleration_stencil{4};  // relative excess, worst kind's worst stencil
+  // A candidate logged more finely than the reference: per moving kind, the farthest a particle
+  // at a frame between two paired frames strays outside the box its positions at the pair span,
+  // over the distance the reference's fastest particle covers in the interval
+  // (unpaired_frames.hpp). Half a path is the most an honest excursion can be (0.5 for a candidate
+  // no faster than the reference); honest finer runs measure 0.15-0.24, and 0.70 over the worm's
+  // first 3 frames (the reference's peak seen over two intervals). Measured: docs/checklist.md,
+  // "unpaired_frames".
+  Threshold unpaired_frames{2};  // excursion / the reference's reach, worst kind
 };
 
 // Every ParityGates threshold as users set it: a scenario manifest's "gates" key and an
