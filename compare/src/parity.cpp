@@ -583,9 +583,8 @@ class PairReducer {
   const InitialState& walls() const { return walls_; }
   const StaleFrames& stale_frames() const { return stale_; }
   // The candidate's unpaired frames (a candidate logged more finely than the reference), each
-  // between the pairs k - 1 and k: read only when every gate is.
-  // The excursions read them all, StaleFrames those beside a pair (one frame between two pairs is
-  // beside both).
+  // between the pairs k - 1 and k, read only when every gate is: the excursions read them all,
+  // StaleFrames those beside a pair (one frame between two pairs is beside both).
   bool wants_unpaired_candidate_frames() const {
     return scope_ == Scope::kEveryGate && !moving_.empty();
   }
