@@ -1316,9 +1316,8 @@ void GateUnpairedFrames(const PairReducer& reduced, const ParityOptions& o, Pari
     const internal::PeakSpeed& ref = s.reference;
     const internal::Excursions& cand = s.candidate;
     if (ref.intervals() == 0 || cand.unpaired_frames() == 0) continue;
-    constexpr double kPrintedDistance = 1e-5;  // of the box: two 6-digit prints' rounding
-    const double floor =
-        kPrintedDistance * r->box_scale_cu * double(ref.intervals()) / ref.duration_s();
+    const double floor = InitialState::kPrintedDigitsRounding * r->box_scale_cu *
+                         double(ref.intervals()) / ref.duration_s();
     const double value = cand.speed_cu_s() / std::max(ref.speed_cu_s(), floor);
     if (std::isnan(g.value) || !(value <= g.value)) g.value = std::isnan(value) ? INFINITY : value;
     char detail[400];

@@ -30,11 +30,10 @@ void PeakSpeed::Observe(const FrameRef& frame, std::size_t frame_index, double t
 
 void Excursions::ObserveUnpaired(const FrameRef& frame) {
   if (pair_.empty()) return;  // before the first pair: outside the common window
-  if (!pending_) {
+  if (pending_frames_++ == 0) {
     lo_.assign(3 * members_.size(), std::numeric_limits<float>::infinity());
     hi_.assign(3 * members_.size(), -std::numeric_limits<float>::infinity());
   }
-  pending_ = true, ++pending_frames_;
   for (std::size_t k = 0; k < members_.size(); ++k) {
     const float* y = frame.trajectory.position(frame.frame, members_[k]);
     for (int a = 0; a < 3; ++a) {
@@ -52,7 +51,7 @@ void Excursions::ObservePaired(const FrameRef& frame, std::size_t frame_index, d
   const bool first = pair_.empty();
   if (first) pair_.resize(3 * members_.size());
   const double interval_s = time_s - pair_time_s_;
-  const bool measured = !first && pending_ && interval_s > 0;
+  const bool measured = !first && pending_frames_ > 0 && interval_s > 0;
   if (measured) unpaired_frames_ += pending_frames_;
   for (std::size_t k = 0; k < members_.size(); ++k) {
     const float* y = frame.trajectory.position(frame.frame, members_[k]);
@@ -71,7 +70,7 @@ void Excursions::ObservePaired(const FrameRef& frame, std::size_t frame_index, d
     }
     was[0] = y[0], was[1] = y[1], was[2] = y[2];
   }
-  pending_ = false, pending_frames_ = 0;
+  pending_frames_ = 0;
   pair_time_s_ = time_s, pair_frame_ = frame_index;
 }
 

@@ -74,9 +74,9 @@ class Excursions {
   std::vector<std::size_t> members_;
   std::vector<float> pair_;     // the members' positions at the last paired frame, xyz each
   std::vector<float> lo_, hi_;  // the unpaired frames' bounds since then, xyz each
-  bool pending_ = false;        // unpaired frames seen since the last paired frame
   double pair_time_s_ = 0;
-  std::size_t pair_frame_ = 0, pending_frames_ = 0;
+  std::size_t pair_frame_ = 0;
+  std::size_t pending_frames_ = 0;  // unpaired frames seen since the last paired frame
   double speed_cu_s_ = 0, excursion_cu_ = 0;
   std::size_t particle_ = 0, from_frame_ = 0, to_frame_ = 0, unpaired_frames_ = 0;
 };

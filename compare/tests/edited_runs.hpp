@@ -1,6 +1,6 @@
 #pragma once
-// Edited copies of real runs that the pair gates' tests (closest_approach, held_pair), the
-// liquid_packing and the acceleration tests judge.
+// Edited copies of real runs that the gates' tests judge (closest_approach, held_pair,
+// liquid_packing, acceleration, stale_frames, unpaired_frames).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -81,6 +81,18 @@ inline Trajectory Jittered(const Trajectory& t, double amplitude_cu, std::size_t
     for (std::size_t p = 0; p < out.particle_count(); ++p)
       for (int a = 0; a < 3 && KindOf(out.type[p]) != ParticleKind::kBoundary; ++a)
         out.position(f, p)[a] = float(out.position(f, p)[a] + noise(random));
+  return out;
+}
+
+// Every `n`th frame of `t`: a reference logged n times less often (its header's time step
+// scaled, so that a log step of 1 stays one).
+inline Trajectory EveryNthFrame(const Trajectory& t, std::size_t n) {
+  Trajectory out = t;
+  out.time_s.clear();
+  out.positions.clear();
+  out.time_step_s = t.time_step_s * double(n);
+  for (std::size_t f = 0; f < t.frame_count(); f += n)
+    out.AppendFrame(t.time_s[f], t.position(f, 0));
   return out;
 }
 

@@ -64,17 +64,6 @@ Trajectory LoggedTwiceAsOftenWithCopies(const Trajectory& t) {
   return out;
 }
 
-// Every other frame of `t`: a reference logged half as often as `t`.
-Trajectory EveryOtherFrame(const Trajectory& t) {
-  Trajectory out = t;
-  out.time_s.clear();
-  out.positions.clear();
-  out.time_step_s = t.time_step_s * 2;
-  for (std::size_t f = 0; f < t.frame_count(); f += 2)
-    out.AppendFrame(t.time_s[f], t.position(f, 0));
-  return out;
-}
-
 // Logged twice as often with every other frame a copy: the copies are no paired frame, and no
 // gate read them (round 5's "every odd frame a copy", caught at the reference's own log step,
 // passed so). An honest candidate logged twice as often measures 0.
@@ -86,7 +75,7 @@ TEST(StaleFrames, CopiesBetweenThePairedFramesFail) {
   // Every copy but the first: the spring starts at rest, and over the first interval the
   // reference moves by less than two prints' rounding.
   EXPECT_EQ(g.value, double(run.frame_count() - 2)) << g.detail;
-  const Trajectory coarse = EveryOtherFrame(run);
+  const Trajectory coarse = testing_edits::EveryNthFrame(run, 2);
   const ParityReport honest = CompareTrajectories(coarse, run, {});
   EXPECT_EQ(honest.gate("stale_frames")->value, 0.0) << honest.gate("stale_frames")->detail;
   EXPECT_EQ(CompareTrajectories(coarse, LoggedTwiceAsOftenWithCopies(coarse), {})

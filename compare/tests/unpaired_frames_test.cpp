@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "edited_runs.hpp"
 #include "owval/compare/parity.hpp"
 #include "owval/testing/reference_runs.hpp"
 
@@ -73,24 +74,13 @@ TEST(ExcursionsMeasure, IsTheFarthestStrayOutsideThePairsBox) {
   EXPECT_EQ(n.speed_cu_s(), INFINITY);
 }
 
-// Every `n`th frame of `t`: a reference logged n times less often.
-Trajectory EveryNthFrame(const Trajectory& t, std::size_t n) {
-  Trajectory out = t;
-  out.time_s.clear();
-  out.positions.clear();
-  out.log_step = t.log_step * int(n);
-  for (std::size_t f = 0; f < t.frame_count(); f += n)
-    out.AppendFrame(t.time_s[f], t.position(f, 0));
-  return out;
-}
-
 // one_sprig logged every step against itself logged every 5 steps: an honest finer candidate
 // strays no farther than its spring swings; the same with one unpaired frame's particle written
 // 5 cu aside (three half-amplitudes) fails this gate and no other, since no other reads that
 // frame. Logged as the reference is, there is nothing between the pairs to read.
 TEST(UnpairedFrames, AFinerCandidatesFrameWrittenAsideFailsOnlyThis) {
   const Trajectory& run = testing::BundledOneSprigRun();
-  const Trajectory coarse = EveryNthFrame(run, 5);
+  const Trajectory coarse = testing_edits::EveryNthFrame(run, 5);
   const ParityReport honest = CompareTrajectories(coarse, run, {});
   const Gate& h = *honest.gate("unpaired_frames");
   EXPECT_EQ(h.status, GateStatus::kPass) << h.detail;
@@ -110,7 +100,7 @@ TEST(UnpairedFrames, AFinerCandidatesFrameWrittenAsideFailsOnlyThis) {
 
 TEST(UnpairedFrames, ASceneAtRestIsJudgedAgainstThePrintedPrecision) {
   const Trajectory still = Moving(0, 9);
-  const Trajectory coarse = EveryNthFrame(still, 4);
+  const Trajectory coarse = testing_edits::EveryNthFrame(still, 4);
   Trajectory rounded = still;  // moved by less than a print's rounding
   rounded.position(2, 0)[0] += 1e-4f;
   const Gate g = *CompareTrajectories(coarse, rounded, {}).gate("unpaired_frames");
