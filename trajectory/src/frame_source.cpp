@@ -124,7 +124,7 @@ std::unique_ptr<FrameSource> OpenFrameSource(const std::filesystem::path& path,
                                              const TextReadOptions& options,
                                              TextReadReport* report) {
   // As ReadTrajectory: the partial mark from the name too (PartialPath), said in the report.
-  const bool named_partial = path.stem().extension() == ".partial";
+  const bool named_partial = IsPartialPath(path);
   std::unique_ptr<FrameSource> source;
   if (DetectFormat(path) == FileFormat::kHdf5) {
     auto h5 = std::make_unique<Hdf5Source>(path);

@@ -23,6 +23,7 @@
 #include "owval/base/mapped_file.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/writer.hpp"
 
 namespace owval {
 namespace {
@@ -510,7 +511,7 @@ Trajectory ReadTrajectory(const std::filesystem::path& path, const TextReadOptio
     t = ReadSiberneticText(path, options, report);
   }
   // The text format has no metadata: its name (PartialPath) says it is partial.
-  if (path.stem().extension() == ".partial") t.provenance["partial"].assign(1, '1');
+  if (IsPartialPath(path)) t.provenance["partial"].assign(1, '1');
   if (report && t.provenance.count("partial"))
     report->description += " (partial: an interrupted run's)";
   return t;

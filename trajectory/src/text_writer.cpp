@@ -144,6 +144,10 @@ std::filesystem::path PartialPath(const std::filesystem::path& destination) {
   return partial;
 }
 
+bool IsPartialPath(const std::filesystem::path& path) {
+  return path.stem().extension() == ".partial";
+}
+
 std::unique_ptr<TrajectoryWriter> ResumeTrajectoryWriter(const std::filesystem::path& destination,
                                                          const TrajectoryHeader& header,
                                                          const WriterCheckpoint& checkpoint,

@@ -115,6 +115,9 @@ void CheckResumable(const std::filesystem::path& destination, const TrajectoryHe
 // out/trajectory.h5 -> out/trajectory.partial.h5; position_buffer.txt ->
 // position_buffer.partial.txt
 std::filesystem::path PartialPath(const std::filesystem::path& destination);
+// Whether `path` is named as PartialPath names a partial trajectory: the text format has no
+// metadata, so its name is what says so.
+bool IsPartialPath(const std::filesystem::path& path);
 
 // Reads an HDF5 trajectory frame by frame (memory O(particles)): the same checks as ReadHdf5
 // (docs/fuzzing.md) at open, then one hyperslab a frame.
