@@ -38,6 +38,8 @@ namespace {
 struct Evidence {
   fs::path dir;
   ChecklistOptions options;
+  // dir's reference.* and candidate.* (internal::RunFile: "" when absent), resolved once.
+  fs::path reference_file, candidate_file;
   std::unique_ptr<FrameSource> reference, candidate;
   // The tracked scalar of every check: the caller's, never frames.json's (a pull request must
   // not pick the particle that happens to agree), else the default particle 0 y.
@@ -139,7 +141,7 @@ std::string NotReferenceEquivalent(const Trajectory& header) {
 }
 
 void CheckReference(Evidence& e, ChecklistItem* item) {
-  CheckTrajectory(internal::RunFile(e.dir, "reference"), e.reference, item);
+  CheckTrajectory(e.reference_file, e.reference, item);
   if (!e.caller_reference) {
     // The directory's own reference file could be its candidate under another name: without a
     // reference from the caller, the parity gate would judge the candidate against itself.
@@ -163,7 +165,7 @@ void CheckReference(Evidence& e, ChecklistItem* item) {
 // A worm candidate's side files (WCON, midline log, Zarr store: what other tools read) must
 // describe it, as in `owval ci quick-test`: a frozen worm beside the reference's WCON was ready.
 void CheckCandidate(Evidence& e, ChecklistItem* item) {
-  const fs::path file = internal::RunFile(e.dir, "candidate");
+  const fs::path& file = e.candidate_file;
   CheckTrajectory(file, e.candidate, item);
   if (!kinematics::IsWorm(e.candidate->header())) return;
   const std::vector<GateResult> side_files = internal::WormSideFileGates(e.dir, file);
@@ -518,7 +520,7 @@ bool IsModelFit(const nlohmann::json& h) {
 // reference file, byte for byte (its recorded FNV-1a 64), else a fit against a trajectory of
 // the forger's making would rerun as recorded.
 std::string LossReferenceAgainstDirectory(const Evidence& e, const nlohmann::json& h) {
-  const fs::path mine = internal::RunFile(e.dir, "reference");
+  const fs::path& mine = e.reference_file;
   if (mine.empty())
     return "not verified: the directory holds no reference to hold the fit's loss reference to";
   const nlohmann::json none;
@@ -1143,10 +1145,14 @@ std::string LoosenedFitRerun(const Evidence& e) {
 ChecklistReport RunChecklist(const fs::path& directory, const ChecklistOptions& options) {
   RequireInputDirectory(directory, internal::kArtifactDirectory);
   if (!options.git_range.empty()) CheckGitRange(directory, options.git_range);  // a bad flag: 2
+  const fs::path reference_file = internal::RunFile(directory, "reference"),
+                 candidate_file = internal::RunFile(directory, "candidate");
   Evidence e{directory,
              options,
-             TryOpen(internal::RunFile(directory, "reference")),
-             TryOpen(internal::RunFile(directory, "candidate")),
+             reference_file,
+             candidate_file,
+             TryOpen(reference_file),
+             TryOpen(candidate_file),
              options.track.value_or(Track{}),
              options.track ? "the caller's, from --scenario or --manifest"
                            : "the default: give --scenario or --manifest for a scenario's",

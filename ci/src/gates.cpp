@@ -19,17 +19,21 @@ namespace owval::ci {
 namespace fs = std::filesystem;
 namespace {
 
-fs::path Find(const fs::path& dir, const std::string& stem) {
-  if (fs::path file = internal::RunFile(dir, stem); !file.empty()) return file;
+// `file`: dir's run file `stem` as internal::RunFile resolved it ("" when there is none).
+fs::path RequiredRunFile(const fs::path& file, const fs::path& dir, const std::string& stem) {
+  if (!file.empty()) return file;
   throw InputError((dir / (stem + ".h5")).string(), 0,
                    "missing (expected " + stem + ".h5 or " + stem + ".txt)");
 }
 
 // Read frame by frame (issue 16): memory O(particles), whatever the number of frames.
-std::unique_ptr<FrameSource> Open(const fs::path& dir, const std::string& stem) {
+std::unique_ptr<FrameSource> OpenRunFile(const fs::path& file) {
   TextReadOptions quiet;
   quiet.quiet = true;
-  return OpenFrameSource(Find(dir, stem), quiet);
+  return OpenFrameSource(file, quiet);
+}
+std::unique_ptr<FrameSource> Open(const fs::path& dir, const std::string& stem) {
+  return OpenRunFile(RequiredRunFile(internal::RunFile(dir, stem), dir, stem));
 }
 
 GateResult Run(const std::string& name, const std::function<void(GateResult*)>& body) {
@@ -116,22 +120,21 @@ nlohmann::json GateReport::ToJson() const {
 
 GateReport QuickTest(const fs::path& dir) {
   RequireInputDirectory(dir, internal::kArtifactDirectory);
-  for (const char* stem : {"reference", "candidate"}) internal::RunFile(dir, stem);  // not two
+  // Both resolved before any gate: a directory holding two candidates is bad input (exit 2).
+  const std::pair<const char*, fs::path> runs[] = {
+      {"reference", internal::RunFile(dir, "reference")},
+      {"candidate", internal::RunFile(dir, "candidate")}};
   GateReport r;
   bool worm = false;
-  for (const char* stem : {"reference", "candidate"})
+  for (const auto& [stem, file] : runs)
     r.gates.push_back(Run(std::string(stem) + " completed without NaN", [&](GateResult* g) {
-      const auto frames = Open(dir, stem);
+      const auto frames = OpenRunFile(RequiredRunFile(file, dir, stem));
       worm = worm || kinematics::IsWorm(frames->header());
       CompletedWithoutNaN(*frames, g);
     }));
   if (worm) {
-    fs::path candidate;
-    try {
-      candidate = Find(dir, "candidate");
-    } catch (const InputError&) {
-      // none: the candidate's own gate above says so, and its side files stay unchecked
-    }
+    // No candidate (""): its own gate above says so, and its side files stay unchecked.
+    const fs::path& candidate = runs[1].second;
     for (const GateResult& g : internal::WormQuickTestGates(dir, candidate)) r.gates.push_back(g);
   }
   return r;
