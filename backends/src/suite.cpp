@@ -13,16 +13,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-compare::ParityOptions OptionsFor(const Scenario& s, const fs::path& manifest_directory) {
+compare::ParityOptions OptionsFor(const Scenario& s,
+                                  const std::vector<fs::path>& manifest_directories) {
   compare::ParityOptions o;
   o.track = Track{};  // particle 0, y
   std::error_code ec;
-  const fs::path own = s.directory / "manifest.json";
-  const fs::path named = manifest_directory / (s.name + ".json");
-  if (fs::is_regular_file(own, ec))
+  if (const fs::path own = s.directory / "manifest.json"; fs::is_regular_file(own, ec)) {
     scenarios::ApplyManifestFile(own, &o);
-  else if (!manifest_directory.empty() && fs::is_regular_file(named, ec))
-    scenarios::ApplyManifestFile(named, &o);
+    return o;
+  }
+  for (const fs::path& directory : manifest_directories)
+    if (const fs::path named = directory / (s.name + ".json"); fs::is_regular_file(named, ec)) {
+      scenarios::ApplyManifestFile(named, &o);
+      break;
+    }
   return o;
 }
 
@@ -111,7 +115,7 @@ SuiteReport CompareBackends(const Backend& a, const Backend& b, const SuiteOptio
   report.a = a.name;
   report.b = b.name;
   for (const Scenario& s : options.scenarios) {
-    const compare::ParityOptions parity = OptionsFor(s, options.manifest_directory);
+    const compare::ParityOptions parity = OptionsFor(s, options.manifest_directories);
     RunRequest request;
     request.scenario = s;
     request.sets = options.sets;
@@ -141,16 +145,16 @@ std::filesystem::path DefaultScenarioRoot(const Backend& a, const Backend& b,
 void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection& selection,
                      SuiteOptions* options) {
   const std::filesystem::path checkout = SiberneticCheckout(selection.sibernetic);
+  const std::filesystem::path demos = selection.data_dir / "scenarios" / "sibernetic";
   if (!checkout.empty() && selection.reference_dir.empty()) {
-    options->manifest_directory = selection.data_dir / "scenarios" / "sibernetic";
-    options->scenarios =
-        SiberneticScenarios(checkout, options->manifest_directory, selection.names);
+    options->manifest_directories = {demos};
+    options->scenarios = SiberneticScenarios(checkout, demos, selection.names);
   } else {
     const std::filesystem::path root = selection.reference_dir.empty()
                                            ? DefaultScenarioRoot(a, b, selection.shared_reference)
                                            : selection.reference_dir;
     options->scenarios = FindScenarios(root, selection.names);
-    options->manifest_directory = selection.data_dir / "scenarios" / "manifests";
+    options->manifest_directories = {demos, selection.data_dir / "scenarios" / "manifests"};
   }
   if (options->scenarios.empty())
     throw InputError("no scenario with a configuration to compare on");

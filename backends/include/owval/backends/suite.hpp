@@ -1,8 +1,8 @@
 #pragma once
 // Parity of two backends over a set of scenarios (owval compare A B with names): each scenario
 // is run or fetched on both sides (runner.hpp) and compared by compare::CompareTrajectories with
-// the scenario's manifest (NAME.json in manifest_directory or manifest.json in the scenario
-// folder: track and gates) or, without one, particle 0's y and the default gates.
+// the scenario's manifest (manifest.json in the scenario folder, else the first NAME.json in
+// manifest_directories: track and gates) or, without one, particle 0's y and the default gates.
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -17,9 +17,9 @@ namespace owval::backends {
 
 struct SuiteOptions {
   std::vector<Scenario> scenarios;
-  std::filesystem::path manifest_directory;             // optional: NAME.json manifests
-  std::map<std::string, std::string> sets;              // {set:NAME} values
-  std::function<void(const std::string&)> on_progress;  // one line per step; may be empty
+  std::vector<std::filesystem::path> manifest_directories;  // NAME.json manifests, in order
+  std::map<std::string, std::string> sets;                  // {set:NAME} values
+  std::function<void(const std::string&)> on_progress;      // one line per step; may be empty
 };
 
 struct SideOutcome {
@@ -67,8 +67,12 @@ struct ScenarioSelection {
   std::filesystem::path data_dir;  // owval's data: scenarios/manifests, scenarios/sibernetic
 };
 
-// Sets options->scenarios and manifest_directory: Sibernetic's demos from a checkout when there
+// Sets options->scenarios and manifest_directories: Sibernetic's demos from a checkout when there
 // is one and no reference_dir was given, else the scenario folders. InputError when none is found.
+// A demo is judged by scenarios/sibernetic/NAME.json's track and gates either way: a store's
+// folder named test_gravity is the run of Sibernetic's test_gravity (its meta.json says so), and
+// was judged on particle 0 with DD001's defaults, which a 4% error in gravity passed. A folder with
+// no Sibernetic demo's name takes scenarios/manifests/NAME.json (a store of owval's own scenes).
 void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection& selection,
                      SuiteOptions* options);
 
