@@ -126,9 +126,9 @@ GateReport QuickTest(const fs::path& dir) {
       {"candidate", internal::RunFile(dir, "candidate")}};
   GateReport r;
   bool worm = false;
-  for (const auto& [stem, file] : runs)
-    r.gates.push_back(Run(std::string(stem) + " completed without NaN", [&](GateResult* g) {
-      const auto frames = OpenRunFile(RequiredRunFile(file, dir, stem));
+  for (const auto& run : runs)  // not [stem, file]: clang before 16 cannot capture bindings
+    r.gates.push_back(Run(std::string(run.first) + " completed without NaN", [&](GateResult* g) {
+      const auto frames = OpenRunFile(RequiredRunFile(run.second, dir, run.first));
       worm = worm || kinematics::IsWorm(frames->header());
       CompletedWithoutNaN(*frames, g);
     }));
