@@ -2,7 +2,6 @@
 // Sibernetic's recorded runs (../shared/reference as the store "opencl").
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -137,9 +136,8 @@ TEST(BackendsCli, TheStoresDemosAreJudgedByTheirSiberneticManifests) {
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
   const auto report = nlohmann::json::parse(r.out)["scenarios"][0]["report"];
   EXPECT_EQ(report["subject"], "liquid centroid y");
-  const auto frames = std::find_if(report["gates"].begin(), report["gates"].end(),
-                                   [](const nlohmann::json& g) { return g["name"] == "frames"; });
-  ASSERT_NE(frames, report["gates"].end()) << report["gates"];
+  const nlohmann::json* frames = GateNamed(report, "frames");
+  ASSERT_NE(frames, nullptr) << report["gates"];
   EXPECT_EQ((*frames)["status"], "FAIL") << *frames;
   EXPECT_EQ((*frames)["threshold"], 0.015) << *frames;
   EXPECT_EQ((*frames)["threshold_source"], "manifest") << *frames;

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
 
@@ -79,6 +81,13 @@ inline std::filesystem::path ReadyPipelineDirectory() {
   ::flock(lock, LOCK_UN);
   ::close(lock);
   return d;
+}
+
+// A report's gate of that name (report["gates"]: the checklist's and compare's JSON), or null.
+inline const nlohmann::json* GateNamed(const nlohmann::json& report, const std::string& name) {
+  for (const nlohmann::json& g : report["gates"])
+    if (g["name"] == name) return &g;
+  return nullptr;
 }
 
 }  // namespace owval::testing

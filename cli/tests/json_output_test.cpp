@@ -24,12 +24,6 @@ fs::path ArtifactDirectory(const std::string& name, const std::string& set) {
   return dir;
 }
 
-const nlohmann::json* GateNamed(const nlohmann::json& report, const std::string& name) {
-  for (const nlohmann::json& g : report["gates"])
-    if (g["name"] == name) return &g;
-  return nullptr;
-}
-
 TEST(JsonOutput, CiGatesSayInJsonWhatTheirTextSaysWithTheSameExitCode) {
   const fs::path dir = ArtifactDirectory("stiff", "--set elasticity_coefficient=3.3e8");
   const std::string validate = "ci validate " + dir.string() + " --reference " + kOneSprig;
