@@ -41,14 +41,10 @@ TEST(XpbdWorm, DoesNotSinkAndKeepsItsCrossSectionOver25Ms) {
   EXPECT_LT(worst, 0.5);
   // Keeps its cross-section: the mid-body diameter within 5% of the reference's at every frame.
   const nlohmann::json all = CompareJson(candidate);
-  bool found = false;
-  for (const auto& g : all["gates"])
-    if (g["name"] == "worm.cross_section_diameter") {
-      found = true;
-      EXPECT_EQ(g["status"], "pass") << g.dump();
-      EXPECT_LT(g["value"].get<double>(), 0.05);
-    }
-  EXPECT_TRUE(found);
+  const nlohmann::json* cross_section = GateNamed(all, "worm.cross_section_diameter");
+  ASSERT_NE(cross_section, nullptr) << all["gates"];
+  EXPECT_EQ((*cross_section)["status"], "pass") << cross_section->dump();
+  EXPECT_LT((*cross_section)["value"].get<double>(), 0.05);
   std::filesystem::remove_all(out);
 }
 
