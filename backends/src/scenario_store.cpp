@@ -37,6 +37,16 @@ double TimeOf(const nlohmann::json& meta, double dt, int log_step, const fs::pat
   throw InputError(file.string(), 0, "no time: expected timelimit_s, timelimit= or frames");
 }
 
+// meta.json's configuration.repo_path; "" when "configuration" is a description or absent.
+std::string RepositoryPath(const nlohmann::json& meta, const fs::path& file) {
+  if (!meta.contains("configuration") || !meta["configuration"].is_object()) return "";
+  const nlohmann::json& configuration = meta["configuration"];
+  if (!configuration.contains("repo_path")) return "";
+  if (!configuration["repo_path"].is_string() || configuration["repo_path"] == "")
+    throw InputError(file.string(), 0, "\"configuration.repo_path\": expected a path string");
+  return configuration["repo_path"];
+}
+
 }  // namespace
 
 Scenario ReadScenario(const fs::path& directory) {
@@ -62,6 +72,7 @@ Scenario ReadScenario(const fs::path& directory) {
   if (meta.contains("wall_s")) s.recorded_wall_s = NumberField(meta, "wall_s", file);
   if (meta.contains("wall_includes") && meta["wall_includes"].is_string())
     s.recorded_wall_includes = meta["wall_includes"];
+  s.sibernetic_configuration = RepositoryPath(meta, file);
   return s;
 }
 

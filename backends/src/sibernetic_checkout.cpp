@@ -29,7 +29,8 @@ Scenario FromManifest(const fs::path& file, const fs::path& checkout) {
   Scenario s;
   s.name = file.stem().string();
   s.directory = file.parent_path();
-  s.configuration = checkout / run["configuration"].get<std::string>();
+  s.sibernetic_configuration = run["configuration"];
+  s.configuration = checkout / s.sibernetic_configuration;
   s.time_s = Positive(run, "time_s", file);
   s.time_step_s = Positive(run, "time_step_s", file);
   const double log_step = Positive(run, "log_step", file);
@@ -72,6 +73,21 @@ std::vector<Scenario> SiberneticScenarios(const fs::path& checkout, const fs::pa
   std::sort(found.begin(), found.end(),
             [](const Scenario& a, const Scenario& b) { return a.name < b.name; });
   return found;
+}
+
+fs::path SiberneticManifestOf(const fs::path& manifests, const std::string& repository_path) {
+  std::error_code ec;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(manifests, ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const nlohmann::json m = ReadJsonFile(file);  // owval's own scenes have no "sibernetic"
+    if (m.is_object() && m.contains("sibernetic") && m["sibernetic"].is_object() &&
+        m["sibernetic"].value("configuration", "") == repository_path)
+      return file;
+  }
+  return {};
 }
 
 }  // namespace owval::backends

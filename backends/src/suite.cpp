@@ -25,6 +25,13 @@ compare::ParityOptions OptionsFor(const Scenario& s,
   for (const fs::path& directory : manifest_directories)
     if (const fs::path named = directory / (s.name + ".json"); fs::is_regular_file(named, ec)) {
       scenarios::ApplyManifestFile(named, &o);
+      return o;
+    }
+  if (s.sibernetic_configuration.empty()) return o;
+  for (const fs::path& directory : manifest_directories)
+    if (const fs::path same = SiberneticManifestOf(directory, s.sibernetic_configuration);
+        !same.empty()) {
+      scenarios::ApplyManifestFile(same, &o);
       break;
     }
   return o;

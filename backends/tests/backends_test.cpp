@@ -225,7 +225,10 @@ TEST(ScenarioStore, MetaNumbersOutOfRangeNameTheFileAndField) {
       {R"({"time_step_s": 2e-5, "log_step": 1, "command": "x timelimit=1e999"})",
        "\"command\": timelimit=1e999: expected a positive finite number"},
       {R"({"time_step_s": 1e300, "log_step": 1, "frames": 1e300})",
-       "time: expected a positive finite number of seconds"}};
+       "time: expected a positive finite number of seconds"},
+      // The repository path keys the Sibernetic manifest the run is judged by (suite.hpp).
+      {R"({"time_step_s": 2e-5, "log_step": 1, "frames": 1, "configuration": {"repo_path": 7}})",
+       "\"configuration.repo_path\": expected a path string"}};
   for (const auto& [meta, says] : cases) {
     Write(dir / "meta.json", meta);
     try {
@@ -240,6 +243,10 @@ TEST(ScenarioStore, MetaNumbersOutOfRangeNameTheFileAndField) {
   Write(dir / "meta.json", R"({"time_step_s": 2e-5, "log_step": 7, "command": "timelimit=0.5"})");
   EXPECT_EQ(ReadScenario(dir).log_step, 7);
   EXPECT_DOUBLE_EQ(ReadScenario(dir).time_s, 0.5);
+  EXPECT_EQ(ReadScenario(dir).sibernetic_configuration, "");
+  Write(dir / "meta.json", R"({"time_step_s": 2e-5, "log_step": 1, "frames": 1, )"
+                           R"("configuration": {"repo_path": "configuration/demo1"}})");
+  EXPECT_EQ(ReadScenario(dir).sibernetic_configuration, "configuration/demo1");
 }
 
 Scenario TinyScenario(const fs::path& dir) {

@@ -147,6 +147,45 @@ TEST(BackendsCli, TheStoresDemosAreJudgedByTheirSiberneticManifests) {
   EXPECT_EQ(one_percent.exit_code, 0) << one_percent.out << one_percent.err;
 }
 
+// A store's run of a demo under a folder name of its own (demo1_1s, a 1 s run of
+// configuration/demo1) is judged as that demo: meta.json's configuration.repo_path names the
+// repository file, and the Sibernetic manifest naming the same file applies. Judged by folder name
+// alone, it fell to particle 0 and DD001's defaults. A meta.json whose "configuration" is only a
+// description keeps that fallback.
+TEST(BackendsCli, AStoresDemoUnderAnotherNameIsJudgedByItsConfigurationsManifest) {
+  if (ReferenceMissing(kReference / "test_gravity" / "configuration")) GTEST_SKIP();
+  const fs::path store = Scratch() / "renamed_store";
+  fs::remove_all(store);
+  for (const char* folder : {"gravity_again", "gravity_described"}) {
+    fs::create_directories(store / folder);
+    for (const char* name : {"meta.json", "configuration", "position_buffer.txt"})
+      fs::copy_file(kReference / "test_gravity" / name, store / folder / name);
+  }
+  nlohmann::json meta = nlohmann::json::parse(std::ifstream(kReference / "test_gravity/meta.json"));
+  ASSERT_EQ(meta["configuration"]["repo_path"], "configuration/test/one/test_gravity");
+  meta["configuration"] = "the repository's test_gravity, described in words only";
+  fs::remove(store / "gravity_described" / "meta.json");
+  std::ofstream(store / "gravity_described" / "meta.json") << meta.dump(1);
+  const std::string heavier =
+      R"(, "renamed": {"store": ")" + store.string() + R"("}, "heavier": {"command": ")" +
+      std::string(OWVAL_EXE) +
+      R"( --quiet run {config} --time {time} --log-step {log_step} --out {out} --no-fields --set gravity_y=-10.0", "output": "{out}/trajectory.h5", "layout": "hdf5"})";
+  const fs::path file = BackendsFile("renamed_demo", heavier);
+  const Result r = Owval("compare renamed heavier --json" + Flags(file));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const auto scenarios = nlohmann::json::parse(r.out)["scenarios"];
+  ASSERT_EQ(scenarios.size(), 2u) << r.out;
+  const auto& again = scenarios[0]["report"];
+  EXPECT_EQ(scenarios[0]["scenario"], "gravity_again");
+  EXPECT_EQ(again["subject"], "liquid centroid y");
+  const nlohmann::json* frames = GateNamed(again, "frames");
+  ASSERT_NE(frames, nullptr) << again["gates"];
+  EXPECT_EQ((*frames)["status"], "FAIL") << *frames;
+  EXPECT_EQ((*frames)["threshold_source"], "manifest") << *frames;
+  EXPECT_EQ(scenarios[1]["scenario"], "gravity_described");
+  EXPECT_EQ(scenarios[1]["report"]["subject"], "particle 0 y");
+}
+
 TEST(BackendsCli, FailingCommandIsExit2WithStderrTailAndEmptyCache) {
   if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
   const fs::path file =

@@ -25,4 +25,10 @@ std::vector<Scenario> SiberneticScenarios(const std::filesystem::path& checkout,
                                           const std::filesystem::path& manifests,
                                           const std::vector<std::string>& names);
 
+// The manifest in `manifests` (sorted by name, the first) whose sibernetic.configuration is
+// `repository_path`, or "" when none is: how a store's run of a demo under another folder name
+// (demo1_1s, whose meta.json names configuration/demo1) finds its track and gates.
+std::filesystem::path SiberneticManifestOf(const std::filesystem::path& manifests,
+                                           const std::string& repository_path);
+
 }  // namespace owval::backends

@@ -2,7 +2,9 @@
 // Parity of two backends over a set of scenarios (owval compare A B with names): each scenario
 // is run or fetched on both sides (runner.hpp) and compared by compare::CompareTrajectories with
 // the scenario's manifest (manifest.json in the scenario folder, else the first NAME.json in
-// manifest_directories: track and gates) or, without one, particle 0's y and the default gates.
+// manifest_directories, else the first Sibernetic manifest there naming the folder's
+// configuration.repo_path: track and gates) or, without one, particle 0's y and the default
+// gates.
 #include <filesystem>
 #include <functional>
 #include <map>
