@@ -83,9 +83,9 @@ fs::path SiberneticManifestOf(const fs::path& manifests, const std::string& repo
   std::sort(files.begin(), files.end());
   for (const fs::path& file : files) {
     const nlohmann::json m = ReadJsonFile(file);  // owval's own scenes have no "sibernetic"
-    if (m.is_object() && m.contains("sibernetic") && m["sibernetic"].is_object() &&
-        m["sibernetic"].value("configuration", "") == repository_path)
-      return file;
+    if (!m.is_object() || !m.contains("sibernetic") || !m["sibernetic"].is_object()) continue;
+    const nlohmann::json& run = m["sibernetic"];
+    if (run.contains("configuration") && run["configuration"] == repository_path) return file;
   }
   return {};
 }
