@@ -31,7 +31,10 @@ void RunCompare(CompareArgs& a) {
   r.reading.quiet = QuietMode();
   if (!QuietMode())
     r.on_progress = [](const std::string& s) { std::fprintf(stderr, "compare: %s\n", s.c_str()); };
-  PrintReport(backends::CompareNamed(r), a.json, &backends::CompareOutcome::ToTable);
+  const backends::CompareOutcome outcome = backends::CompareNamed(r);
+  for (const std::string& note : outcome.notes)  // as render's: --quiet silences progress only
+    std::fprintf(stderr, "owval: note: %s\n", note.c_str());
+  PrintReport(outcome, a.json, &backends::CompareOutcome::ToTable);
 }
 
 void SetUpCompare(CLI::App& app) {

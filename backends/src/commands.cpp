@@ -3,6 +3,7 @@
 #include "owval/base/atomic_output.hpp"
 #include "owval/base/errors.hpp"
 #include "owval/base/index_list.hpp"
+#include "owval/base/one_line.hpp"
 #include "owval/scenarios/scenario.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -100,6 +101,30 @@ SuiteReport CompareBackendNames(const CompareRequest& r) {
   return CompareBackends(reference, candidate, options, RunCache(r.backends.cache));
 }
 
+// Two files without --manifest, the reference a store folder's recorded run (meta.json beside
+// it): `compare` by backend names judges that run by its scenario's manifest, these files by
+// DD001's defaults on particle 0, and owval with gravity 4% off passed test_gravity so. Said,
+// not applied: the file form's judgement stays what its flags say. "" when there is nothing to
+// say (a meta.json that cannot be read is not this command's input).
+std::string StoreManifestNote(const CompareRequest& r) {
+  std::error_code ec;  // absolute: "position_buffer.txt" in the folder itself has a folder name
+  const fs::path directory = fs::absolute(r.reference, ec).lexically_normal().parent_path();
+  if (!r.manifest.empty() || !fs::is_regular_file(directory / "meta.json", ec) ||
+      !fs::equivalent(RecordedTrajectory(directory), r.reference, ec))
+    return "";
+  try {
+    const fs::path manifest =
+        ScenarioManifest(ReadScenario(directory), StoreManifestDirectories(r.scenarios.data_dir));
+    if (manifest.empty()) return "";
+    return OneLine("the reference is the store's run of " + directory.filename().string() +
+                   ", which `compare` by backend names judges by its manifest's track and gates: "
+                   "add --manifest " +
+                   manifest.string() + " to judge these files so");
+  } catch (const InputError&) {
+    return "";
+  }
+}
+
 }  // namespace
 
 std::map<std::string, std::string> ParseSets(const std::vector<std::string>& sets) {
@@ -144,6 +169,7 @@ CompareOutcome CompareNamed(const CompareRequest& r) {
     const auto candidate = OpenFrameSource(r.candidate, r.reading);
     RequireComparableFiles(r, *reference, *candidate);
     outcome.files = compare::CompareFrameSources(*reference, *candidate, options);
+    if (const std::string note = StoreManifestNote(r); !note.empty()) outcome.notes.push_back(note);
   }
   if (!r.markdown.empty()) WriteFileAtomically(r.markdown, outcome.ToMarkdown());
   return outcome;

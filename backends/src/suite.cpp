@@ -17,23 +17,8 @@ compare::ParityOptions OptionsFor(const Scenario& s,
                                   const std::vector<fs::path>& manifest_directories) {
   compare::ParityOptions o;
   o.track = Track{};  // particle 0, y
-  std::error_code ec;
-  if (const fs::path own = s.directory / "manifest.json"; fs::is_regular_file(own, ec)) {
-    scenarios::ApplyManifestFile(own, &o);
-    return o;
-  }
-  for (const fs::path& directory : manifest_directories)
-    if (const fs::path named = directory / (s.name + ".json"); fs::is_regular_file(named, ec)) {
-      scenarios::ApplyManifestFile(named, &o);
-      return o;
-    }
-  if (s.sibernetic_configuration.empty()) return o;
-  for (const fs::path& directory : manifest_directories)
-    if (const fs::path same = SiberneticManifestOf(directory, s.sibernetic_configuration);
-        !same.empty()) {
-      scenarios::ApplyManifestFile(same, &o);
-      break;
-    }
+  if (const fs::path manifest = ScenarioManifest(s, manifest_directories); !manifest.empty())
+    scenarios::ApplyManifestFile(manifest, &o);
   return o;
 }
 
@@ -46,6 +31,20 @@ std::string Fixed(const char* format, double value) {
 }
 
 }  // namespace
+
+fs::path ScenarioManifest(const Scenario& s, const std::vector<fs::path>& manifest_directories) {
+  std::error_code ec;
+  if (const fs::path own = s.directory / "manifest.json"; fs::is_regular_file(own, ec)) return own;
+  for (const fs::path& directory : manifest_directories)
+    if (const fs::path named = directory / (s.name + ".json"); fs::is_regular_file(named, ec))
+      return named;
+  if (s.sibernetic_configuration.empty()) return {};
+  for (const fs::path& directory : manifest_directories)
+    if (const fs::path same = SiberneticManifestOf(directory, s.sibernetic_configuration);
+        !same.empty())
+      return same;
+  return {};
+}
 
 bool SuiteReport::pass() const {
   for (const ScenarioParity& s : scenarios)
@@ -149,6 +148,10 @@ std::filesystem::path DefaultScenarioRoot(const Backend& a, const Backend& b,
   return fallback;
 }
 
+std::vector<std::filesystem::path> StoreManifestDirectories(const std::filesystem::path& data_dir) {
+  return {data_dir / "scenarios" / "sibernetic", data_dir / "scenarios" / "manifests"};
+}
+
 void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection& selection,
                      SuiteOptions* options) {
   const std::filesystem::path checkout = SiberneticCheckout(selection.sibernetic);
@@ -161,7 +164,7 @@ void SelectScenarios(const Backend& a, const Backend& b, const ScenarioSelection
                                            ? DefaultScenarioRoot(a, b, selection.shared_reference)
                                            : selection.reference_dir;
     options->scenarios = FindScenarios(root, selection.names);
-    options->manifest_directories = {demos, selection.data_dir / "scenarios" / "manifests"};
+    options->manifest_directories = StoreManifestDirectories(selection.data_dir);
   }
   if (options->scenarios.empty())
     throw InputError("no scenario with a configuration to compare on");

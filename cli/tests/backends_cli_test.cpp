@@ -186,6 +186,34 @@ TEST(BackendsCli, AStoresDemoUnderAnotherNameIsJudgedByItsConfigurationsManifest
   EXPECT_EQ(scenarios[1]["report"]["subject"], "particle 0 y");
 }
 
+// Two files, the reference a store folder's recorded run: the file form judges by its flags
+// (DD001's defaults on particle 0 here, which owval with gravity 4% off passed on test_gravity),
+// and says which manifest the named form judges that run by (under --quiet too, as render's
+// notes: it is not progress). Not with --manifest, not for a copy of the file outside the store.
+TEST(BackendsCli, TwoFilesFromTheStoreNameTheManifestTheNamedFormUses) {
+  if (ReferenceMissing(kReference / "test_gravity" / "position_buffer.txt")) GTEST_SKIP();
+  const std::string reference = (kReference / "test_gravity" / "position_buffer.txt").string();
+  const std::string manifest =
+      (fs::path(OWVAL_SOURCE_DIR) / "scenarios/sibernetic/test_gravity.json").string();
+  const Result plain = Owval("compare " + reference + " " + reference);
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(plain.err.find("owval: note: the reference is the store's run of test_gravity"),
+            std::string::npos)
+      << plain.err;
+  EXPECT_NE(plain.err.find("add --manifest " + manifest + " to judge"), std::string::npos)
+      << plain.err;
+  EXPECT_EQ(Count(plain.err, "\n"), 1u) << plain.err;  // one line
+  const Result given = Owval("compare " + reference + " " + reference + " --manifest " + manifest);
+  EXPECT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_EQ(given.err.find("note:"), std::string::npos) << given.err;
+  const fs::path copy = Scratch() / "outside_the_store.txt";
+  fs::remove(copy);
+  fs::copy_file(reference, copy);
+  const Result outside = Owval("compare " + copy.string() + " " + reference);
+  EXPECT_EQ(outside.exit_code, 0) << outside.err;
+  EXPECT_EQ(outside.err.find("note:"), std::string::npos) << outside.err;
+}
+
 TEST(BackendsCli, FailingCommandIsExit2WithStderrTailAndEmptyCache) {
   if (ReferenceMissing(kReference / "one_sprig" / "configuration")) GTEST_SKIP();
   const fs::path file =

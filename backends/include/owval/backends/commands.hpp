@@ -51,6 +51,10 @@ struct CompareRequest {
 struct CompareOutcome {
   std::optional<compare::ParityReport> files;  // two trajectory files
   std::optional<SuiteReport> suite;            // two backend names
+  // What the caller should know that the report does not say (one printable line each): two
+  // files whose reference is a store folder's run judged without the manifest the named form
+  // judges that run by.
+  std::vector<std::string> notes;
   bool pass() const;
   nlohmann::json ToJson() const;
   std::string ToTable() const;

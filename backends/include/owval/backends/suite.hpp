@@ -47,6 +47,10 @@ struct SuiteReport {
   nlohmann::json ToJson() const;
 };
 
+// The manifest `s` is judged by (the order above), or "" when none applies.
+std::filesystem::path ScenarioManifest(
+    const Scenario& s, const std::vector<std::filesystem::path>& manifest_directories);
+
 // A is the reference side. InputError for bad input (backend failure, unreadable runs).
 SuiteReport CompareBackends(const Backend& a, const Backend& b, const SuiteOptions& options,
                             const RunCache& cache);
@@ -68,6 +72,10 @@ struct ScenarioSelection {
   std::filesystem::path shared_reference;  // DefaultScenarioRoot's fallback
   std::filesystem::path data_dir;  // owval's data: scenarios/manifests, scenarios/sibernetic
 };
+
+// Where a store's scenarios find their manifests: data_dir's scenarios/sibernetic (Sibernetic's
+// demos), then scenarios/manifests (owval's own scenes).
+std::vector<std::filesystem::path> StoreManifestDirectories(const std::filesystem::path& data_dir);
 
 // Sets options->scenarios and manifest_directories: Sibernetic's demos from a checkout when there
 // is one and no reference_dir was given, else the scenario folders. InputError when none is found.
