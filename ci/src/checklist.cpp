@@ -21,6 +21,7 @@
 #include "owval/engine/constants.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/predict/predict.hpp"
+#include "owval/render/video_check.hpp"
 #include "owval/sgd/fit_record.hpp"
 #include "owval/trajectory/formats.hpp"
 #include "owval/trajectory/frame_source.hpp"
@@ -195,6 +196,19 @@ bool VideoFramesFitTheRuns(const Evidence& e, const VideoInfo& v, std::string* d
   return false;
 }
 
+// The video's pixels against the directory's two runs: its frames drawn again with the options
+// its render record names (render/video_check.hpp). Codec, shape and frame count say nothing of
+// what it shows: a video of the reference twice, or of another scenario, passed them.
+void ShowsTheRuns(Evidence& e, ChecklistItem* item) {
+  if (!e.reference || !e.candidate) return;
+  render::SideBySideCheckOptions options;
+  options.quiet = QuietMode();
+  const render::SideBySideCheck shows =
+      render::CheckSideBySide(e.dir / "sxs.mp4", *e.reference, *e.candidate, options);
+  item->pass = shows.pass;
+  item->detail += "; " + shows.detail;
+}
+
 void CheckVideo(Evidence& e, ChecklistItem* item) {
   const VideoInfo v = ProbeVideo(e.dir / "sxs.mp4");
   std::ostringstream s;
@@ -206,6 +220,7 @@ void CheckVideo(Evidence& e, ChecklistItem* item) {
   if (v.codec != "h264") s << " (expected h264)";
   item->detail = s.str();
   item->pass = two_panels && v.codec == "h264" && VideoFramesFitTheRuns(e, v, &item->detail);
+  if (item->pass) ShowsTheRuns(e, item);
 }
 
 std::size_t DecodedPngs(const fs::path& frames_dir) {
@@ -990,6 +1005,8 @@ ChecklistItem Evaluate(Evidence& e, const ItemSpec& spec) {
   }
   try {
     spec.check(e, &item);
+  } catch (const EnvironmentError&) {
+    throw;  // the machine's failure (no OSMesa), not the item's: exit 3
   } catch (const std::exception& ex) {
     item.pass = false;
     item.detail = ex.what();

@@ -276,6 +276,24 @@ TEST_F(Checklist, Item4FailsOnADamagedVideo) {
   EXPECT_EQ(r.err, "");  // libavcodec's own complaints stay out of owval's output
 }
 
+// A video made before the candidate changed: the ready directory's sxs.mp4 shows the pipeline's
+// candidate, and candidate.h5 is now another run (round 7's "rendered reference against
+// reference" was ready: codec, shape and frame count say nothing of what a video shows). Its
+// frames, drawn again from the directory's runs with the options recorded in it, differ.
+TEST_F(Checklist, Item4FailsOnAVideoOfOtherRuns) {
+  const fs::path d = Copy("item4_other_runs");
+  ASSERT_NO_FATAL_FAILURE(ReplaceWithRun(d, kFailingCandidate, {"candidate.h5"}));
+  const auto j = Judge(d, 1, "--scenario one_sprig");
+  EXPECT_FALSE(ItemPasses(j, 4));
+  const std::string detail = j["items"][3]["detail"].get<std::string>();
+  EXPECT_NE(detail.find("does not show these two runs"), std::string::npos) << detail;
+  // The ready directory's own video shows its runs.
+  const auto ready = Judge(Copy("item4_ready"), 0, "--scenario one_sprig");
+  EXPECT_TRUE(ItemPasses(ready, 4)) << ready["items"][3].dump();
+  EXPECT_NE(ready["items"][3]["detail"].get<std::string>().find("drawn again from the two runs"),
+            std::string::npos);
+}
+
 TEST_F(Checklist, Item5FailsWhenAListedImageIsMissing) {
   const fs::path d = Copy("item5_missing_image");
   const nlohmann::json frames = nlohmann::json::parse(Slurp(d / "frames/frames.json"));

@@ -23,7 +23,7 @@ void Check(int status, const std::string& path, const char* what) {
 }  // namespace
 
 Mp4Writer::Mp4Writer(const std::string& file, int width, int height, int fps,
-                     const std::string& shown)
+                     const std::string& shown, const std::string& comment)
     : path_(shown.empty() ? file : shown), width_(width), height_(height) {
   const std::string& path = path_;  // the name in messages
   if (width % 2 || height % 2)
@@ -59,6 +59,8 @@ Mp4Writer::Mp4Writer(const std::string& file, int width, int height, int fps,
   Check(avcodec_open2(codec_, encoder, nullptr), path, "cannot open the H.264 encoder");
   Check(avcodec_parameters_from_context(stream_->codecpar, codec_), path, "codec parameters");
   stream_->time_base = codec_->time_base;
+  if (!comment.empty())
+    Check(av_dict_set(&format_->metadata, "comment", comment.c_str(), 0), path, "metadata");
   Check(avio_open(&format_->pb, file.c_str(), AVIO_FLAG_WRITE), path, "cannot open for writing");
   Check(avformat_write_header(format_, nullptr), path, "cannot write the MP4 header");
   frame_ = av_frame_alloc();

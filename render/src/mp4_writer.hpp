@@ -16,7 +16,9 @@ namespace owval::render::internal {
 class Mp4Writer {
  public:
   // Writes `path`; errors name `shown` (the user's destination of a temporary), else `path`.
-  Mp4Writer(const std::string& path, int width, int height, int fps, const std::string& shown = "");
+  // `comment`, when not empty, is the container's "comment" metadata (what made the video).
+  Mp4Writer(const std::string& path, int width, int height, int fps, const std::string& shown = "",
+            const std::string& comment = "");
   ~Mp4Writer();
   Mp4Writer(const Mp4Writer&) = delete;
   Mp4Writer& operator=(const Mp4Writer&) = delete;

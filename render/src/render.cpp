@@ -18,6 +18,8 @@
 #include "owval/base/errors.hpp"
 #include "owval/base/one_line.hpp"
 #include "owval/base/progress.hpp"
+#include "owval/render/video_check.hpp"
+#include "side_by_side.hpp"
 #include "text.hpp"
 #include "worm_camera.hpp"
 
@@ -276,15 +278,6 @@ void Title(internal::TextPainter& text, std::vector<unsigned char>& rgba, const 
   if (!o.title.empty()) text.Draw(rgba, o.width, o.height, 12, 28, o.title, 18, kTextColour);
 }
 
-// Evenly spaced indices into [0, n), at most `cap` of them (0: all).
-std::vector<std::size_t> Sample(std::size_t n, std::size_t cap) {
-  std::vector<std::size_t> out;
-  const std::size_t count = cap == 0 || cap >= n ? n : cap;
-  for (std::size_t k = 0; k < count; ++k)
-    out.push_back(count == n ? k : k * (n - 1) / std::max<std::size_t>(1, count - 1));
-  return out;
-}
-
 void WritePng(const std::filesystem::path& path, const std::vector<unsigned char>& rgba, int width,
               int height) {
   AtomicOutput out(path);
@@ -321,8 +314,12 @@ namespace {
 class Video {
  public:
   // path: the temporary written; shown: the destination, named in errors.
-  Video(std::string path, const RenderOptions& o, std::string shown)
-      : path_(std::move(path)), shown_(std::move(shown)), options_(o) {}
+  // comment: the MP4's "comment" metadata ("" for none).
+  Video(std::string path, const RenderOptions& o, std::string shown, std::string comment = "")
+      : path_(std::move(path)),
+        shown_(std::move(shown)),
+        comment_(std::move(comment)),
+        options_(o) {}
   void Add(const std::vector<unsigned char>& rgba) {
     Open();
     writer_->AddFrame(rgba);
@@ -338,9 +335,9 @@ class Video {
   void Open() {
     if (writer_) return;
     internal::ReleaseLibraryCode("libLLVM");
-    writer_.emplace(path_, options_.width, options_.height, options_.fps, shown_);
+    writer_.emplace(path_, options_.width, options_.height, options_.fps, shown_, comment_);
   }
-  std::string path_, shown_;
+  std::string path_, shown_, comment_;
   RenderOptions options_;
   std::optional<internal::Mp4Writer> writer_;
 };
@@ -383,6 +380,48 @@ class SideBySideFrame {
 };
 
 }  // namespace
+
+namespace internal {
+
+std::vector<std::size_t> SampleEvenly(std::size_t n, std::size_t cap) {
+  std::vector<std::size_t> out;
+  const std::size_t count = cap == 0 || cap >= n ? n : cap;
+  for (std::size_t k = 0; k < count; ++k)
+    out.push_back(count == n ? k : k * (n - 1) / std::max<std::size_t>(1, count - 1));
+  return out;
+}
+
+struct SideBySideFrames::State {
+  FrameSource &refs, &cands;
+  RenderOptions options;
+  std::vector<std::pair<std::size_t, std::size_t>> sampled;  // (reference, candidate) frames
+  std::optional<SideBySideFrame> compose;
+};
+
+SideBySideFrames::SideBySideFrames(FrameSource& refs, FrameSource& cands, const RenderOptions& o)
+    : state_(new State{refs, cands, o, {}, std::nullopt}) {
+  // Frames paired by the one rule every comparison uses: only moments both runs recorded.
+  const auto pairs = PairFramesByTime(refs.header(), cands.header());
+  if (pairs.empty())
+    throw InputError("the two trajectories share no frame time to show side by side");
+  for (std::size_t k : SampleEvenly(pairs.size(), o.max_frames))
+    state_->sampled.push_back(pairs[k]);
+  state_->compose.emplace(refs.Frame(0), o);
+}
+
+SideBySideFrames::~SideBySideFrames() = default;
+
+std::size_t SideBySideFrames::size() const { return state_->sampled.size(); }
+
+const std::vector<unsigned char>& SideBySideFrames::Draw(std::size_t k) {
+  const auto [fr, fc] = state_->sampled.at(k);
+  const FrameRef ref = state_->refs.Frame(fr);
+  auto& rgba = state_->compose->Compose(ref, state_->cands.Frame(fc));
+  Title(state_->compose->text(), rgba, state_->options);
+  return rgba;
+}
+
+}  // namespace internal
 
 BoundaryMode ParseBoundaryMode(const std::string& name) {
   if (name == "hidden") return BoundaryMode::kHidden;
@@ -473,7 +512,7 @@ VideoSummary RenderVideo(FrameSource& frames, const RenderOptions& o,
   const std::string producer =
       t.provenance.count("producer") ? t.provenance.at("producer") : "trajectory";
   Video video(out.temporary_path().string(), o, out_mp4.string());
-  const auto sampled = Sample(t.frame_count(), o.max_frames);
+  const auto sampled = internal::SampleEvenly(t.frame_count(), o.max_frames);
   Progress progress("render", sampled.size(), o.quiet);
   for (std::size_t k = 0; k < sampled.size(); ++k) {
     const FrameRef f = frames.Frame(sampled[k]);  // one frame in memory at a time
@@ -514,20 +553,15 @@ VideoSummary RenderSideBySide(FrameSource& refs, FrameSource& cands, const Rende
                             Format("%g s", ref.time_step_s) + " x " + std::to_string(ref.log_step) +
                             ", candidate " + Format("%g s", cand.time_step_s) + " x " +
                             std::to_string(cand.log_step) + "): panels paired by simulation time");
-  // Frames paired by the one rule every comparison uses: only moments both runs recorded.
-  const auto pairs = PairFramesByTime(ref, cand);
-  if (pairs.empty())
-    throw InputError("the two trajectories share no frame time to show side by side");
-  std::vector<std::pair<std::size_t, std::size_t>> sampled;
-  for (std::size_t k : Sample(pairs.size(), o.max_frames)) sampled.push_back(pairs[k]);
+  internal::SideBySideFrames frames(refs, cands, o);
   AtomicOutput out(out_mp4);
-  SideBySideFrame compose(refs.Frame(0), o);
-  Video video(out.temporary_path().string(), o, out_mp4.string());
-  Progress progress("render sxs", sampled.size(), o.quiet);
-  for (std::size_t k = 0; k < sampled.size(); ++k) {
-    auto& rgba = compose.Compose(refs.Frame(sampled[k].first), cands.Frame(sampled[k].second));
-    Title(compose.text(), rgba, o);
-    video.Add(rgba);
+  // The options that decide the pixels go into the file, so that the checklist can draw the
+  // frames again and see that the video shows its directory's two runs (CheckSideBySide).
+  Video video(out.temporary_path().string(), o, out_mp4.string(),
+              kSideBySideRecordPrefix + SideBySideRecord(o).dump());
+  Progress progress("render sxs", frames.size(), o.quiet);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    video.Add(frames.Draw(k));
     progress.Update(k + 1);
   }
   summary.frames = video.Finish();

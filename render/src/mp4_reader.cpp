@@ -1,0 +1,82 @@
+#include "mp4_reader.hpp"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libswscale/swscale.h>
+}
+
+#include "owval/base/errors.hpp"
+
+namespace owval::render::internal {
+
+Mp4Reader::Mp4Reader(const std::string& path) : path_(path) {
+  if (avformat_open_input(&format_, path.c_str(), nullptr, nullptr) < 0)
+    throw InputError(path, 0, "cannot open as a video (missing or not a media file)");
+  if (avformat_find_stream_info(format_, nullptr) < 0)
+    throw InputError(path, 0, "no stream information");
+  stream_ = av_find_best_stream(format_, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  if (stream_ < 0) throw InputError(path, 0, "no video stream");
+  const AVCodecParameters* par = format_->streams[stream_]->codecpar;
+  const AVCodec* decoder = avcodec_find_decoder(par->codec_id);
+  if (!decoder) throw InputError(path, 0, "no decoder for its codec");
+  codec_ = avcodec_alloc_context3(decoder);
+  if (!codec_ || avcodec_parameters_to_context(codec_, par) < 0 ||
+      avcodec_open2(codec_, decoder, nullptr) < 0)
+    throw InputError(path, 0, "cannot open the decoder");
+  width_ = par->width;
+  height_ = par->height;
+  frame_ = av_frame_alloc();
+  packet_ = av_packet_alloc();
+}
+
+Mp4Reader::~Mp4Reader() {
+  sws_freeContext(sws_);
+  av_packet_free(&packet_);
+  av_frame_free(&frame_);
+  avcodec_free_context(&codec_);
+  avformat_close_input(&format_);
+}
+
+std::string Mp4Reader::Metadata(const char* key) const {
+  const AVDictionaryEntry* entry = av_dict_get(format_->metadata, key, nullptr, 0);
+  return entry ? entry->value : "";
+}
+
+bool Mp4Reader::Feed() {
+  while (av_read_frame(format_, packet_) >= 0) {
+    const bool ours = packet_->stream_index == stream_;
+    const int status = ours ? avcodec_send_packet(codec_, packet_) : 0;
+    av_packet_unref(packet_);
+    if (status < 0) throw InputError(path_, 0, "a packet does not decode");
+    if (ours) return true;
+  }
+  avcodec_send_packet(codec_, nullptr);  // the end: the decoder gives out what it holds
+  flushed_ = true;
+  return false;
+}
+
+bool Mp4Reader::Next(std::vector<unsigned char>* rgba) {
+  while (true) {
+    const int status = avcodec_receive_frame(codec_, frame_);
+    if (status == AVERROR_EOF) return false;
+    if (status == AVERROR(EAGAIN)) {
+      if (flushed_) return false;
+      Feed();
+      continue;
+    }
+    if (status < 0) throw InputError(path_, 0, "a frame does not decode");
+    if (frame_->width != width_ || frame_->height != height_)
+      throw InputError(path_, 0, "a frame's size differs from the stream's");
+    sws_ = sws_getCachedContext(sws_, width_, height_, AVPixelFormat(frame_->format), width_,
+                                height_, AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
+    if (!sws_) throw InputError(path_, 0, "its pixel format cannot be converted to RGBA");
+    rgba->resize(std::size_t(width_) * height_ * 4);
+    uint8_t* target[1] = {rgba->data()};
+    const int stride[1] = {4 * width_};
+    sws_scale(sws_, frame_->data, frame_->linesize, 0, height_, target, stride);
+    return true;
+  }
+}
+
+}  // namespace owval::render::internal
