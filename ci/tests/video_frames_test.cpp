@@ -60,7 +60,7 @@ TEST(VideoFrames, AOneFrameVideoOfTwoRunsFails) {
 }
 
 TEST(VideoFrames, OwvalsVideoOfTheTwoRunsPasses) {
-  const ChecklistItem i = ItemFour({.frames = 5, .encoder = "owval"});
+  const ChecklistItem i = ItemFour({.frames = 5, .size = "640x320", .encoder = "owval"});
   EXPECT_TRUE(i.pass) << i.detail;
   EXPECT_NE(i.detail.find("5 frames decoded"), std::string::npos) << i.detail;
   EXPECT_NE(i.detail.find("5 frames drawn again from the two runs"), std::string::npos) << i.detail;
@@ -99,7 +99,7 @@ TEST(VideoFrames, AVideoWithMoreFramesThanTheRunsPairFails) {
   const ChecklistItem longer = ItemFour({.frames = 5}, run);
   EXPECT_FALSE(longer.pass) << longer.detail;
   EXPECT_NE(longer.detail.find("expected 2 to 4 frames"), std::string::npos) << longer.detail;
-  const ChecklistItem same = ItemFour({.frames = 4, .encoder = "owval"}, run);
+  const ChecklistItem same = ItemFour({.frames = 4, .size = "640x320", .encoder = "owval"}, run);
   EXPECT_TRUE(same.pass) << same.detail;
 }
 
@@ -122,7 +122,7 @@ TEST(VideoFrames, ASinglePanelWiderThanHighFails) {
   EXPECT_FALSE(four_by_three.pass) << four_by_three.detail;
   EXPECT_NE(four_by_three.detail.find("not two panels wide"), std::string::npos)
       << four_by_three.detail;
-  const ChecklistItem three_by_two = ItemFour({.size = "240x160", .encoder = "owval"});
+  const ChecklistItem three_by_two = ItemFour({.size = "480x320", .encoder = "owval"});
   EXPECT_TRUE(three_by_two.pass) << three_by_two.detail;
 }
 

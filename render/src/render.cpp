@@ -421,6 +421,23 @@ const std::vector<unsigned char>& SideBySideFrames::Draw(std::size_t k) {
   return rgba;
 }
 
+const std::vector<unsigned char>& SideBySideFrames::DrawCandidateMoved(std::size_t k, Axis axis,
+                                                                       float distance_cu) {
+  const auto [fr, fc] = state_->sampled.at(k);
+  const FrameRef cand = state_->cands.Frame(fc);
+  Trajectory moved;
+  moved.box = cand.trajectory.box;
+  moved.type = cand.trajectory.type;
+  moved.AppendFrame(cand.trajectory.time_s[cand.frame], cand.trajectory.position(cand.frame, 0));
+  for (std::size_t p = 0; p < moved.particle_count(); ++p)
+    if (KindOf(moved.type[p]) != ParticleKind::kBoundary)
+      moved.position(0, p)[int(axis)] += distance_cu;
+  const FrameRef ref = state_->refs.Frame(fr);
+  auto& rgba = state_->compose->Compose(ref, FrameRef{moved, 0});
+  Title(state_->compose->text(), rgba, state_->options);
+  return rgba;
+}
+
 }  // namespace internal
 
 BoundaryMode ParseBoundaryMode(const std::string& name) {

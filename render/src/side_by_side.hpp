@@ -26,6 +26,9 @@ class SideBySideFrames {
   // Video frame k (RGBA, top row first), valid until the next call; increasing k is the cheap
   // direction through the sources.
   const std::vector<unsigned char>& Draw(std::size_t k);
+  // The same frame with every moving particle of the candidate moved `distance_cu` along `axis`
+  // (what a video that shows the candidate must show moved).
+  const std::vector<unsigned char>& DrawCandidateMoved(std::size_t k, Axis axis, float distance_cu);
 
  private:
   struct State;

@@ -14,7 +14,7 @@ namespace owval::render {
 namespace {
 
 constexpr const char* kRecordFormat = "owval render sxs/1";
-constexpr int kBlock = 16;  // pixels a side of the blocks whose mean luma is compared
+constexpr int kBlock = 16;  // pixels a side of the windows whose mean luma is compared
 
 const char* BoundaryModeName(BoundaryMode mode) {
   switch (mode) {
@@ -35,41 +35,66 @@ std::string TextField(const nlohmann::json& record, const char* key, const std::
   return it->get<std::string>();
 }
 
-// The mean luma (ITU-R BT.601 weights) of each kBlock x kBlock block of an RGBA image.
-std::vector<double> BlockLuma(const std::vector<unsigned char>& rgba, int width, int height) {
-  const int columns = (width + kBlock - 1) / kBlock, rows = (height + kBlock - 1) / kBlock;
-  std::vector<double> sum(std::size_t(columns) * rows, 0), count(sum.size(), 0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const unsigned char* p = &rgba[(std::size_t(y) * width + x) * 4];
-      const std::size_t b = std::size_t(y / kBlock) * columns + x / kBlock;
-      sum[b] += 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
-      count[b] += 1;
-    }
-  for (std::size_t b = 0; b < sum.size(); ++b) sum[b] /= count[b];
-  return sum;
+double Luma(const unsigned char* rgba) {
+  return 0.299 * rgba[0] + 0.587 * rgba[1] + 0.114 * rgba[2];
 }
 
+// Where windows of `size` pixels start along a side of `n`: every size / 2 pixels, the last one
+// flush with the edge.
+std::vector<int> WindowStarts(int n, int size) {
+  std::vector<int> starts;
+  for (int s = 0; s + size <= n; s += std::max(1, size / 2)) starts.push_back(s);
+  if (starts.back() + size < n) starts.push_back(n - size);
+  return starts;
+}
+
+// The luma (ITU-R BT.601 weights) of `drawn` minus that of `decoded`, averaged over every
+// kBlock x kBlock window at a stride of half a window (so that a particle up to half a window
+// across lies wholly inside one, wherever it falls): the largest magnitude, in luma levels.
 double WorstBlockDifference(const std::vector<unsigned char>& drawn,
                             const std::vector<unsigned char>& decoded, int width, int height) {
-  const std::vector<double> a = BlockLuma(drawn, width, height),
-                            b = BlockLuma(decoded, width, height);
+  // A summed-area table of the difference: any window's sum from four entries.
+  const std::size_t stride = std::size_t(width) + 1;
+  std::vector<double> sums(stride * (std::size_t(height) + 1), 0);
+  for (int y = 0; y < height; ++y) {
+    double row = 0;
+    for (int x = 0; x < width; ++x) {
+      const std::size_t pixel = (std::size_t(y) * width + x) * 4;
+      row += Luma(&drawn[pixel]) - Luma(&decoded[pixel]);
+      sums[(y + 1) * stride + x + 1] = sums[y * stride + x + 1] + row;
+    }
+  }
+  const int bw = std::min(kBlock, width), bh = std::min(kBlock, height);
   double worst = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  for (int y : WindowStarts(height, bh))
+    for (int x : WindowStarts(width, bw)) {
+      const double sum = sums[(y + bh) * stride + x + bw] - sums[(y + bh) * stride + x] -
+                         sums[y * stride + x + bw] + sums[y * stride + x];
+      worst = std::max(worst, std::abs(sum) / (bw * bh));
+    }
   return worst;
 }
 
-// Why a record cannot show the runs however it is drawn, or "".
-std::string CannotBeRedrawn(const nlohmann::json& record, const RenderOptions& o) {
+// Why a record cannot be drawn again, or "".
+std::string CannotBeRedrawn(const nlohmann::json& record) {
   const double connections = record.value("connections", 0.0);
-  if (connections != 0)
-    return "drawn with " + FormatNumber(connections, 9) +
-           " elastic connections, which the check cannot draw again (render without "
-           "--connections)";
-  // Particles too faint or too small to see would make any two runs look alike.
-  if (o.liquid_opacity < 0.2f) return "its liquid is drawn at opacity below 0.2";
-  if (o.point_size_px != 0 && o.point_size_px < 2) return "its particles are drawn below 2 pixels";
-  return "";
+  if (connections == 0) return "";
+  return "drawn with " + FormatNumber(connections, 9) +
+         " elastic connections, which the check cannot draw again (render without --connections)";
+}
+
+// The largest window difference that moving every moving particle of the candidate by a tenth of
+// the box makes in video frame 0: what a video whose options hide the runs (walls drawn opaque
+// around them, frames a few pixels across, particles too faint) cannot show, whatever the runs.
+// The particles move across the tracked axis, so that the printed tracked value stays the same.
+double CandidateVisibility(internal::SideBySideFrames& frames, const RenderOptions& o,
+                           const Box& box, float* distance_cu) {
+  const Axis tracked = o.tracking ? o.tracking->axis : Axis::kY;
+  const Axis across = tracked == Axis::kX ? Axis::kZ : Axis::kX;
+  *distance_cu = box.extent(int(across)) > 0 ? 0.1f * box.extent(int(across)) : 10.0f;
+  const std::vector<unsigned char> drawn = frames.Draw(0);
+  return WorstBlockDifference(frames.DrawCandidateMoved(0, across, *distance_cu), drawn, o.width,
+                              o.height);
 }
 
 }  // namespace
@@ -142,7 +167,7 @@ SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& r
       comment.substr(std::string(kSideBySideRecordPrefix).size()), where + " render record");
   RenderOptions o = OptionsFromSideBySideRecord(record, where);
   o.quiet = true;
-  if (const std::string why = CannotBeRedrawn(record, o); !why.empty()) {
+  if (const std::string why = CannotBeRedrawn(record); !why.empty()) {
     check.detail = "its render record says it is " + why;
     return check;
   }
@@ -154,6 +179,19 @@ SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& r
   }
   internal::SideBySideFrames frames(reference, candidate, o);
   check.expected_frames = frames.size();
+  float moved_cu = 0;
+  const double visible = CandidateVisibility(frames, o, candidate.header().box, &moved_cu);
+  check.candidate_visibility = visible;
+  if (visible < 2 * options.max_block_difference) {
+    check.detail =
+        "its frames do not show the candidate: drawn with its render record, every "
+        "moving particle of the candidate moved " +
+        FormatNumber(moved_cu, 3) + " cu changes no 16x16 window by more than " +
+        FormatNumber(visible, 3) + " luma levels (at least " +
+        FormatNumber(2 * options.max_block_difference) +
+        " needed: walls drawn over it, or frames too small)";
+    return check;
+  }
   const std::vector<std::size_t> compared =
       internal::SampleEvenly(frames.size(), options.max_frames_compared);
   Progress progress("check sxs.mp4", compared.size(), options.quiet);
@@ -168,13 +206,15 @@ SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& r
     ++check.frames_compared;
     progress.Update(++next);
   }
-  const std::string measured = std::to_string(check.frames_compared) +
-                               " frames drawn again from the two runs with its "
-                               "render record: worst 16x16 block " +
-                               FormatNumber(check.worst_block_difference, 3) +
-                               " luma levels apart (video frame " +
-                               std::to_string(check.worst_frame) + "; at most " +
-                               FormatNumber(options.max_block_difference) + ")";
+  const std::string measured =
+      std::to_string(check.frames_compared) +
+      " frames drawn again from the two runs with its "
+      "render record: worst 16x16 window " +
+      FormatNumber(check.worst_block_difference, 3) + " luma levels apart (video frame " +
+      std::to_string(check.worst_frame) + "; at most " +
+      FormatNumber(options.max_block_difference) + "; the candidate's moving particles moved " +
+      FormatNumber(moved_cu, 3) + " cu would change it by " +
+      FormatNumber(check.candidate_visibility, 3) + ")";
   if (check.video_frames != check.expected_frames) {
     check.detail = std::to_string(check.video_frames) +
                    " frames, where the two runs drawn with "

@@ -9,6 +9,7 @@
 
 #include "owval/base/errors.hpp"
 #include "owval/testing/scratch_directory.hpp"
+#include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::render {
@@ -30,8 +31,8 @@ Trajectory Falling(float y) {
 
 RenderOptions Small() {
   RenderOptions o;
-  o.width = 320;
-  o.height = 160;
+  o.width = 640;
+  o.height = 320;
   o.quiet = true;
   o.title = "falling";
   o.tracking = Track{};
@@ -63,8 +64,8 @@ TEST_F(VideoCheck, AVideoOfTheTwoRunsShowsThem) {
   EXPECT_TRUE(c.recorded);
   EXPECT_EQ(c.video_frames, 12u);
   EXPECT_EQ(c.frames_compared, 12u);
-  // What H.264 (crf 18) leaves between the decoded frames and the frames drawn again (1.48).
-  EXPECT_LT(c.worst_block_difference, 4) << c.detail;
+  // What H.264 (crf 18) leaves between the decoded frames and the frames drawn again (2.69).
+  EXPECT_LT(c.worst_block_difference, 5) << c.detail;
 }
 
 TEST_F(VideoCheck, AVideoOfOtherRunsDoesNot) {
@@ -72,7 +73,7 @@ TEST_F(VideoCheck, AVideoOfOtherRunsDoesNot) {
   const SideBySideCheck c = Check(reference_twice, reference_, candidate_);
   EXPECT_FALSE(c.pass);
   EXPECT_EQ(c.detail.rfind("does not show these two runs", 0), 0u) << c.detail;
-  EXPECT_GT(c.worst_block_difference, 8) << c.detail;  // measured 12.8
+  EXPECT_GT(c.worst_block_difference, 30) << c.detail;  // measured 69.6
   // Nor does the right video checked against runs swapped.
   EXPECT_FALSE(Check(Video(reference_, candidate_), candidate_, reference_).pass);
 }
@@ -111,6 +112,41 @@ TEST_F(VideoCheck, AVideoDrawnWithConnectionsCannotBeRedrawn) {
   const SideBySideCheck c = Check(Video(reference_, candidate_, o), reference_, candidate_);
   EXPECT_FALSE(c.pass);
   EXPECT_NE(c.detail.find("1 elastic connections"), std::string::npos) << c.detail;
+}
+
+// Options under which no run can be told from another: one_sprig's walls enclose its particle, so
+// drawn opaque they hide it; in a 48x32 frame the falling particle is 2 pixels across. Either
+// video would show any two runs alike, so neither is held to be a video of these.
+TEST_F(VideoCheck, AVideoWhoseOptionsHideTheRunsFails) {
+  RenderOptions o = Small();
+  o.max_frames = 3;
+  o.boundary = BoundaryMode::kShown;
+  const fs::path walls = dir_.path() / "walls.mp4";
+  const auto sources = [] {
+    return std::make_pair(OpenFrameSource(owval::testing::kBundledOneSprig),
+                          OpenFrameSource(owval::testing::kBundledOneSprig));
+  };
+  {
+    auto [refs, cands] = sources();
+    RenderSideBySide(*refs, *cands, o, walls);
+  }
+  auto [refs, cands] = sources();
+  SideBySideCheckOptions quiet;
+  quiet.quiet = true;
+  const SideBySideCheck hidden = CheckSideBySide(walls, *refs, *cands, quiet);
+  EXPECT_FALSE(hidden.pass);
+  EXPECT_NE(hidden.detail.find("do not show the candidate"), std::string::npos) << hidden.detail;
+  o.boundary = BoundaryMode::kTranslucent;  // what the pipeline draws
+  const fs::path translucent = dir_.path() / "translucent.mp4";
+  RenderSideBySide(*refs, *cands, o, translucent);
+  const SideBySideCheck shown = CheckSideBySide(translucent, *refs, *cands, quiet);
+  EXPECT_TRUE(shown.pass) << shown.detail;
+
+  RenderOptions tiny = Small();
+  tiny.width = 48, tiny.height = 32;
+  const SideBySideCheck small = Check(Video(reference_, candidate_, tiny), reference_, candidate_);
+  EXPECT_FALSE(small.pass);
+  EXPECT_NE(small.detail.find("do not show the candidate"), std::string::npos) << small.detail;
 }
 
 TEST(SideBySideRecord, RoundTripsEveryOptionThatDecidesThePixels) {

@@ -10,7 +10,9 @@
 //
 // The record is the directory's own and could lie, but it only says how to draw: the frames are
 // drawn from the trajectories the caller names, so a record that names other options than the
-// video was made with fails as surely as a video of other runs.
+// video was made with fails as surely as a video of other runs. Options under which the runs
+// cannot be seen (walls drawn opaque around them, frames a few pixels across) fail too: drawn
+// with them, the candidate's moving particles moved by a tenth of the box must change the frame.
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -33,14 +35,14 @@ RenderOptions OptionsFromSideBySideRecord(const nlohmann::json& record, const st
 
 struct SideBySideCheckOptions {
   // The largest difference allowed between a decoded frame and the frame drawn again: the mean
-  // luma (0-255) of a 16x16-pixel block, worst block. H.264's loss stays far under it (measured
-  // in docs/checklist.md, item 4); a particle of the scenes' size where the other has none moves
-  // its block by tens of levels.
+  // luma (0-255) of a 16x16-pixel window (windows every 8 pixels), worst window. H.264's loss stays
+  // far under it (measured in docs/checklist.md, item 4); a particle of the scenes' size where the
+  // other has none moves its windows by tens of levels.
   double max_block_difference = 8;
   // Video frames compared, evenly spaced, first and last included (0: every frame). Every frame
   // is decoded either way. Drawing a 1280x720 frame again costs about what rendering it did
   // (one_sprig's pipeline directory, 300 frames: its checklist took 2.6 s before this check,
-  // 3.9 s comparing 30 frames, 9.1 s comparing all), and a video of other runs differs wherever
+  // 3.7 s comparing 30 frames, 9.1 s comparing all), and a video of other runs differs wherever
   // the runs do, so a sample suffices.
   std::size_t max_frames_compared = 30;
   bool quiet = false;  // no progress line
@@ -52,9 +54,13 @@ struct SideBySideCheck {
   std::size_t video_frames = 0;     // decoded
   std::size_t expected_frames = 0;  // the two runs drawn with the record's options
   std::size_t frames_compared = 0;
-  double worst_block_difference = 0;  // luma levels
-  std::size_t worst_frame = 0;        // video frame index of the worst block
-  std::string detail;                 // one line: what was compared, or why it fails
+  double worst_block_difference = 0;  // luma levels, mean of a 16x16-pixel window
+  std::size_t worst_frame = 0;        // video frame index of the worst window
+  // Frame 0's worst window when every moving particle of the candidate is moved a tenth of the
+  // box: below twice max_block_difference the video cannot show a candidate that far off, and
+  // the check fails (walls drawn opaque around the particles, frames a few pixels across).
+  double candidate_visibility = 0;
+  std::string detail;  // one line: what was compared, or why it fails
 };
 
 // Reads `mp4` (InputError when it cannot be opened or a frame does not decode) and compares it
