@@ -21,6 +21,7 @@
 #include "owval/engine/constants.hpp"
 #include "owval/kinematics/midline.hpp"
 #include "owval/predict/predict.hpp"
+#include "owval/render/read_back.hpp"
 #include "owval/render/video_check.hpp"
 #include "owval/sgd/fit_record.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -186,7 +187,7 @@ void CheckCandidate(Evidence& e, ChecklistItem* item) {
 // one frame per paired frame (evenly sampled down to --max-frames), so a video of the two runs
 // has at least two frames (one frame is a still) and no more than the runs have paired frames
 // (more is some other video). Without both trajectories there is nothing to hold it to.
-bool VideoFramesFitTheRuns(const Evidence& e, const VideoInfo& v, std::string* detail) {
+bool VideoFramesFitTheRuns(const Evidence& e, const render::VideoInfo& v, std::string* detail) {
   if (!e.reference || !e.candidate) return true;
   const std::size_t paired = PairFramesByTime(e.reference->header(), e.candidate->header()).size();
   if (paired < 2) return true;
@@ -196,21 +197,19 @@ bool VideoFramesFitTheRuns(const Evidence& e, const VideoInfo& v, std::string* d
   return false;
 }
 
-// The video's pixels against the directory's two runs: its frames drawn again with the options
-// its render record names (render/video_check.hpp). Codec, shape and frame count say nothing of
-// what it shows: a video of the reference twice, or of another scenario, passed them.
-void ShowsTheRuns(Evidence& e, ChecklistItem* item) {
-  if (!e.reference || !e.candidate) return;
-  render::SideBySideCheckOptions options;
-  options.quiet = QuietMode();
-  const render::SideBySideCheck shows =
-      render::CheckSideBySide(e.dir / "sxs.mp4", *e.reference, *e.candidate, options);
-  item->pass = shows.pass;
-  item->detail += "; " + shows.detail;
-}
-
+// The video decoded, and with both runs its pixels held to them: its frames drawn again with the
+// options its render record names (render/video_check.hpp), in the same pass. Codec, shape and
+// frame count say nothing of what it shows: a video of the reference twice, or of another
+// scenario, passed them.
 void CheckVideo(Evidence& e, ChecklistItem* item) {
-  const VideoInfo v = ProbeVideo(e.dir / "sxs.mp4");
+  const fs::path mp4 = e.dir / "sxs.mp4";
+  std::optional<render::SideBySideCheck> shows;
+  if (e.reference && e.candidate) {
+    render::SideBySideCheckOptions options;
+    options.quiet = QuietMode();
+    shows = render::CheckSideBySide(mp4, *e.reference, *e.candidate, options);
+  }
+  const render::VideoInfo v = shows ? shows->video : render::ProbeVideo(mp4);
   std::ostringstream s;
   s << v.codec << " " << v.width << "x" << v.height << ", " << v.decoded_frames
     << " frames decoded, " << v.duration_s << " s";
@@ -220,7 +219,10 @@ void CheckVideo(Evidence& e, ChecklistItem* item) {
   if (v.codec != "h264") s << " (expected h264)";
   item->detail = s.str();
   item->pass = two_panels && v.codec == "h264" && VideoFramesFitTheRuns(e, v, &item->detail);
-  if (item->pass) ShowsTheRuns(e, item);
+  if (item->pass && shows) {
+    item->pass = shows->pass;
+    item->detail += "; " + shows->detail;
+  }
 }
 
 std::size_t DecodedPngs(const fs::path& frames_dir) {
@@ -228,7 +230,7 @@ std::size_t DecodedPngs(const fs::path& frames_dir) {
   if (fs::is_directory(frames_dir))
     for (const auto& entry : fs::directory_iterator(frames_dir))
       if (entry.path().extension() == ".png") {
-        ProbePng(entry.path());
+        render::ProbePng(entry.path());
         ++pngs;
       }
   return pngs;

@@ -8,7 +8,8 @@ extern "C" {
 
 #include "owval/base/errors.hpp"
 
-namespace owval::render::internal {
+namespace owval::render {
+namespace internal {
 
 Mp4Reader::Mp4Reader(const std::string& path) : path_(path) {
   if (avformat_open_input(&format_, path.c_str(), nullptr, nullptr) < 0)
@@ -21,9 +22,11 @@ Mp4Reader::Mp4Reader(const std::string& path) : path_(path) {
   const AVCodec* decoder = avcodec_find_decoder(par->codec_id);
   if (!decoder) throw InputError(path, 0, "no decoder for its codec");
   codec_ = avcodec_alloc_context3(decoder);
-  if (!codec_ || avcodec_parameters_to_context(codec_, par) < 0 ||
-      avcodec_open2(codec_, decoder, nullptr) < 0)
-    throw InputError(path, 0, "cannot open the decoder");
+  if (!codec_ || avcodec_parameters_to_context(codec_, par) < 0)
+    throw InputError(path, 0, "cannot open decoder");
+  // A damaged stream is an error, not something to conceal and count as decoded.
+  codec_->err_recognition = AV_EF_CRCCHECK | AV_EF_BITSTREAM | AV_EF_BUFFER | AV_EF_EXPLODE;
+  if (avcodec_open2(codec_, decoder, nullptr) < 0) throw InputError(path, 0, "cannot open decoder");
   width_ = par->width;
   height_ = par->height;
   frame_ = av_frame_alloc();
@@ -44,13 +47,18 @@ std::string Mp4Reader::Metadata(const char* key) const {
 }
 
 bool Mp4Reader::Feed() {
-  while (av_read_frame(format_, packet_) >= 0) {
+  int read = 0;
+  while ((read = av_read_frame(format_, packet_)) >= 0) {
     const bool ours = packet_->stream_index == stream_;
-    const int status = ours ? avcodec_send_packet(codec_, packet_) : 0;
+    if (ours) {
+      ++packets_;
+      // Called only when the decoder has no frame to give, so it takes the packet or refuses it.
+      if (avcodec_send_packet(codec_, packet_) < 0) ++refused_;
+    }
     av_packet_unref(packet_);
-    if (status < 0) throw InputError(path_, 0, "a packet does not decode");
     if (ours) return true;
   }
+  container_ended_early_ = read != AVERROR_EOF;
   avcodec_send_packet(codec_, nullptr);  // the end: the decoder gives out what it holds
   flushed_ = true;
   return false;
@@ -59,24 +67,54 @@ bool Mp4Reader::Feed() {
 bool Mp4Reader::Next(std::vector<unsigned char>* rgba) {
   while (true) {
     const int status = avcodec_receive_frame(codec_, frame_);
-    if (status == AVERROR_EOF) return false;
-    if (status == AVERROR(EAGAIN)) {
-      if (flushed_) return false;
-      Feed();
-      continue;
+    if (status == 0) {
+      ++frames_;
+      if (frame_->decode_error_flags != 0 || (frame_->flags & AV_FRAME_FLAG_CORRUPT) != 0)
+        ++damaged_;
+      if (rgba) ToRgba(rgba);
+      return true;
     }
-    if (status < 0) throw InputError(path_, 0, "a frame does not decode");
-    if (frame_->width != width_ || frame_->height != height_)
-      throw InputError(path_, 0, "a frame's size differs from the stream's");
-    sws_ = sws_getCachedContext(sws_, width_, height_, AVPixelFormat(frame_->format), width_,
-                                height_, AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
-    if (!sws_) throw InputError(path_, 0, "its pixel format cannot be converted to RGBA");
-    rgba->resize(std::size_t(width_) * height_ * 4);
-    uint8_t* target[1] = {rgba->data()};
-    const int stride[1] = {4 * width_};
-    sws_scale(sws_, frame_->data, frame_->linesize, 0, height_, target, stride);
-    return true;
+    if (status == AVERROR_EOF || flushed_) return false;
+    if (status != AVERROR(EAGAIN)) ++damaged_;  // the decoder failed on what it was given
+    Feed();
   }
 }
 
-}  // namespace owval::render::internal
+void Mp4Reader::ToRgba(std::vector<unsigned char>* rgba) {
+  if (frame_->width != width_ || frame_->height != height_)
+    throw InputError(path_, 0, "a frame's size differs from the stream's");
+  sws_ = sws_getCachedContext(sws_, width_, height_, AVPixelFormat(frame_->format), width_, height_,
+                              AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
+  if (!sws_) throw InputError(path_, 0, "its pixel format cannot be converted to RGBA");
+  rgba->resize(std::size_t(width_) * height_ * 4);
+  uint8_t* target[1] = {rgba->data()};
+  const int stride[1] = {4 * width_};
+  sws_scale(sws_, frame_->data, frame_->linesize, 0, height_, target, stride);
+}
+
+VideoInfo Mp4Reader::ReadToEnd() {
+  while (Next(nullptr)) {
+  }
+  if (frames_ == 0) throw InputError(path_, 0, "no frame decodes");
+  if (container_ended_early_) throw InputError(path_, 0, "the container is damaged before its end");
+  if (refused_ > 0 || damaged_ > 0 || frames_ != packets_)
+    throw InputError(path_, 0,
+                     "damaged: " + std::to_string(refused_) + " of " + std::to_string(packets_) +
+                         " packets refused by the decoder, " + std::to_string(damaged_) +
+                         " frames concealed, " + std::to_string(frames_) + " decoded");
+  VideoInfo info;
+  info.codec = avcodec_get_name(format_->streams[stream_]->codecpar->codec_id);
+  info.width = width_;
+  info.height = height_;
+  info.decoded_frames = frames_;
+  if (format_->duration > 0) info.duration_s = double(format_->duration) / AV_TIME_BASE;
+  return info;
+}
+
+}  // namespace internal
+
+VideoInfo ProbeVideo(const std::filesystem::path& path) {
+  return internal::Mp4Reader(path.string()).ReadToEnd();
+}
+
+}  // namespace owval::render

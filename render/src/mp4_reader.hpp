@@ -1,9 +1,12 @@
 #pragma once
-// An MP4's video frames decoded back to RGBA, one at a time (libavformat, libavcodec,
-// libswscale): what CheckSideBySide compares with frames drawn again. Damage is the checklist's
-// ProbeVideo's to find; a frame that does not decode here is an InputError.
+// A video file's frames decoded one at a time (libavformat, libavcodec, libswscale), strictly: a
+// damaged stream is counted, never concealed and passed off as decoded. ProbeVideo reads every
+// frame through it; CheckSideBySide also converts the frames it compares to RGBA, in the same pass.
+#include <cstddef>
 #include <string>
 #include <vector>
+
+#include "owval/render/read_back.hpp"
 
 struct AVFormatContext;
 struct AVCodecContext;
@@ -15,6 +18,7 @@ namespace owval::render::internal {
 
 class Mp4Reader {
  public:
+  // InputError when `path` is missing, not a media file, or has no decodable video stream.
   explicit Mp4Reader(const std::string& path);
   ~Mp4Reader();
   Mp4Reader(const Mp4Reader&) = delete;
@@ -24,15 +28,24 @@ class Mp4Reader {
   std::string Metadata(const char* key) const;
   int width() const { return width_; }
   int height() const { return height_; }
-  // The next frame as RGBA pixels, top row first; false after the last.
+  std::size_t frames_decoded() const { return frames_; }
+
+  // The next frame; unless `rgba` is null, its pixels as RGBA, top row first. False after the
+  // last. A packet the decoder refuses or a frame it conceals is counted, not thrown.
   bool Next(std::vector<unsigned char>* rgba);
+  // Decodes the frames Next has not given out (without converting them) and says what the whole
+  // video held: InputError when no frame decoded, the container ended early, or any packet was
+  // refused or frame concealed (the counts in the message).
+  VideoInfo ReadToEnd();
 
  private:
   bool Feed();  // one more packet of the stream into the decoder; false at the end
+  void ToRgba(std::vector<unsigned char>* rgba);
 
   std::string path_;
   int width_ = 0, height_ = 0, stream_ = -1;
-  bool flushed_ = false;
+  bool flushed_ = false, container_ended_early_ = false;
+  std::size_t packets_ = 0, refused_ = 0, damaged_ = 0, frames_ = 0;
   AVFormatContext* format_ = nullptr;
   AVCodecContext* codec_ = nullptr;
   AVFrame* frame_ = nullptr;

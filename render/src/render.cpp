@@ -447,6 +447,18 @@ BoundaryMode ParseBoundaryMode(const std::string& name) {
   throw InputError("unknown boundary mode '" + name + "': expected hidden, translucent or shown");
 }
 
+const char* BoundaryModeName(BoundaryMode mode) {
+  switch (mode) {
+    case BoundaryMode::kHidden:
+      return "hidden";
+    case BoundaryMode::kTranslucent:
+      return "translucent";
+    case BoundaryMode::kShown:
+      return "shown";
+  }
+  return "hidden";
+}
+
 Camera Camera::FromBox(const Box& box, const std::string& view, float aspect) {
   const Vec3 centre = {(box.xmin + box.xmax) / 2, (box.ymin + box.ymax) / 2,
                        (box.zmin + box.zmax) / 2};

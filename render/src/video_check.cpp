@@ -16,18 +16,6 @@ namespace {
 constexpr const char* kRecordFormat = "owval render sxs/1";
 constexpr int kBlock = 16;  // pixels a side of the windows whose mean luma is compared
 
-const char* BoundaryModeName(BoundaryMode mode) {
-  switch (mode) {
-    case BoundaryMode::kHidden:
-      return "hidden";
-    case BoundaryMode::kTranslucent:
-      return "translucent";
-    case BoundaryMode::kShown:
-      return "shown";
-  }
-  return "hidden";
-}
-
 std::string TextField(const nlohmann::json& record, const char* key, const std::string& where) {
   const auto it = record.find(key);
   if (it == record.end() || !it->is_string())
@@ -150,80 +138,101 @@ RenderOptions OptionsFromSideBySideRecord(const nlohmann::json& record, const st
   return o;
 }
 
-SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& reference,
-                                FrameSource& candidate, const SideBySideCheckOptions& options) {
-  const std::string where = mp4.string();
-  internal::Mp4Reader video(where);
-  SideBySideCheck check;
+namespace {
+
+// Draws a sample of the video's frames again from the two runs and compares them with `video`'s,
+// reading it as far as the last compared frame. False, with check->detail saying why, when its
+// render record is missing or cannot be drawn again, or hides the candidate.
+bool CompareSampledFrames(internal::Mp4Reader& video, FrameSource& reference,
+                          FrameSource& candidate, const SideBySideCheckOptions& options,
+                          const std::string& where, SideBySideCheck* check) {
   const std::string comment = video.Metadata("comment");
   if (comment.rfind(kSideBySideRecordPrefix, 0) != 0) {
-    check.detail =
+    check->detail =
         "no owval render record: its pixels cannot be held to the two runs (render it with owval "
         "render sxs)";
-    return check;
+    return false;
   }
-  check.recorded = true;
+  check->recorded = true;
   const nlohmann::json record = ParseJsonText(
       comment.substr(std::string(kSideBySideRecordPrefix).size()), where + " render record");
   RenderOptions o = OptionsFromSideBySideRecord(record, where);
   o.quiet = true;
   if (const std::string why = CannotBeRedrawn(record); !why.empty()) {
-    check.detail = "its render record says it is " + why;
-    return check;
+    check->detail = "its render record says it is " + why;
+    return false;
   }
   if (video.width() != o.width || video.height() != o.height) {
-    check.detail = "its render record says " + std::to_string(o.width) + "x" +
-                   std::to_string(o.height) + ", the video is " + std::to_string(video.width()) +
-                   "x" + std::to_string(video.height());
-    return check;
+    check->detail = "its render record says " + std::to_string(o.width) + "x" +
+                    std::to_string(o.height) + ", the video is " + std::to_string(video.width()) +
+                    "x" + std::to_string(video.height());
+    return false;
   }
   internal::SideBySideFrames frames(reference, candidate, o);
-  check.expected_frames = frames.size();
-  float moved_cu = 0;
-  const double visible = CandidateVisibility(frames, o, candidate.header().box, &moved_cu);
-  check.candidate_visibility = visible;
-  if (visible < 2 * options.max_block_difference) {
-    check.detail =
+  check->expected_frames = frames.size();
+  check->candidate_visibility =
+      CandidateVisibility(frames, o, candidate.header().box, &check->candidate_moved_cu);
+  if (check->candidate_visibility < 2 * options.max_block_difference) {
+    check->detail =
         "its frames do not show the candidate: drawn with its render record, every "
         "moving particle of the candidate moved " +
-        FormatNumber(moved_cu, 3) + " cu changes no 16x16 window by more than " +
-        FormatNumber(visible, 3) + " luma levels (at least " +
+        FormatNumber(check->candidate_moved_cu, 3) + " cu changes no 16x16 window by more than " +
+        FormatNumber(check->candidate_visibility, 3) + " luma levels (at least " +
         FormatNumber(2 * options.max_block_difference) +
         " needed: walls drawn over it, or frames too small)";
-    return check;
+    return false;
   }
   const std::vector<std::size_t> compared =
       internal::SampleEvenly(frames.size(), options.max_frames_compared);
   Progress progress("check sxs.mp4", compared.size(), options.quiet);
   std::vector<unsigned char> decoded;
-  std::size_t next = 0;  // into `compared`
-  while (video.Next(&decoded)) {
-    const std::size_t k = check.video_frames++;
-    if (next == compared.size() || compared[next] != k) continue;
+  for (std::size_t next = 0; next < compared.size();) {
+    const std::size_t k = video.frames_decoded();
+    const bool compare = compared[next] == k;
+    if (!video.Next(compare ? &decoded : nullptr)) break;
+    if (!compare) continue;
     const double d = WorstBlockDifference(frames.Draw(k), decoded, o.width, o.height);
-    if (d > check.worst_block_difference || check.frames_compared == 0)
-      check.worst_block_difference = d, check.worst_frame = k;
-    ++check.frames_compared;
+    if (d > check->worst_block_difference || check->frames_compared == 0)
+      check->worst_block_difference = d, check->worst_frame = k;
+    ++check->frames_compared;
     progress.Update(++next);
   }
-  const std::string measured =
-      std::to_string(check.frames_compared) +
-      " frames drawn again from the two runs with its "
-      "render record: worst 16x16 window " +
-      FormatNumber(check.worst_block_difference, 3) + " luma levels apart (video frame " +
-      std::to_string(check.worst_frame) + "; at most " +
-      FormatNumber(options.max_block_difference) + "; the candidate's moving particles moved " +
-      FormatNumber(moved_cu, 3) + " cu would change it by " +
-      FormatNumber(check.candidate_visibility, 3) + ")";
-  if (check.video_frames != check.expected_frames) {
-    check.detail = std::to_string(check.video_frames) +
-                   " frames, where the two runs drawn with "
-                   "its render record make " +
+  return true;
+}
+
+}  // namespace
+
+SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& reference,
+                                FrameSource& candidate, const SideBySideCheckOptions& options) {
+  const std::string where = mp4.string();
+  internal::Mp4Reader video(where);
+  SideBySideCheck check;
+  bool compared = false;
+  try {
+    compared = CompareSampledFrames(video, reference, candidate, options, where, &check);
+  } catch (const InputError&) {
+    video.ReadToEnd();  // a damaged video is reported as damaged first
+    throw;
+  }
+  // Every frame is decoded, whatever the record says: the caller's codec, shape and count.
+  check.video = video.ReadToEnd();
+  if (!compared) return check;
+  if (check.video.decoded_frames != check.expected_frames) {
+    check.detail = std::to_string(check.video.decoded_frames) +
+                   " frames, where the two runs drawn with its render record make " +
                    std::to_string(check.expected_frames);
     return check;
   }
   check.pass = check.worst_block_difference <= options.max_block_difference;
-  check.detail = (check.pass ? "" : "does not show these two runs: ") + measured;
+  check.detail =
+      (check.pass ? "" : "does not show these two runs: ") + std::to_string(check.frames_compared) +
+      " frames drawn again from the two runs with its render record: worst 16x16 "
+      "window " +
+      FormatNumber(check.worst_block_difference, 3) + " luma levels apart (video frame " +
+      std::to_string(check.worst_frame) + "; at most " +
+      FormatNumber(options.max_block_difference) + "; the candidate's moving particles moved " +
+      FormatNumber(check.candidate_moved_cu, 3) + " cu would change it by " +
+      FormatNumber(check.candidate_visibility, 3) + ")";
   return check;
 }
 

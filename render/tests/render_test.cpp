@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "owval/base/errors.hpp"
-#include "owval/ci/checklist.hpp"
+#include "owval/render/read_back.hpp"
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
@@ -78,7 +78,7 @@ TEST(Render, SideBySideMp4ReadsBackAsH264WithTheExpectedShape) {
   const fs::path mp4 = Scratch() / "sxs.mp4";
   const VideoSummary s = RenderSideBySide(ref, cand, o, mp4);
   EXPECT_EQ(s.frames, 40u);
-  const ci::VideoInfo v = ci::ProbeVideo(mp4);
+  const VideoInfo v = ProbeVideo(mp4);
   EXPECT_EQ(v.codec, "h264");
   EXPECT_EQ(v.width, 640);
   EXPECT_EQ(v.height, 360);
@@ -115,7 +115,7 @@ TEST(Render, FramesPrintTheTrajectoryValues) {
   ASSERT_EQ(json["frames"].size(), 3u);
   EXPECT_FLOAT_EQ(json["frames"][1]["reference_value"].get<float>(), t.coordinate(15, 0, 1));
   EXPECT_EQ(json["frames"][1]["difference"].get<double>(), 0.0);
-  EXPECT_EQ(ci::ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
+  EXPECT_EQ(ProbePng(Scratch() / "frames" / "frame_15.png"), (std::pair<int, int>{640, 360}));
 }
 
 // frames -o EXISTING_DIR kept an earlier run's PNGs beside the new frames.json.

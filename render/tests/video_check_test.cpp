@@ -62,7 +62,7 @@ TEST_F(VideoCheck, AVideoOfTheTwoRunsShowsThem) {
   const SideBySideCheck c = Check(Video(reference_, candidate_), reference_, candidate_);
   EXPECT_TRUE(c.pass) << c.detail;
   EXPECT_TRUE(c.recorded);
-  EXPECT_EQ(c.video_frames, 12u);
+  EXPECT_EQ(c.video.decoded_frames, 12u);
   EXPECT_EQ(c.frames_compared, 12u);
   // What H.264 (crf 18) leaves between the decoded frames and the frames drawn again (2.69).
   EXPECT_LT(c.worst_block_difference, 5) << c.detail;

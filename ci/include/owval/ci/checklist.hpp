@@ -133,17 +133,4 @@ void CheckGitRange(const std::filesystem::path& directory, const std::string& gi
 bool PredictionCommittedFirst(const std::filesystem::path& directory, const std::string& git_range,
                               std::string* detail);
 
-// Facts about an MP4 read back through libavformat/libavcodec (frames decoded, not guessed).
-struct VideoInfo {
-  std::string codec;
-  int width = 0, height = 0;
-  std::size_t decoded_frames = 0;
-  double duration_s = 0;
-};
-// Throws InputError when the file is missing or does not decode.
-VideoInfo ProbeVideo(const std::filesystem::path& path);
-
-// Width and height of a PNG; throws InputError when it does not decode.
-std::pair<int, int> ProbePng(const std::filesystem::path& path);
-
 }  // namespace owval::ci

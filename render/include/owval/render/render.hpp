@@ -19,6 +19,7 @@ namespace owval::render {
 
 enum class BoundaryMode { kHidden, kTranslucent, kShown };
 BoundaryMode ParseBoundaryMode(const std::string& name);  // hidden | translucent | shown
+const char* BoundaryModeName(BoundaryMode mode);          // ParseBoundaryMode's inverse
 
 struct RenderOptions {
   int width = 1280, height = 720;  // whole output frame (both panels in side-by-side mode)

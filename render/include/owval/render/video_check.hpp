@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "owval/render/read_back.hpp"
 #include "owval/render/render.hpp"
 #include "owval/trajectory/frame_source.hpp"
 
@@ -51,7 +52,7 @@ struct SideBySideCheckOptions {
 struct SideBySideCheck {
   bool pass = false;
   bool recorded = false;            // the file carries owval's render record
-  std::size_t video_frames = 0;     // decoded
+  VideoInfo video;                  // the whole file decoded: codec, size, frames, duration
   std::size_t expected_frames = 0;  // the two runs drawn with the record's options
   std::size_t frames_compared = 0;
   double worst_block_difference = 0;  // luma levels, mean of a 16x16-pixel window
@@ -60,11 +61,13 @@ struct SideBySideCheck {
   // box: below twice max_block_difference the video cannot show a candidate that far off, and
   // the check fails (walls drawn opaque around the particles, frames a few pixels across).
   double candidate_visibility = 0;
-  std::string detail;  // one line: what was compared, or why it fails
+  float candidate_moved_cu = 0;  // how far, across the tracked axis
+  std::string detail;            // one line: what was compared, or why it fails
 };
 
-// Reads `mp4` (InputError when it cannot be opened or a frame does not decode) and compares it
-// with `reference` left and `candidate` right. Draws with OSMesa (EnvironmentError without it).
+// Reads `mp4` once, every frame (InputError when it cannot be opened or is damaged, as
+// ProbeVideo says), and compares it with `reference` left and `candidate` right. Draws with
+// OSMesa (EnvironmentError without it).
 SideBySideCheck CheckSideBySide(const std::filesystem::path& mp4, FrameSource& reference,
                                 FrameSource& candidate, const SideBySideCheckOptions& options = {});
 
