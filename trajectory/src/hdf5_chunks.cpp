@@ -2,13 +2,17 @@
 
 #include "zlib_chunk.hpp"
 
+#include <fcntl.h>
 #include <omp.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -51,12 +55,14 @@ std::optional<std::vector<hsize_t>> ShuffleDeflateChunkShape(hid_t file, hid_t s
   return shape;
 }
 
+// The chunks whose frame origins lie in [first_frame, end_frame), in file order of their origins.
 std::vector<Chunk> ListChunks(hid_t set, const std::vector<hsize_t>& dims,
-                              const std::vector<hsize_t>& shape, const std::string& path) {
+                              const std::vector<hsize_t>& shape, const std::string& path,
+                              hsize_t first_frame, hsize_t end_frame) {
   std::vector<Chunk> chunks;
   const std::size_t rank = dims.size();
-  hsize_t origin[3] = {0, 0, 0};
-  while (true) {
+  hsize_t origin[3] = {first_frame, 0, 0};
+  while (origin[0] < end_frame) {
     Chunk c;
     std::copy(origin, origin + rank, c.origin);
     if (H5Dget_chunk_info_by_coord(set, c.origin, &c.skipped_filters, &c.address, &c.stored_bytes) <
@@ -67,11 +73,11 @@ std::vector<Chunk> ListChunks(hid_t set, const std::vector<hsize_t>& dims,
     while (axis > 0) {
       --axis;
       origin[axis] += shape[axis];
-      if (origin[axis] < dims[axis]) break;
+      if (axis == 0 || origin[axis] < dims[axis]) break;
       origin[axis] = 0;
-      if (axis == 0) return chunks;
     }
   }
+  return chunks;
 }
 
 // Where a decoded chunk's rows go: `rows` rows of `row_values` floats, row r of the chunk to
@@ -81,13 +87,14 @@ struct Placement {
   std::size_t stride, rows, row_values, chunk_row_values;
 };
 
+// `out` holds the dataset from frame `out_first_frame` on.
 Placement PlacementOf(const Chunk& c, const std::vector<hsize_t>& dims,
-                      const std::vector<hsize_t>& shape, float* out) {
+                      const std::vector<hsize_t>& shape, float* out, hsize_t out_first_frame = 0) {
   const hsize_t components = dims.size() == 3 ? dims[2] : 1;
   const hsize_t frames = std::min(shape[0], dims[0] - c.origin[0]);
   const hsize_t particles = std::min(shape[1], dims[1] - c.origin[1]);
-  return {out + (c.origin[0] * dims[1] + c.origin[1]) * components, dims[1] * components, frames,
-          particles * components, shape[1] * components};
+  return {out + ((c.origin[0] - out_first_frame) * dims[1] + c.origin[1]) * components,
+          dims[1] * components, frames, particles * components, shape[1] * components};
 }
 
 // Interleaves 16 elements' bytes from the four byte planes into 64 output bytes.
@@ -143,19 +150,23 @@ void CopyInto(const unsigned char* in, const Placement& p) {
                 p.row_values * sizeof(float));
 }
 
-// Decodes one chunk into its place in the output; an error message, or empty.
-std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk_bytes,
-                        ZlibChunkDecoder* decoder, std::vector<unsigned char>* inflated,
-                        const Placement& place) {
-  if (c.address == HADDR_UNDEF) {  // never written: the fill value, 0
-    for (std::size_t r = 0; r < place.rows; ++r)
-      std::fill(place.out + r * place.stride, place.out + r * place.stride + place.row_values,
-                0.0f);
-    return {};
-  }
-  if (c.address > file.size() || c.stored_bytes > file.size() - c.address)
+void FillZero(const Placement& place) {
+  for (std::size_t r = 0; r < place.rows; ++r)
+    std::fill(place.out + r * place.stride, place.out + r * place.stride + place.row_values, 0.0f);
+}
+
+// Why a written chunk's stored bytes cannot be where the index says, or empty.
+std::string StoredBytesError(const Chunk& c, std::uintmax_t file_bytes) {
+  if (c.address > file_bytes || c.stored_bytes > file_bytes - c.address)
     return "HDF5: a chunk lies beyond the end of the file (truncated file)";
-  const auto* stored = reinterpret_cast<const unsigned char*>(file.data() + c.address);
+  return {};
+}
+
+// Decodes a written chunk's `stored` bytes into its place in the output; an error message, or
+// empty.
+std::string DecodeStoredChunk(const Chunk& c, const unsigned char* stored, std::size_t chunk_bytes,
+                              ZlibChunkDecoder* decoder, std::vector<unsigned char>* inflated,
+                              const Placement& place) {
   const unsigned char* bytes = stored;
   if (!(c.skipped_filters & 2u)) {
     if (chunk_bytes > c.stored_bytes * kMaxDeflateRatio)
@@ -175,21 +186,47 @@ std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk
   return {};
 }
 
+// Decodes one chunk of the mapped `file` into its place in the output; an error message, or empty.
+std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk_bytes,
+                        ZlibChunkDecoder* decoder, std::vector<unsigned char>* inflated,
+                        const Placement& place) {
+  if (c.address == HADDR_UNDEF) {  // never written: the fill value, 0
+    FillZero(place);
+    return {};
+  }
+  if (std::string error = StoredBytesError(c, file.size()); !error.empty()) return error;
+  return DecodeStoredChunk(c, reinterpret_cast<const unsigned char*>(file.data() + c.address),
+                           chunk_bytes, decoder, inflated, place);
+}
+
+std::size_t ChunkBytes(const std::vector<hsize_t>& shape) {
+  std::size_t bytes = sizeof(float);
+  for (hsize_t d : shape) bytes *= d;
+  return bytes;
+}
+
+// The chunk shape when ReadDeflatedChunksInParallel and DeflatedChunkRows can read the dataset:
+// rank 2 or 3, shuffle and deflate, whole components per chunk (the placement a row copy).
+std::optional<std::vector<hsize_t>> ReadableChunkShape(hid_t file, hid_t set,
+                                                       const std::vector<hsize_t>& dims) {
+  const int rank = int(dims.size());
+  if (rank < 2 || rank > 3) return std::nullopt;
+  auto shape = ShuffleDeflateChunkShape(file, set, rank);
+  if (!shape || (rank == 3 && (*shape)[2] != dims[2])) return std::nullopt;
+  return shape;
+}
+
 }  // namespace
 
 bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
                                   const std::vector<hsize_t>& dims, float* out) {
   const std::string& path = file_bytes->path();
-  const int rank = int(dims.size());
-  if (rank < 2 || rank > 3) return false;
-  const auto shape = ShuffleDeflateChunkShape(file, set, rank);
-  // Whole components per chunk (as WriteHdf5 writes) keep the placement a row copy.
-  if (!shape || (rank == 3 && (*shape)[2] != dims[2])) return false;
-  const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path);
+  const auto shape = ReadableChunkShape(file, set, dims);
+  if (!shape) return false;
+  const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path, 0, dims[0]);
   if (!out) return true;  // a dry run: the chunk index walked, nothing decoded
   const std::string_view bytes = file_bytes->bytes();
-  std::size_t chunk_bytes = sizeof(float);
-  for (hsize_t d : *shape) chunk_bytes *= d;
+  const std::size_t chunk_bytes = ChunkBytes(*shape);
   std::string error;
   // Allocated here: an exception must not leave a parallel region.
   std::vector<std::unique_ptr<ZlibChunkDecoder>> decoders(
@@ -211,6 +248,93 @@ bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
   }
   if (!error.empty()) throw InputError(path, 0, error);
   return true;
+}
+
+struct DeflatedChunkRows::Scratch {
+  ZlibChunkDecoder decoder;
+  std::vector<unsigned char> stored, inflated;
+};
+
+std::unique_ptr<DeflatedChunkRows> DeflatedChunkRows::Open(hid_t file, hid_t set,
+                                                           const std::string& path,
+                                                           const std::vector<hsize_t>& dims) {
+  std::optional<std::vector<hsize_t>> shape = ReadableChunkShape(file, set, dims);
+  if (!shape) return nullptr;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  struct stat status {};
+  if (fd < 0 || ::fstat(fd, &status) != 0) {
+    if (fd >= 0) ::close(fd);
+    throw InputError(path, 0, "cannot open the file to read its chunks");
+  }
+  return std::unique_ptr<DeflatedChunkRows>(new DeflatedChunkRows(
+      set, path, dims, std::move(*shape), fd, std::uintmax_t(status.st_size)));
+}
+
+DeflatedChunkRows::DeflatedChunkRows(hid_t set, std::string path, std::vector<hsize_t> dims,
+                                     std::vector<hsize_t> shape, int fd, std::uintmax_t file_bytes)
+    : set_(set),
+      path_(std::move(path)),
+      dims_(std::move(dims)),
+      shape_(std::move(shape)),
+      fd_(fd),
+      file_bytes_(file_bytes) {
+  scratch_.resize(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  for (auto& s : scratch_) s = std::make_unique<Scratch>();
+}
+
+DeflatedChunkRows::~DeflatedChunkRows() { ::close(fd_); }
+
+namespace {
+
+// Reads a written chunk's stored bytes into `stored`; an error message, or empty.
+std::string ReadStoredBytes(int fd, const Chunk& c, std::uintmax_t file_bytes,
+                            std::vector<unsigned char>* stored) {
+  if (std::string error = StoredBytesError(c, file_bytes); !error.empty()) return error;
+  stored->resize(c.stored_bytes);
+  std::size_t done = 0;
+  while (done < c.stored_bytes) {
+    const ssize_t got =
+        ::pread(fd, stored->data() + done, c.stored_bytes - done, off_t(c.address + done));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return "HDF5: cannot read a chunk's bytes (truncated file?)";
+    done += std::size_t(got);
+  }
+  return {};
+}
+
+}  // namespace
+
+void DeflatedChunkRows::Read(std::size_t first, float* out) {
+  const std::vector<Chunk> chunks =
+      ListChunks(set_, dims_, shape_, path_, first, std::min<hsize_t>(first + 1, dims_[0]));
+  const std::size_t chunk_bytes = ChunkBytes(shape_);
+  std::string error;
+#pragma omp parallel num_threads(int(scratch_.size())) if (chunks.size() > 1)
+  {
+    Scratch& s = *scratch_[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t n = 0; n < chunks.size(); ++n) {
+      const Placement place = PlacementOf(chunks[n], dims_, shape_, out, first);
+      std::string failure;
+      if (chunks[n].address == HADDR_UNDEF) {
+        FillZero(place);
+      } else {
+        failure = ReadStoredBytes(fd_, chunks[n], file_bytes_, &s.stored);
+        if (failure.empty())
+          failure = DecodeStoredChunk(chunks[n], s.stored.data(), chunk_bytes, &s.decoder,
+                                      &s.inflated, place);
+      }
+      if (!failure.empty()) {
+#pragma omp critical(owval_hdf5_chunk_error)
+        if (error.empty()) error = failure;
+      }
+    }
+  }
+  if (error.empty()) return;
+  const std::string_view reason =
+      std::string_view(error).substr(error.rfind("HDF5: ", 0) == 0 ? 6 : 0);
+  throw InputError(path_, 0,
+                   "HDF5: cannot read frame " + std::to_string(first) + ": " + std::string(reason));
 }
 
 }  // namespace owval::internal

@@ -4,6 +4,7 @@
 // from HDF5, their bytes from a memory map, and all cores inflate, un-shuffle and place them.
 #include <hdf5.h>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,5 +36,41 @@ class FileBytes {
 // a dry run: walks the chunk index (every libhdf5 call the real read makes) and decodes nothing.
 bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* bytes,
                                   const std::vector<hsize_t>& dims, float* out);
+
+// The streaming reader's path to the same datasets: one row of chunks (every chunk that starts at
+// a given frame) at a time, each chunk's stored bytes read with pread and inflated by libdeflate
+// into buffers kept from row to row. libhdf5's filter pipeline allocates fresh buffers for every
+// chunk it inflates (a fresh mapping each under ASan: a sanitized checklist made 1.1 million page
+// faults there); a memory map would make the process's resident size grow with the file read.
+// Memory: one row of stored and inflated chunks per thread, whatever the number of frames.
+class DeflatedChunkRows {
+ public:
+  // nullptr when dataset `set` (shape `dims`, rank 2 or 3) of `file` is stored any other way: the
+  // caller then reads it with H5Dread. Throws InputError naming `path` when it cannot be opened.
+  static std::unique_ptr<DeflatedChunkRows> Open(hid_t file, hid_t set, const std::string& path,
+                                                 const std::vector<hsize_t>& dims);
+  ~DeflatedChunkRows();
+  DeflatedChunkRows(const DeflatedChunkRows&) = delete;
+  DeflatedChunkRows& operator=(const DeflatedChunkRows&) = delete;
+
+  std::size_t frames_per_row() const { return std::size_t(shape_[0]); }
+  // Frames [first, first + frames_per_row()) (fewer at the dataset's end) into `out`, frame after
+  // frame; `first` a multiple of frames_per_row(). Throws InputError naming the file and `first`
+  // ("HDF5: cannot read frame F: ...") when a chunk is missing from the index, truncated or does
+  // not inflate to its size.
+  void Read(std::size_t first, float* out);
+
+ private:
+  struct Scratch;  // one thread's decoder and buffers
+  DeflatedChunkRows(hid_t set, std::string path, std::vector<hsize_t> dims,
+                    std::vector<hsize_t> shape, int fd, std::uintmax_t file_bytes);
+
+  hid_t set_;
+  std::string path_;
+  std::vector<hsize_t> dims_, shape_;
+  int fd_;
+  std::uintmax_t file_bytes_;
+  std::vector<std::unique_ptr<Scratch>> scratch_;
+};
 
 }  // namespace owval::internal

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "hdf5_chunk_writer.hpp"
+#include "hdf5_chunks.hpp"
 #include "hdf5_handle.hpp"
 #include "hdf5_preflight.hpp"
 #include "owval/base/atomic_output.hpp"
@@ -542,6 +543,8 @@ struct Hdf5FrameReader::Dataset {
   int rank = 3;            // [frame][particle][xyz], or [frame][particle]
   std::size_t block_frames = 1, block_first = SIZE_MAX;  // block holds frames from block_first
   std::vector<float> block;
+  // owval's own layout (shuffle, deflate): blocks inflated with buffers kept from block to block.
+  std::unique_ptr<internal::DeflatedChunkRows> rows;
   ~Dataset() {
     if (set >= 0) H5Dclose(set);
   }
@@ -608,6 +611,10 @@ Hdf5FrameReader::Dataset& Hdf5FrameReader::Open(const std::string& name,
     H5Dclose(d->set);
     d->set = H5Dopen2(file_, name.c_str(), access);
     if (d->set < 0) throw InputError(path_, 0, "HDF5: cannot open /" + name);
+    std::vector<hsize_t> dims{frames_, header_.type.size()};
+    if (d->rank == 3) dims.push_back(3);
+    d->rows = internal::DeflatedChunkRows::Open(file_, d->set, path_, dims);
+    if (d->rows && d->rows->frames_per_row() != d->block_frames) d->rows.reset();
   }
   slot = std::move(d);
   return *slot;
@@ -637,8 +644,11 @@ void Hdf5FrameReader::Read(Dataset& d, std::size_t frame, float* out) {
   if (first != d.block_first) {
     d.block.resize(d.block_frames * d.values);
     d.block_first = SIZE_MAX;  // until the read succeeds
-    ReadFrames(d.set, d.rank, n, first, std::min(d.block_frames, frames_ - first), d.block.data(),
-               path_);
+    if (d.rows)
+      d.rows->Read(first, d.block.data());
+    else
+      ReadFrames(d.set, d.rank, n, first, std::min(d.block_frames, frames_ - first), d.block.data(),
+                 path_);
     d.block_first = first;
   }
   const float* x = d.block.data() + (frame - first) * d.values;

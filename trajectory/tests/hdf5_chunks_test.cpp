@@ -1,5 +1,6 @@
-// The parallel chunk reader behind ReadHdf5: same values as HDF5's own pipeline, zlib's
-// checksum, a fallback for other layouts, and corrupt chunks refused.
+// The parallel chunk reader behind ReadHdf5 and the row reader behind Hdf5FrameReader: same
+// values as HDF5's own pipeline, zlib's checksum, a fallback for other layouts, and corrupt chunks
+// refused.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <unistd.h>
@@ -15,6 +16,8 @@
 #include "owval/testing/scratch_directory.hpp"
 #include "owval/testing/test_files.hpp"
 #include "owval/trajectory/formats.hpp"
+#include "owval/trajectory/frame_source.hpp"
+#include "owval/trajectory/writer.hpp"
 
 namespace owval {
 namespace {
@@ -82,6 +85,7 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   H5Dwrite(plain, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
   EXPECT_FALSE(
       internal::ReadDeflatedChunksInParallel(file, plain, &bytes, {5, 100, 3}, out.data()));
+  EXPECT_FALSE(internal::DeflatedChunkRows::Open(file, plain, path.string(), {5, 100, 3}));
   const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   const hsize_t chunk[3] = {2, 50, 3};
   H5Pset_chunk(dcpl, 3, chunk);
@@ -91,6 +95,7 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   H5Dwrite(deflated, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.positions.data());
   EXPECT_FALSE(
       internal::ReadDeflatedChunksInParallel(file, deflated, &bytes, {5, 100, 3}, out.data()));
+  EXPECT_FALSE(internal::DeflatedChunkRows::Open(file, deflated, path.string(), {5, 100, 3}));
   H5Dclose(deflated);
   H5Dclose(plain);
   H5Pclose(dcpl);
@@ -134,6 +139,61 @@ TEST(Hdf5Chunks, TruncatedChunkIsRefusedWithTheFileName) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("truncated_chunk.h5"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("chunk"), std::string::npos) << e.what();
+  }
+}
+
+// Hdf5FrameReader reads row after row of chunks (16 frames, every particle) through
+// DeflatedChunkRows: 37 frames x 2500 particles make three rows of three chunks, the last ones
+// partial, each equal to HDF5's own pipeline, in whatever order the frames are asked for.
+TEST(Hdf5Chunks, RowsReadEqualHdf5sPipeline) {
+  for (int level : {0, 4}) {
+    const Trajectory t = Wandering();
+    const fs::path path = ScratchFile("rows" + std::to_string(level) + ".h5");
+    Hdf5WriteOptions options;
+    options.compression_level = level;
+    WriteHdf5(t, path, options);
+    const std::vector<float> whole = ReadWithHdf5Pipeline(path, t.positions.size());
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t set = H5Dopen2(file, "positions", H5P_DEFAULT);
+    {
+      const auto rows = internal::DeflatedChunkRows::Open(file, set, path.string(), {37, 2500, 3});
+      ASSERT_TRUE(rows);
+      ASSERT_EQ(rows->frames_per_row(), 16u);
+      std::vector<float> out(whole.size(), -1.0f);
+      for (std::size_t first : {32, 0, 16}) rows->Read(first, out.data() + first * 2500 * 3);
+      EXPECT_EQ(out, whole) << level;
+    }
+    H5Dclose(set);
+    H5Fclose(file);
+    const auto source = OpenFrameSource(path);
+    for (std::size_t f : {36, 0, 20, 15, 16, 31}) {
+      const FrameRef x = source->Frame(f);
+      const float* p = x.trajectory.position(x.frame, 0);
+      EXPECT_EQ(std::vector<float>(p, p + 2500 * 3),
+                std::vector<float>(whole.begin() + std::ptrdiff_t(f * 2500 * 3),
+                                   whole.begin() + std::ptrdiff_t((f + 1) * 2500 * 3)))
+          << level << ", frame " << f;
+    }
+  }
+}
+
+// A corrupt chunk met while streaming: the frames before it read, then a refusal naming the file
+// and the first frame of the chunk's row.
+TEST(Hdf5Chunks, CorruptChunkMetWhileStreamingNamesTheFileAndFrame) {
+  const fs::path path = ScratchFile("corrupt_row.h5");
+  WriteHdf5(Wandering(), path);
+  ASSERT_NO_FATAL_FAILURE(testing::CorruptPositionsChunk(path, 16));
+  Hdf5FrameReader reader(path);
+  std::vector<float> x(2500 * 3);
+  EXPECT_NO_THROW(reader.ReadFrame(15, x.data()));
+  try {
+    reader.ReadFrame(17, x.data());
+    FAIL() << "a corrupt chunk was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("corrupt_row.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot read frame 16: a chunk does not inflate"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -19,8 +19,9 @@ struct IoBenchmarkOptions {
   bool quiet = false;       // no progress line while parsing
 };
 
-// Figures as JSON: {"benchmark": "io", "text_parse_mb_per_s", "hdf5_read_gb_per_s_uncompressed",
-// ...}. The generated files are removed unless options.keep_files.
+// Figures as JSON: {"benchmark": "io", "text_parse_mb_per_s", "hdf5_read_gb_per_s_uncompressed"
+// (ReadHdf5, the whole file), "hdf5_stream_read_gb_per_s_uncompressed" (OpenFrameSource, frame
+// by frame), ...}. The generated files are removed unless options.keep_files.
 nlohmann::json RunIoBenchmark(const IoBenchmarkOptions& options);
 
 }  // namespace owval
