@@ -23,7 +23,8 @@ const char* kGatesHelp =
     "above says what its gate measures (docs/checklist.md has the table). period and "
     "half_amplitude apply only when both signals have --min-crossings upward mean crossings; "
     "worm.* when both runs are worms; liquid.fraction_above_membrane for liquid over an elastic "
-    "sheet (demo2); liquid_packing when the reference has liquid; else n/a. Both runs are "
+    "sheet (demo2); liquid_packing when the reference has liquid; elastic.bond_length when it "
+    "has an elastic body; else n/a. Both runs are "
     "measured over their common time window only, and frames pair only where their times meet.";
 
 void RunCompare(CompareArgs& a) {

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
+#include "held_pairs.hpp"
+#include "neighbour_grid.hpp"
 #include "owval/kinematics/body_shape.hpp"
 #include "owval/kinematics/midline.hpp"
 
@@ -62,9 +65,33 @@ BodyGates::BodyGates(const Trajectory& ref, const Trajectory& cand, FrameSource&
     liquid_ = GroupIndices(ref, "liquid");
     elastic_ = GroupIndices(ref, "elastic");
   }
+  bond_ = MakeGate("elastic.bond_length",
+                   "max over time and bonds (elastic pairs within 1.5 spacings at the reference's "
+                   "first frame) of |length_cand - length_ref|, of the body's spacing",
+                   NAN, gates.bond_length, "of the body's spacing");
+  FindBonds(ref, ref_frames);
+}
+
+// Bonds: the elastic pairs within 1.5 times the body's spacing at the reference's frame 0.
+void BodyGates::FindBonds(const Trajectory& ref, FrameSource& ref_frames) {
+  if (ref.count(ParticleKind::kElastic) < 2 || ref.frame_count() == 0) return;
+  const std::vector<std::size_t> elastic = GroupIndices(ref, "elastic");
+  const FrameRef first = ref_frames.Frame(0);
+  const double box = std::max(
+      {ref.box.xmax - ref.box.xmin, ref.box.ymax - ref.box.ymin, ref.box.zmax - ref.box.zmin});
+  bond_spacing_cu_ = MedianNearestSpacing(first, elastic, 0.01 * box, true);
+  if (!(bond_spacing_cu_ > 0)) return;
+  std::vector<char> is_elastic(ref.particle_count(), 0);
+  for (std::size_t i : elastic) is_elastic[i] = 1;
+  ForEachPairWithin(first, elastic, 1.5 * bond_spacing_cu_,
+                    [&](std::size_t a, std::size_t b, double) {
+                      if (is_elastic[a] && is_elastic[b]) bonds_.push_back({a, b});
+                    });
+  if (!bonds_.empty()) bond_.value = 0;
 }
 
 void BodyGates::Observe(const FrameRef& ref, const FrameRef& cand, double box_scale_cu) {
+  ObserveBonds(ref, cand);
   if (worm_) {
     const kinematics::BodyShape a = kinematics::MeasureBodyShape(ref.trajectory, ref.frame);
     const kinematics::BodyShape b = kinematics::MeasureBodyShape(cand.trajectory, cand.frame);
@@ -82,6 +109,29 @@ void BodyGates::Observe(const FrameRef& ref, const FrameRef& cand, double box_sc
     last_candidate_fraction_ = LiquidFractionAbove(cand, liquid_, elastic_);
     membrane_gate_.value = std::max(membrane_gate_.value,
                                     std::abs(last_reference_fraction_ - last_candidate_fraction_));
+  }
+}
+
+namespace {
+double Distance(const FrameRef& f, std::size_t a, std::size_t b) {
+  const float* x = f.trajectory.position(f.frame, a);
+  const float* y = f.trajectory.position(f.frame, b);
+  return std::hypot(double(x[0]) - y[0], double(x[1]) - y[1], double(x[2]) - y[2]);
+}
+}  // namespace
+
+void BodyGates::ObserveBonds(const FrameRef& ref, const FrameRef& cand) {
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    const auto [a, b] = bonds_[k];
+    const double r = Distance(ref, a, b), c = Distance(cand, a, b);
+    const double gap = std::abs(c - r) / bond_spacing_cu_;
+    if (!(gap <= bond_.value)) {  // a NaN is kept: it fails
+      bond_.value = std::isfinite(gap) ? gap : INFINITY;
+      worst_bond_ = k;
+      worst_bond_time_s_ = ref.trajectory.time_s[ref.frame];
+      worst_bond_reference_cu_ = r;
+      worst_bond_candidate_cu_ = c;
+    }
   }
 }
 
@@ -113,6 +163,7 @@ void BodyGates::AddGates(ParityReport* r) {
       Decide(g);
       r->gates.push_back(*g);
     }
+  AddBondGate(r);
   if (membrane_) {
     membrane_gate_.detail = "at the last frame: reference " +
                             std::to_string(last_reference_fraction_) + ", candidate " +
@@ -120,6 +171,30 @@ void BodyGates::AddGates(ParityReport* r) {
     Decide(&membrane_gate_);
     r->gates.push_back(membrane_gate_);
   }
+}
+
+void BodyGates::AddBondGate(ParityReport* r) {
+  if (bonds_.empty()) {
+    bond_.detail = bond_spacing_cu_ > 0 ? "no two elastic particles within 1.5 spacings"
+                                        : "the scene has no elastic body (under two particles)";
+    r->gates.push_back(bond_);
+    return;
+  }
+  std::string worst = "every bond's length equal";
+  if (bond_.value > 0) {
+    char text[200];
+    const auto [a, b] = bonds_[worst_bond_];
+    std::snprintf(text, sizeof text,
+                  "worst bond: particles %zu and %zu at %.6g s, %.4g cu (reference %.4g cu)", a, b,
+                  worst_bond_time_s_, worst_bond_candidate_cu_, worst_bond_reference_cu_);
+    worst = text;
+  }
+  char count[80];
+  std::snprintf(count, sizeof count, "; %zu bonds, spacing %.4g cu", bonds_.size(),
+                bond_spacing_cu_);
+  bond_.detail = worst + count;
+  Decide(&bond_);
+  r->gates.push_back(bond_);
 }
 
 }  // namespace owval::compare::internal

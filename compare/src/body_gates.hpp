@@ -13,8 +13,13 @@
 //    first frame, with liquid above it): liquid.fraction_above_membrane, the max difference of
 //    the fraction of liquid particles above the sheet's mean height (the
 //    membrane_liquid_fraction threshold). A leaking membrane fails here.
-// Scenes without such a body get none of these gates. Measured pair by pair of frames, in time
-// order, as parity.cpp reads them (frame_source.hpp).
+//  - an elastic body (two or more elastic particles, some within 1.5 spacings of each other at
+//    the reference's first frame): elastic.bond_length, the largest difference of a bond's
+//    length over the paired frames, of the body's spacing (ParityGates::bond_length); n/a
+//    otherwise. A part of the body out of shape fails here, whatever its motion.
+// Scenes without such a body get none of the first two kinds. Measured pair by pair of frames, in
+// time order, as parity.cpp reads them (frame_source.hpp).
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -41,6 +46,14 @@ class BodyGates {
   void ObserveRings(const kinematics::BodyShape& reference, const kinematics::BodyShape& candidate,
                     double reference_time_s);
   Gate com_, span_, diameter_, ring_, membrane_gate_;
+  void FindBonds(const Trajectory& reference, FrameSource& reference_frames);
+  void ObserveBonds(const FrameRef& reference, const FrameRef& candidate);
+  void AddBondGate(ParityReport* report);
+  Gate bond_;
+  std::vector<std::array<std::size_t, 2>> bonds_;  // elastic pairs, at the reference's frame 0
+  double bond_spacing_cu_ = 0;                     // the body's spacing there
+  std::size_t worst_bond_ = 0;
+  double worst_bond_time_s_ = 0, worst_bond_reference_cu_ = 0, worst_bond_candidate_cu_ = 0;
   int worst_ring_bin_ = 0;  // Sibernetic's bin (51..149) of the worst ring
   double worst_ring_time_s_ = 0, worst_ring_reference_cu_ = 0, worst_ring_candidate_cu_ = 0;
   std::vector<std::size_t> liquid_, elastic_;

@@ -28,15 +28,19 @@ int PairKind(float a, float b) {
 }  // namespace
 
 double MedianNearestSpacing(const FrameRef& f, const std::vector<std::size_t>& moving,
-                            double start_cu) {
+                            double start_cu, bool among_themselves) {
   if (moving.empty()) return 0;
   const Trajectory& t = f.trajectory;
   std::vector<double> nearest(t.particle_count(), std::numeric_limits<double>::infinity());
+  std::vector<char> member(among_themselves ? t.particle_count() : 0, 0);
+  if (among_themselves)
+    for (std::size_t i : moving) member[i] = 1;
   if (!(start_cu > 0)) start_cu = 1;
   // Once half the moving particles have a neighbour within the radius, the median is among them
   // (every other one's nearest lies farther). Forty doublings reach any finite box.
   for (int widen = 0; widen < 40; ++widen, start_cu *= 2) {
     ForEachPairWithin(f, moving, start_cu, [&](std::size_t a, std::size_t b, double d) {
+      if (!member.empty() && !(member[a] && member[b])) return;
       nearest[a] = std::min(nearest[a], d), nearest[b] = std::min(nearest[b], d);
     });
     std::vector<double> of_moving;

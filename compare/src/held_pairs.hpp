@@ -26,9 +26,10 @@ namespace owval::compare::internal {
 
 // The median over `moving` of the distance to the nearest other particle: the scene's spacing
 // (Sibernetic places particles r0 apart). Searches from `start_cu`, doubling. 0 when `moving` is
-// empty or no particle has a neighbour.
+// empty or no particle has a neighbour. With `among_themselves`, only the other particles of
+// `moving` count as neighbours (an elastic body's own lattice, not the liquid beside it).
 double MedianNearestSpacing(const FrameRef& frame, const std::vector<std::size_t>& moving,
-                            double start_cu);
+                            double start_cu, bool among_themselves = false);
 
 // The five kinds of pair that are gated, in this order.
 constexpr int kPairKinds = 5;

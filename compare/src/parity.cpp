@@ -1663,6 +1663,9 @@ const std::vector<GateThresholdField> kGateThresholdFields = {
      "worm.span, worm.cross_section_diameter and worm.ring_diameter gates, relative"},
     {"membrane_liquid_fraction_threshold", "--membrane-threshold", &G::membrane_liquid_fraction,
      "liquid.fraction_above_membrane gate: the difference of the fractions"},
+    {"bond_length_threshold", "--bond-length-threshold", &G::bond_length,
+     "elastic.bond_length gate: the largest difference of a bond's length (elastic pairs within "
+     "1.5 spacings at the reference's first frame), of the body's spacing"},
     {"window_threshold", "--window-threshold", &G::window,
      "window gate: the reference's duration outside the common window, fraction"},
     {"sampling_threshold", "--sampling-threshold", &G::sampling,

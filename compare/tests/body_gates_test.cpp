@@ -7,6 +7,7 @@
 
 #include "owval/compare/parity.hpp"
 #include "owval/kinematics/midline.hpp"
+#include "owval/testing/reference_runs.hpp"
 #include "owval/trajectory/formats.hpp"
 
 namespace owval::compare {
@@ -93,8 +94,11 @@ TEST(BodyGates, RingDiameterNamesATailCrushedWhileItsMidlineIsUnchanged) {
   quiet.quiet = true;
   const Trajectory ref = ReadTrajectory(run, quiet);
   const ParityReport crushed = CompareTrajectories(ref, WormWithScaledTail(ref, 0.05f), {});
-  // The crushed tail's elastic particles are held together closer than the reference's ever are.
-  EXPECT_EQ(crushed.FailedGates(), "held_pair, worm.ring_diameter");
+  // The crushed tail's elastic particles are held together closer than the reference's ever are,
+  // and its bonds shortened.
+  EXPECT_EQ(crushed.FailedGates(), "held_pair, worm.ring_diameter, elastic.bond_length");
+  EXPECT_NEAR(crushed.gate("elastic.bond_length")->value, 2.147, 0.001)
+      << crushed.gate("elastic.bond_length")->detail;
   EXPECT_EQ(crushed.gate("held_pair")->detail.rfind("elastic-elastic: ", 0), 0u)
       << crushed.gate("held_pair")->value << ": " << crushed.gate("held_pair")->detail;
   EXPECT_NEAR(crushed.gate("worm.ring_diameter")->value, 0.888, 0.001);
@@ -134,6 +138,71 @@ TEST(BodyGates, MembraneGateNamesLiquidLeakingThroughTheSheet) {
   EXPECT_EQ(
       CompareTrajectories(Worm(1.5f, 0), Worm(1.5f, 0), {}).gate("liquid.fraction_above_membrane"),
       nullptr);
+}
+
+// `t` with `particles` moved by `offset` (cu) in x from frame 1 on.
+Trajectory Moved(const Trajectory& t, const std::vector<std::size_t>& particles, float offset) {
+  Trajectory out = t;
+  for (std::size_t f = 1; f < out.frame_count(); ++f)
+    for (std::size_t p : particles) out.position(f, p)[0] += offset;
+  return out;
+}
+
+// `t` with its elastic body turned by `radians` about the vertical through its centroid, each
+// frame from frame 1 on: every bond keeps its length.
+Trajectory Turned(const Trajectory& t, double radians) {
+  Trajectory out = t;
+  const std::vector<std::size_t> elastic = GroupIndices(t, "elastic");
+  for (std::size_t f = 1; f < out.frame_count(); ++f) {
+    const auto c = Centroid(out, f, elastic);
+    for (std::size_t p : elastic) {
+      float* x = out.position(f, p);
+      const double dx = x[0] - c[0], dz = x[2] - c[2];
+      x[0] = float(c[0] + dx * std::cos(radians) - dz * std::sin(radians));
+      x[2] = float(c[2] + dx * std::sin(radians) + dz * std::cos(radians));
+    }
+  }
+  return out;
+}
+
+// One elastic particle of demo1's cube written 2 spacings aside (4% of the box) for the whole
+// run passed every gate: its worst_particle is 0.04 of the box, under 0.05. Its bonds to its
+// lattice neighbours are 2.1 spacings off.
+TEST(BodyGates, BondLengthNamesOneElasticParticleWrittenTwoSpacingsAside) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& ref = *testing::SiberneticDemo1Run();
+  const ParityReport r = CompareTrajectories(ref, Moved(ref, {100}, 0.04f * 88.844f), {});
+  EXPECT_EQ(r.FailedGates(), "elastic.bond_length");
+  const Gate& bond = *r.gate("elastic.bond_length");
+  EXPECT_NEAR(bond.value, 2.128, 0.005);
+  EXPECT_NE(bond.detail.find("worst bond: particles 99 and 100 at "), std::string::npos)
+      << bond.detail;
+  EXPECT_NE(bond.detail.find("; 924 bonds, spacing 1.67 cu"), std::string::npos) << bond.detail;
+  // A tenth of the body (every tenth elastic particle) half a spacing aside fails too.
+  std::vector<std::size_t> tenth;
+  for (std::size_t p = 0; p < 218; p += 10) tenth.push_back(p);
+  const ParityReport some = CompareTrajectories(ref, Moved(ref, tenth, 0.01f * 88.844f), {});
+  EXPECT_EQ(StatusOf(some, "elastic.bond_length"), GateStatus::kFail);
+  EXPECT_NEAR(some.gate("elastic.bond_length")->value, 0.53, 0.01);
+}
+
+// A length does not change when the body turns: demo1's cube turned by 30 degrees passes the bond
+// gate; the run against itself measures 0, and a scene of one elastic particle has no bond (n/a).
+TEST(BodyGates, BondLengthIsBlindToTurnsAndNeedsABody) {
+  OWVAL_REQUIRE_DEMO1();
+  const Trajectory& ref = *testing::SiberneticDemo1Run();
+  const ParityReport same = CompareTrajectories(ref, ref, {});
+  EXPECT_EQ(same.gate("elastic.bond_length")->status, GateStatus::kPass);
+  EXPECT_EQ(same.gate("elastic.bond_length")->value, 0.0);
+  EXPECT_EQ(same.gate("elastic.bond_length")->detail,
+            "every bond's length equal; 924 bonds, spacing 1.67 cu");
+  const ParityReport turned = CompareTrajectories(ref, Turned(ref, M_PI / 6), {});
+  EXPECT_LT(turned.gate("elastic.bond_length")->value, 1e-4) << turned.FailedGates();
+  const ParityReport sprig =
+      CompareTrajectories(testing::BundledOneSprigRun(), testing::BundledOneSprigRun(), {});
+  EXPECT_EQ(sprig.gate("elastic.bond_length")->status, GateStatus::kNotApplicable);
+  EXPECT_EQ(sprig.gate("elastic.bond_length")->detail,
+            "the scene has no elastic body (under two particles)");
 }
 
 }  // namespace

@@ -64,12 +64,15 @@ TEST(WorstParticle, Demo1WithTwoLiquidParticlesSwappedFailsOnlyThere) {
   EXPECT_EQ(r.gate("elastic.worst_particle")->value, 0.0);
 }
 
-TEST(WorstParticle, Demo1WithTwoElasticParticlesSwappedFailsOnlyThere) {
+// Two elastic particles exchange places: each is far from where it was, and each one's bonds
+// to its lattice neighbours are stretched to 13 cu (elastic.bond_length, of the 1.67 cu spacing).
+TEST(WorstParticle, Demo1WithTwoElasticParticlesSwappedFailsOnlyThereAndInTheirBonds) {
   OWVAL_REQUIRE_DEMO1();
   const ParityReport r = CompareTrajectories(*testing::SiberneticDemo1Run(),
                                              Swapped(*testing::SiberneticDemo1Run(), 10, 200), {});
-  EXPECT_EQ(r.FailedGates(), "elastic.worst_particle");
+  EXPECT_EQ(r.FailedGates(), "elastic.worst_particle, elastic.bond_length");
   EXPECT_NEAR(r.gate("elastic.worst_particle")->value, 0.1458, 1e-3);  // 13 cu of 88.8
+  EXPECT_NEAR(r.gate("elastic.bond_length")->value, 6.97, 0.01);
 }
 
 TEST(WorstParticle, Demo1WithOneLiquidParticleOnANeighboursPlaceFails) {

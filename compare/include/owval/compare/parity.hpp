@@ -46,6 +46,10 @@
 //    its frames between two paired frames stray outside the box of the pair, over the reference's
 //    fastest reach in the interval: the one gate that reads those frames, where a frame written
 //    aside was seen by nothing (ParityGates::unpaired_frames).
+//  - elastic.bond_length: the elastic body's bonds (pairs within 1.5 times its lattice spacing
+//    at the reference's first frame) as long as the reference's at every paired frame: a part of
+//    the body out of shape, which the motion gates' 5% of the box lets through
+//    (ParityGates::bond_length).
 //  - boundary.fixed: the walls where the reference's are at every paired frame, to the printed
 //    precision (initial_state's measure and threshold): no boundary particle is ever integrated.
 //  - frames: |cand - ref| of the tracked scalar at each gated frame, divided by the reference's
@@ -94,6 +98,17 @@ struct ParityGates {
   // Scene gates, applied when the scene has the body they measure (body_gates.cpp):
   Threshold body_shape{0.05};  // worm span and cross-section diameter, relative to the reference
   Threshold membrane_liquid_fraction{0.05};  // |difference| of the liquid fraction above a sheet
+  // The elastic body's bonds: pairs of elastic particles within 1.5 times the body's spacing
+  // (the median distance from an elastic particle to its nearest elastic neighbour) of each other
+  // at the reference's first frame; Sibernetic builds bodies on a lattice r0 apart, so these are
+  // the nearest neighbours and the face diagonals. The value is the largest |length_cand -
+  // length_ref| over the bonds and the paired frames, of that spacing; a length does not change
+  // when the body moves or turns. The motion gates allow 5% of the box, 2.7 spacings in demo1:
+  // one elastic particle written 2 spacings aside for the whole run, or a tenth of the body half
+  // a spacing aside, passed every gate. Measured (docs/checklist.md, "elastic.bond_length"):
+  // demo1 rerun with gravity changed by 1e-6, 0.22 (at the impact); a tenth of the body 0.5
+  // spacing aside 0.53, one particle 2 spacings aside 2.13. Applies when the reference has a bond.
+  Threshold bond_length{0.5};  // of the body's spacing
   // The part of the reference's duration outside the common window: a candidate that stops
   // early (or an interrupted run) is not judged on the stretch it happens to share.
   Threshold window{0.02};  // fraction of the reference's duration
