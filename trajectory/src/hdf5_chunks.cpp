@@ -286,10 +286,14 @@ DeflatedChunkRows::~DeflatedChunkRows() { ::close(fd_); }
 
 namespace {
 
-// Reads a written chunk's stored bytes into `stored`; an error message, or empty.
+// Reads a written chunk's stored bytes into `stored`; an error message, or empty. A chunk's
+// zlib stream is at most a little longer than what it holds (deflate's stored blocks: 5 bytes a
+// 64 KiB, 6 of zlib's own), so a larger stored size is refused before a buffer is sized from it.
 std::string ReadStoredBytes(int fd, const Chunk& c, std::uintmax_t file_bytes,
-                            std::vector<unsigned char>* stored) {
+                            std::size_t chunk_bytes, std::vector<unsigned char>* stored) {
   if (std::string error = StoredBytesError(c, file_bytes); !error.empty()) return error;
+  if (c.stored_bytes > chunk_bytes + chunk_bytes / 1024 + 64)
+    return "HDF5: a chunk is stored in more bytes than it can take (corrupt file)";
   stored->resize(c.stored_bytes);
   std::size_t done = 0;
   while (done < c.stored_bytes) {
@@ -309,7 +313,9 @@ void DeflatedChunkRows::Read(std::size_t first, float* out) {
       ListChunks(set_, dims_, shape_, path_, first, std::min<hsize_t>(first + 1, dims_[0]));
   const std::size_t chunk_bytes = ChunkBytes(shape_);
   std::string error;
-#pragma omp parallel num_threads(int(scratch_.size())) if (chunks.size() > 1)
+  // No more threads than the caller allows now (owval run --threads), nor than it did at Open.
+  const int threads = std::min(int(scratch_.size()), omp_get_max_threads());
+#pragma omp parallel num_threads(threads) if (chunks.size() > 1)
   {
     Scratch& s = *scratch_[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(dynamic, 1)
@@ -319,7 +325,7 @@ void DeflatedChunkRows::Read(std::size_t first, float* out) {
       if (chunks[n].address == HADDR_UNDEF) {
         FillZero(place);
       } else {
-        failure = ReadStoredBytes(fd_, chunks[n], file_bytes_, &s.stored);
+        failure = ReadStoredBytes(fd_, chunks[n], file_bytes_, chunk_bytes, &s.stored);
         if (failure.empty())
           failure = DecodeStoredChunk(chunks[n], s.stored.data(), chunk_bytes, &s.decoder,
                                       &s.inflated, place);

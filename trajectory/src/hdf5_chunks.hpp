@@ -47,6 +47,7 @@ class DeflatedChunkRows {
  public:
   // nullptr when dataset `set` (shape `dims`, rank 2 or 3) of `file` is stored any other way: the
   // caller then reads it with H5Dread. Throws InputError naming `path` when it cannot be opened.
+  // `set` stays the caller's: it must stay open while the rows are read.
   static std::unique_ptr<DeflatedChunkRows> Open(hid_t file, hid_t set, const std::string& path,
                                                  const std::vector<hsize_t>& dims);
   ~DeflatedChunkRows();
