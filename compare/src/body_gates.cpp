@@ -81,11 +81,17 @@ void BodyGates::FindBonds(const Trajectory& ref, FrameSource& ref_frames) {
       {ref.box.xmax - ref.box.xmin, ref.box.ymax - ref.box.ymin, ref.box.zmax - ref.box.zmin});
   bond_spacing_cu_ = MedianNearestSpacing(first, elastic, 0.01 * box, true);
   if (!(bond_spacing_cu_ > 0)) return;
-  std::vector<char> is_elastic(ref.particle_count(), 0);
-  for (std::size_t i : elastic) is_elastic[i] = 1;
+  // At most 32 bonds a particle (Sibernetic's own cap on an elastic particle's connections; a
+  // lattice has 18 within 1.5 spacings): a reference with its body's particles heaped together
+  // would otherwise make bonds as the square of their number.
+  constexpr unsigned char kNotElastic = 255, kMaxBonds = 32;
+  std::vector<unsigned char> bonds_of(ref.particle_count(), kNotElastic);
+  for (std::size_t i : elastic) bonds_of[i] = 0;
   ForEachPairWithin(first, elastic, 1.5 * bond_spacing_cu_,
                     [&](std::size_t a, std::size_t b, double) {
-                      if (is_elastic[a] && is_elastic[b]) bonds_.push_back({a, b});
+                      if (bonds_of[a] >= kMaxBonds || bonds_of[b] >= kMaxBonds) return;
+                      ++bonds_of[a], ++bonds_of[b];
+                      bonds_.push_back({a, b});
                     });
   if (!bonds_.empty()) bond_.value = 0;
 }

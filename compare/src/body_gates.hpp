@@ -50,8 +50,9 @@ class BodyGates {
   void ObserveBonds(const FrameRef& reference, const FrameRef& candidate);
   void AddBondGate(ParityReport* report);
   Gate bond_;
-  std::vector<std::array<std::size_t, 2>> bonds_;  // elastic pairs, at the reference's frame 0
-  double bond_spacing_cu_ = 0;                     // the body's spacing there
+  // Elastic pairs within 1.5 spacings at the reference's frame 0, at most 32 a particle.
+  std::vector<std::array<std::size_t, 2>> bonds_;
+  double bond_spacing_cu_ = 0;  // the body's spacing there
   std::size_t worst_bond_ = 0;
   double worst_bond_time_s_ = 0, worst_bond_reference_cu_ = 0, worst_bond_candidate_cu_ = 0;
   int worst_ring_bin_ = 0;  // Sibernetic's bin (51..149) of the worst ring

@@ -205,5 +205,30 @@ TEST(BodyGates, BondLengthIsBlindToTurnsAndNeedsABody) {
             "the scene has no elastic body (under two particles)");
 }
 
+// A reference with 400 of its 1,000 elastic particles heaped within half a spacing: unbounded,
+// their 79,800 pairs would all be bonds. At most 32 a particle are kept.
+TEST(BodyGates, BondsAreAtMost32AParticleWhateverTheReference) {
+  Trajectory t;
+  t.box = {0, 40, 0, 40, 0, 40};
+  t.time_step_s = 2e-5;
+  std::vector<float> frame;
+  for (int i = 0; i < 600; ++i)  // a lattice 1 cu apart
+    frame.insert(frame.end(),
+                 {5.0f + float(i % 10), 5.0f + float(i / 10 % 10), 5.0f + float(i / 100)});
+  for (int i = 0; i < 400; ++i)  // a heap within half a spacing of (30, 30, 30)
+    frame.insert(frame.end(), {30 + 0.05f * float(i % 7), 30 + 0.05f * float(i / 7 % 7),
+                               30 + 0.05f * float(i / 49)});
+  t.type.assign(1000, 2.1f);
+  t.AppendFrame(0, frame.data());
+  t.AppendFrame(1e-3, frame.data());
+  const ParityReport r = CompareTrajectories(t, t, {});
+  const Gate& bond = *r.gate("elastic.bond_length");
+  EXPECT_EQ(bond.status, GateStatus::kPass);
+  const std::size_t at = bond.detail.find("; ") + 2;
+  const std::size_t bonds = std::stoul(bond.detail.substr(at));
+  EXPECT_GT(bonds, 2000u) << bond.detail;  // the lattice's 1,500 nearest and 2,000+ diagonals
+  EXPECT_LE(bonds, 16000u) << bond.detail;
+}
+
 }  // namespace
 }  // namespace owval::compare
