@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -30,7 +31,21 @@ struct Chunk {
   unsigned skipped_filters = 0;  // bit 0: shuffle, bit 1: deflate
 };
 
-// The dataset's chunk shape when it is chunked float32 with exactly [shuffle, deflate].
+// A chunk never written holds the dataset's fill value, which owval's readers write as 0: true
+// when that is right (no fill value set, or +0 set). Another tool's file may set another.
+bool FillsWithZero(hid_t dcpl) {
+  H5D_fill_value_t defined = H5D_FILL_VALUE_ERROR;
+  if (H5Pfill_value_defined(dcpl, &defined) < 0) return false;
+  if (defined != H5D_FILL_VALUE_USER_DEFINED) return defined != H5D_FILL_VALUE_ERROR;
+  float fill = 1;
+  std::uint32_t bits = 1;
+  if (H5Pget_fill_value(dcpl, H5T_NATIVE_FLOAT, &fill) < 0) return false;
+  std::memcpy(&bits, &fill, sizeof bits);
+  return bits == 0;
+}
+
+// The dataset's chunk shape when it is chunked float32 with exactly [shuffle, deflate] and a
+// fill value of 0.
 std::optional<std::vector<hsize_t>> ShuffleDeflateChunkShape(hid_t file, hid_t set, int rank) {
   const hid_t dcpl = H5Dget_create_plist(set), type = H5Dget_type(set),
               fcpl = H5Fget_create_plist(file);
@@ -47,7 +62,8 @@ std::optional<std::vector<hsize_t>> ShuffleDeflateChunkShape(hid_t file, hid_t s
     values = 0;
     const H5Z_filter_t second =
         H5Pget_filter2(dcpl, 1, &flags, &values, nullptr, 0, nullptr, &config);
-    if (first == H5Z_FILTER_SHUFFLE && second == H5Z_FILTER_DEFLATE) shape = chunk;
+    if (first == H5Z_FILTER_SHUFFLE && second == H5Z_FILTER_DEFLATE && FillsWithZero(dcpl))
+      shape = chunk;
   }
   if (dcpl >= 0) H5Pclose(dcpl);
   if (type >= 0) H5Tclose(type);

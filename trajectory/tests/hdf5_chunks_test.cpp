@@ -96,6 +96,29 @@ TEST(Hdf5Chunks, OwvalFilesTakeTheParallelPathAndOtherLayoutsDoNot) {
   EXPECT_FALSE(
       internal::ReadDeflatedChunksInParallel(file, deflated, &bytes, {5, 100, 3}, out.data()));
   EXPECT_FALSE(internal::DeflatedChunkRows::Open(file, deflated, path.string(), {5, 100, 3}));
+  // Shuffle and deflate as owval writes them, but a fill value of 7 for the chunks never written
+  // (only frames 0-1 are): libhdf5 reads 7 there, where the own paths would write 0.
+  const hid_t filled_dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  const hsize_t owval_chunk[3] = {2, 100, 3};
+  H5Pset_chunk(filled_dcpl, 3, owval_chunk);
+  H5Pset_shuffle(filled_dcpl);
+  H5Pset_deflate(filled_dcpl, 4);
+  const float seven = 7;
+  H5Pset_fill_value(filled_dcpl, H5T_NATIVE_FLOAT, &seven);
+  const hid_t filled =
+      H5Dcreate2(file, "filled", H5T_IEEE_F32LE, space, H5P_DEFAULT, filled_dcpl, H5P_DEFAULT);
+  const hsize_t start[3] = {0, 0, 0}, two_frames[3] = {2, 100, 3};
+  const hid_t file_space = H5Dget_space(filled);
+  H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, two_frames, nullptr);
+  const hid_t memory = H5Screate_simple(3, two_frames, nullptr);
+  H5Dwrite(filled, H5T_NATIVE_FLOAT, memory, file_space, H5P_DEFAULT, t.positions.data());
+  EXPECT_FALSE(
+      internal::ReadDeflatedChunksInParallel(file, filled, &bytes, {5, 100, 3}, out.data()));
+  EXPECT_FALSE(internal::DeflatedChunkRows::Open(file, filled, path.string(), {5, 100, 3}));
+  H5Sclose(memory);
+  H5Sclose(file_space);
+  H5Dclose(filled);
+  H5Pclose(filled_dcpl);
   H5Dclose(deflated);
   H5Dclose(plain);
   H5Pclose(dcpl);
