@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -22,6 +23,14 @@
 #include "owval/base/mapped_file.hpp"
 
 namespace owval::internal {
+
+// One thread's decoder and buffers: a chunk's stored bytes (when read, not mapped) and its
+// inflation. Allocated before a parallel region: an exception must not leave one.
+struct ChunkScratch {
+  ZlibChunkDecoder decoder;
+  std::vector<unsigned char> stored, inflated;
+};
+
 namespace {
 
 struct Chunk {
@@ -38,10 +47,7 @@ bool FillsWithZero(hid_t dcpl) {
   if (H5Pfill_value_defined(dcpl, &defined) < 0) return false;
   if (defined != H5D_FILL_VALUE_USER_DEFINED) return defined != H5D_FILL_VALUE_ERROR;
   float fill = 1;
-  std::uint32_t bits = 1;
-  if (H5Pget_fill_value(dcpl, H5T_NATIVE_FLOAT, &fill) < 0) return false;
-  std::memcpy(&bits, &fill, sizeof bits);
-  return bits == 0;
+  return H5Pget_fill_value(dcpl, H5T_NATIVE_FLOAT, &fill) >= 0 && fill == 0 && !std::signbit(fill);
 }
 
 // The dataset's chunk shape when it is chunked float32 with exactly [shuffle, deflate] and a
@@ -202,19 +208,6 @@ std::string DecodeStoredChunk(const Chunk& c, const unsigned char* stored, std::
   return {};
 }
 
-// Decodes one chunk of the mapped `file` into its place in the output; an error message, or empty.
-std::string DecodeChunk(const Chunk& c, std::string_view file, std::size_t chunk_bytes,
-                        ZlibChunkDecoder* decoder, std::vector<unsigned char>* inflated,
-                        const Placement& place) {
-  if (c.address == HADDR_UNDEF) {  // never written: the fill value, 0
-    FillZero(place);
-    return {};
-  }
-  if (std::string error = StoredBytesError(c, file.size()); !error.empty()) return error;
-  return DecodeStoredChunk(c, reinterpret_cast<const unsigned char*>(file.data() + c.address),
-                           chunk_bytes, decoder, inflated, place);
-}
-
 std::size_t ChunkBytes(const std::vector<hsize_t>& shape) {
   std::size_t bytes = sizeof(float);
   for (hsize_t d : shape) bytes *= d;
@@ -232,6 +225,49 @@ std::optional<std::vector<hsize_t>> ReadableChunkShape(hid_t file, hid_t set,
   return shape;
 }
 
+std::vector<std::unique_ptr<ChunkScratch>> ScratchPerThread() {
+  std::vector<std::unique_ptr<ChunkScratch>> scratch(
+      static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  for (auto& s : scratch) s = std::make_unique<ChunkScratch>();
+  return scratch;
+}
+
+// Decodes `chunks` into their places (`place_of(chunk)`) on all cores, thread t with scratch[t]
+// (no more threads than the caller allows now: owval run --threads). A chunk never written holds
+// the fill value, 0; a written one's stored bytes are checked against the file's size, then
+// `stored_of(chunk, scratch, &bytes)` points `bytes` at them or says why it cannot. Returns the
+// first error, or empty.
+template <typename PlaceOf, typename StoredOf>
+std::string DecodeChunks(const std::vector<Chunk>& chunks, std::size_t chunk_bytes,
+                         std::uintmax_t file_bytes,
+                         const std::vector<std::unique_ptr<ChunkScratch>>& scratch,
+                         const PlaceOf& place_of, const StoredOf& stored_of) {
+  std::string error;
+  const int threads = std::min(int(scratch.size()), omp_get_max_threads());
+#pragma omp parallel num_threads(threads) if (chunks.size() > 1)
+  {
+    ChunkScratch& s = *scratch[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t n = 0; n < chunks.size(); ++n) {
+      const Chunk& c = chunks[n];
+      const Placement place = place_of(c);
+      std::string failure;
+      const unsigned char* stored = nullptr;
+      if (c.address == HADDR_UNDEF) {
+        FillZero(place);
+      } else if ((failure = StoredBytesError(c, file_bytes)).empty() &&
+                 (failure = stored_of(c, s, &stored)).empty()) {
+        failure = DecodeStoredChunk(c, stored, chunk_bytes, &s.decoder, &s.inflated, place);
+      }
+      if (!failure.empty()) {
+#pragma omp critical(owval_hdf5_chunk_error)
+        if (error.empty()) error = failure;
+      }
+    }
+  }
+  return error;
+}
+
 }  // namespace
 
 bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
@@ -242,34 +278,16 @@ bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* file_bytes,
   const std::vector<Chunk> chunks = ListChunks(set, dims, *shape, path, 0, dims[0]);
   if (!out) return true;  // a dry run: the chunk index walked, nothing decoded
   const std::string_view bytes = file_bytes->bytes();
-  const std::size_t chunk_bytes = ChunkBytes(*shape);
-  std::string error;
-  // Allocated here: an exception must not leave a parallel region.
-  std::vector<std::unique_ptr<ZlibChunkDecoder>> decoders(
-      static_cast<std::size_t>(omp_get_max_threads()));
-  for (auto& d : decoders) d = std::make_unique<ZlibChunkDecoder>();
-#pragma omp parallel if (chunks.size() > 1)
-  {
-    std::vector<unsigned char> inflated;
-    ZlibChunkDecoder& decoder = *decoders[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(dynamic, 4)
-    for (std::size_t n = 0; n < chunks.size(); ++n) {
-      const std::string failure = DecodeChunk(chunks[n], bytes, chunk_bytes, &decoder, &inflated,
-                                              PlacementOf(chunks[n], dims, *shape, out));
-      if (!failure.empty()) {
-#pragma omp critical(owval_hdf5_chunk_error)
-        if (error.empty()) error = failure;
-      }
-    }
-  }
+  const std::string error = DecodeChunks(
+      chunks, ChunkBytes(*shape), bytes.size(), ScratchPerThread(),
+      [&](const Chunk& c) { return PlacementOf(c, dims, *shape, out); },
+      [&](const Chunk& c, ChunkScratch&, const unsigned char** stored) {
+        *stored = reinterpret_cast<const unsigned char*>(bytes.data() + c.address);
+        return std::string();
+      });
   if (!error.empty()) throw InputError(path, 0, error);
   return true;
 }
-
-struct DeflatedChunkRows::Scratch {
-  ZlibChunkDecoder decoder;
-  std::vector<unsigned char> stored, inflated;
-};
 
 std::unique_ptr<DeflatedChunkRows> DeflatedChunkRows::Open(hid_t file, hid_t set,
                                                            const std::string& path,
@@ -293,21 +311,19 @@ DeflatedChunkRows::DeflatedChunkRows(hid_t set, std::string path, std::vector<hs
       dims_(std::move(dims)),
       shape_(std::move(shape)),
       fd_(fd),
-      file_bytes_(file_bytes) {
-  scratch_.resize(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
-  for (auto& s : scratch_) s = std::make_unique<Scratch>();
-}
+      file_bytes_(file_bytes),
+      scratch_(ScratchPerThread()) {}
 
 DeflatedChunkRows::~DeflatedChunkRows() { ::close(fd_); }
 
 namespace {
 
-// Reads a written chunk's stored bytes into `stored`; an error message, or empty. A chunk's
-// zlib stream is at most a little longer than what it holds (deflate's stored blocks: 5 bytes a
-// 64 KiB, 6 of zlib's own), so a larger stored size is refused before a buffer is sized from it.
-std::string ReadStoredBytes(int fd, const Chunk& c, std::uintmax_t file_bytes,
-                            std::size_t chunk_bytes, std::vector<unsigned char>* stored) {
-  if (std::string error = StoredBytesError(c, file_bytes); !error.empty()) return error;
+// Reads a written chunk's stored bytes (within the file) into `stored`; an error message, or
+// empty. A chunk's zlib stream is at most a little longer than what it holds (deflate's stored
+// blocks: 5 bytes a 64 KiB, 6 of zlib's own), so a larger stored size is refused before a buffer
+// is sized from it.
+std::string ReadStoredBytes(int fd, const Chunk& c, std::size_t chunk_bytes,
+                            std::vector<unsigned char>* stored) {
   if (c.stored_bytes > chunk_bytes + chunk_bytes / 1024 + 64)
     return "HDF5: a chunk is stored in more bytes than it can take (corrupt file)";
   stored->resize(c.stored_bytes);
@@ -328,30 +344,14 @@ void DeflatedChunkRows::Read(std::size_t first, float* out) {
   const std::vector<Chunk> chunks =
       ListChunks(set_, dims_, shape_, path_, first, std::min<hsize_t>(first + 1, dims_[0]));
   const std::size_t chunk_bytes = ChunkBytes(shape_);
-  std::string error;
-  // No more threads than the caller allows now (owval run --threads), nor than it did at Open.
-  const int threads = std::min(int(scratch_.size()), omp_get_max_threads());
-#pragma omp parallel num_threads(threads) if (chunks.size() > 1)
-  {
-    Scratch& s = *scratch_[static_cast<std::size_t>(omp_get_thread_num())];
-#pragma omp for schedule(dynamic, 1)
-    for (std::size_t n = 0; n < chunks.size(); ++n) {
-      const Placement place = PlacementOf(chunks[n], dims_, shape_, out, first);
-      std::string failure;
-      if (chunks[n].address == HADDR_UNDEF) {
-        FillZero(place);
-      } else {
-        failure = ReadStoredBytes(fd_, chunks[n], file_bytes_, chunk_bytes, &s.stored);
-        if (failure.empty())
-          failure = DecodeStoredChunk(chunks[n], s.stored.data(), chunk_bytes, &s.decoder,
-                                      &s.inflated, place);
-      }
-      if (!failure.empty()) {
-#pragma omp critical(owval_hdf5_chunk_error)
-        if (error.empty()) error = failure;
-      }
-    }
-  }
+  const std::string error = DecodeChunks(
+      chunks, chunk_bytes, file_bytes_, scratch_,
+      [&](const Chunk& c) { return PlacementOf(c, dims_, shape_, out, first); },
+      [&](const Chunk& c, ChunkScratch& s, const unsigned char** stored) {
+        std::string failure = ReadStoredBytes(fd_, c, chunk_bytes, &s.stored);
+        *stored = s.stored.data();
+        return failure;
+      });
   if (error.empty()) return;
   const std::string_view reason =
       std::string_view(error).substr(error.rfind("HDF5: ", 0) == 0 ? 6 : 0);

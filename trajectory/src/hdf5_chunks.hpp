@@ -37,6 +37,8 @@ class FileBytes {
 bool ReadDeflatedChunksInParallel(hid_t file, hid_t set, FileBytes* bytes,
                                   const std::vector<hsize_t>& dims, float* out);
 
+struct ChunkScratch;  // one thread's decoder and buffers (hdf5_chunks.cpp)
+
 // The streaming reader's path to the same datasets: one row of chunks (every chunk that starts at
 // a given frame) at a time, each chunk's stored bytes read with pread and inflated by libdeflate
 // into buffers kept from row to row. libhdf5's filter pipeline allocates fresh buffers for every
@@ -62,7 +64,6 @@ class DeflatedChunkRows {
   void Read(std::size_t first, float* out);
 
  private:
-  struct Scratch;  // one thread's decoder and buffers
   DeflatedChunkRows(hid_t set, std::string path, std::vector<hsize_t> dims,
                     std::vector<hsize_t> shape, int fd, std::uintmax_t file_bytes);
 
@@ -71,7 +72,7 @@ class DeflatedChunkRows {
   std::vector<hsize_t> dims_, shape_;
   int fd_;
   std::uintmax_t file_bytes_;
-  std::vector<std::unique_ptr<Scratch>> scratch_;
+  std::vector<std::unique_ptr<ChunkScratch>> scratch_;  // one a thread
 };
 
 }  // namespace owval::internal
