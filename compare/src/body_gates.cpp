@@ -74,13 +74,20 @@ BodyGates::BodyGates(const Trajectory& ref, const Trajectory& cand, FrameSource&
 
 // Bonds: the elastic pairs within 1.5 times the body's spacing at the reference's frame 0.
 void BodyGates::FindBonds(const Trajectory& ref, FrameSource& ref_frames) {
+  bond_.detail = "the scene has no elastic body (under two particles)";
   if (ref.count(ParticleKind::kElastic) < 2 || ref.frame_count() == 0) return;
   const std::vector<std::size_t> elastic = GroupIndices(ref, "elastic");
   const FrameRef first = ref_frames.Frame(0);
   const double box = std::max(
       {ref.box.xmax - ref.box.xmin, ref.box.ymax - ref.box.ymin, ref.box.zmax - ref.box.zmin});
   bond_spacing_cu_ = MedianNearestSpacing(first, elastic, 0.01 * box, true);
-  if (!(bond_spacing_cu_ > 0)) return;
+  // The median particle's nearest lies within the spacing, so a spacing above 0 makes bonds.
+  if (!(bond_spacing_cu_ > 0)) {
+    bond_.detail =
+        "no elastic body: its particles have no distinct nearest neighbour at the "
+        "reference's first frame";
+    return;
+  }
   // At most 32 bonds a particle (Sibernetic's own cap on an elastic particle's connections; a
   // lattice has 18 within 1.5 spacings): a reference with its body's particles heaped together
   // would otherwise make bonds as the square of their number.
@@ -180,9 +187,7 @@ void BodyGates::AddGates(ParityReport* r) {
 }
 
 void BodyGates::AddBondGate(ParityReport* r) {
-  if (bonds_.empty()) {
-    bond_.detail = bond_spacing_cu_ > 0 ? "no two elastic particles within 1.5 spacings"
-                                        : "the scene has no elastic body (under two particles)";
+  if (bonds_.empty()) {  // n/a: FindBonds said why
     r->gates.push_back(bond_);
     return;
   }
