@@ -18,7 +18,7 @@
 //    length over the paired frames, of the body's spacing (ParityGates::bond_length); n/a
 //    otherwise. A part of the body out of shape fails here, whatever its motion.
 // Scenes without such a body get none of the first two kinds. Measured pair by pair of frames, in
-// time order, as parity.cpp reads them (frame_source.hpp).
+// time order, as PairReducer reads them (pair_reducer.hpp, frame_source.hpp).
 #include <array>
 #include <cstddef>
 #include <string>

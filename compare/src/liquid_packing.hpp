@@ -9,6 +9,7 @@
 // none). Per frame it is summarised over the liquid particles by two robust order statistics:
 // the median and the upper quartile (the bulk; the free surface's particles, short of
 // neighbours, fill the lower quartile).
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -25,5 +26,27 @@ struct PackingSummary {
 // position is not finite are left out of the summary (and add nothing); none left: zeros.
 PackingSummary MeasurePacking(const FrameRef& frame, const std::vector<std::size_t>& liquid,
                               double support_cu);
+
+// How tightly each run's liquid is packed (MeasurePacking, above), per paired frame, reduced to
+// the mean over the paired frames of each summary and the frame where the two runs differ most.
+struct PackingReduction {
+  double support_cu = 0;  // twice the reference's median spacing at its first paired frame
+  std::size_t frames = 0;
+  double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // reference, candidate
+  // The paired frame whose upper quartiles differ most, relatively, and both runs' values there.
+  double worst_frame_gap = -1;
+  std::size_t worst_frame = 0;
+  internal::PackingSummary worst[2];
+
+  void Observe(const internal::PackingSummary& ref, const internal::PackingSummary& cand,
+               std::size_t reference_frame) {
+    ++frames;
+    median_sum[0] += ref.median, median_sum[1] += cand.median;
+    upper_quartile_sum[0] += ref.upper_quartile, upper_quartile_sum[1] += cand.upper_quartile;
+    const double gap = std::abs(cand.upper_quartile / ref.upper_quartile - 1);
+    if (!(gap <= worst_frame_gap))
+      worst_frame_gap = gap, worst_frame = reference_frame, worst[0] = ref, worst[1] = cand;
+  }
+};
 
 }  // namespace owval::compare::internal

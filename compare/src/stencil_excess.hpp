@@ -1,6 +1,6 @@
 #pragma once
-// acceleration.worst_stencil's measure, streamed (parity.cpp): at each stencil, by how much one
-// run's median acceleration exceeds the other run's largest within kStencilWindow stencils
+// acceleration.worst_stencil's measure, streamed (pair_reducer.hpp): at each stencil, by how much
+// one run's median acceleration exceeds the other run's largest within kStencilWindow stencils
 // either side, over that largest or over the reference's mean over the run, whichever is larger.
 //
 // The mean is only known at the end, so each stencil's excess cannot be divided as it comes.

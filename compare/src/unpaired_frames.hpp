@@ -14,7 +14,7 @@
 //    fastest speed times the interval.
 //
 // The unpaired_frames gate divides the worst excursion by the reference's peak speed times the
-// interval (parity.cpp).
+// interval (GateUnpairedFrames, parity_gates.cpp).
 #include <cstddef>
 #include <vector>
 
@@ -79,6 +79,16 @@ class Excursions {
   std::size_t pending_frames_ = 0;  // unpaired frames seen since the last paired frame
   double speed_cu_s_ = 0, excursion_cu_ = 0;
   std::size_t particle_ = 0, from_frame_ = 0, to_frame_ = 0, unpaired_frames_ = 0;
+};
+
+// Per moving kind (PeakSpeed and Excursions, above): the reference's peak speed over its frames in
+// the common window, and the excursions of the candidate's frames between its paired ones.
+struct SpeedKind {
+  SpeedKind(const char* kind_name, const std::vector<std::size_t>& members)
+      : name(kind_name), reference(members), candidate(members) {}
+  const char* name;
+  internal::PeakSpeed reference;
+  internal::Excursions candidate;
 };
 
 }  // namespace owval::compare::internal
