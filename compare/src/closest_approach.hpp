@@ -50,15 +50,13 @@ struct ClosestApproach {
   // for here only when there is none (half a demo1 compare was the two searches).
   void Observe(const FrameRef& ref, const FrameRef& cand, const std::vector<std::size_t>& moving,
                double cell_cu, std::size_t reference_frame_index,
-               const std::array<internal::ClosestPair, 2>& known) {
-    const internal::ClosestPair r =
-        std::isfinite(known[0].distance_cu)
-            ? known[0]
-            : internal::FindClosestPair(ref, moving, CellFrom(last_reference_cu, cell_cu));
-    const internal::ClosestPair c =
-        std::isfinite(known[1].distance_cu)
-            ? known[1]
-            : internal::FindClosestPair(cand, moving, CellFrom(last_candidate_cu, cell_cu));
+               const std::array<ClosestPair, 2>& known) {
+    const ClosestPair r = std::isfinite(known[0].distance_cu)
+                              ? known[0]
+                              : FindClosestPair(ref, moving, CellFrom(last_reference_cu, cell_cu));
+    const ClosestPair c = std::isfinite(known[1].distance_cu)
+                              ? known[1]
+                              : FindClosestPair(cand, moving, CellFrom(last_candidate_cu, cell_cu));
     last_reference_cu = r.distance_cu, last_candidate_cu = c.distance_cu;
     if (r.distance_cu < reference.distance_cu)
       reference = r, reference_frame = reference_frame_index;

@@ -54,16 +54,15 @@ struct AccelerationReduction {
   static constexpr double kPrintedSecondDifference = 2e-5;
   struct Kind {
     Kind(const char* kind_name, const std::vector<std::size_t>& members)
-        : name(kind_name),
-          runs{internal::FrameAcceleration(members), internal::FrameAcceleration(members)} {}
+        : name(kind_name), runs{FrameAcceleration(members), FrameAcceleration(members)} {}
     const char* name;
-    internal::FrameAcceleration runs[2];  // reference, candidate
+    FrameAcceleration runs[2];  // reference, candidate
     std::size_t stencils = 0;
     double median_sum[2] = {0, 0}, upper_quartile_sum[2] = {0, 0};  // cu/s^2
     double inverse_interval_squared_sum = 0;                        // 1/s^2, for the floor
     // Each stencil's two medians (reference, candidate) against the other run's nearby, for
     // acceleration.worst_stencil: a window of stencils and the pairs that can still be worst.
-    internal::StencilExcesses excesses;
+    StencilExcesses excesses;
     // Three prints' rounding over the stencils' mean dt^2 (cu/s^2): what a reference at rest
     // measures, for the box's largest extent `box_scale_cu`.
     double PrintedFloor(double box_scale_cu) const {

@@ -36,10 +36,9 @@ struct PackingReduction {
   // The paired frame whose upper quartiles differ most, relatively, and both runs' values there.
   double worst_frame_gap = -1;
   std::size_t worst_frame = 0;
-  internal::PackingSummary worst[2];
+  PackingSummary worst[2];
 
-  void Observe(const internal::PackingSummary& ref, const internal::PackingSummary& cand,
-               std::size_t reference_frame) {
+  void Observe(const PackingSummary& ref, const PackingSummary& cand, std::size_t reference_frame) {
     ++frames;
     median_sum[0] += ref.median, median_sum[1] += cand.median;
     upper_quartile_sum[0] += ref.upper_quartile, upper_quartile_sum[1] += cand.upper_quartile;

@@ -76,7 +76,7 @@ void PairReducer::Observe(std::size_t k, const FrameRef& a, const FrameRef& b, d
   if (k == 0 && pairs_[k].first == 0) initial_.Observe(a, b, r_->box_scale_cu);
   walls_.Observe(a, b, r_->box_scale_cu, boundary_, pairs_[k].first);
   if (!moving_.empty()) stale_.Observe(a, b, moving_, pairs_[k].first, r_->box_scale_cu);
-  const std::array<internal::ClosestPair, 2> known = ObserveHeldPairs(k, a, b);
+  const std::array<ClosestPair, 2> known = ObserveHeldPairs(k, a, b);
   if (!moving_.empty())
     closest_.Observe(a, b, moving_, kClosestApproachCell * r_->box_scale_cu, pairs_[k].first,
                      known);
@@ -106,13 +106,12 @@ void PairReducer::ObserveSample(std::size_t k, const FrameRef& a, const FrameRef
   sample_distance_[k] = d;
 }
 
-std::array<internal::ClosestPair, 2> PairReducer::ObserveHeldPairs(std::size_t k, const FrameRef& a,
-                                                                   const FrameRef& b) {
-  constexpr internal::ClosestPair kNone{std::numeric_limits<double>::infinity()};
+std::array<ClosestPair, 2> PairReducer::ObserveHeldPairs(std::size_t k, const FrameRef& a,
+                                                         const FrameRef& b) {
+  constexpr ClosestPair kNone{std::numeric_limits<double>::infinity()};
   if (moving_.empty()) return {kNone, kNone};
   if (k == 0) {
-    held_spacing_cu_ =
-        internal::MedianNearestSpacing(a, moving_, kClosestApproachCell * r_->box_scale_cu);
+    held_spacing_cu_ = MedianNearestSpacing(a, moving_, kClosestApproachCell * r_->box_scale_cu);
     if (!(held_spacing_cu_ > 0)) return {kNone, kNone};
     const std::size_t hold = std::max<std::size_t>(3, pairs_.size() / 10);
     for (auto& h : held_) h.emplace(held_spacing_cu_ / 2, hold);
@@ -125,8 +124,8 @@ void PairReducer::ObservePacking(std::size_t k, const FrameRef& a, const FrameRe
   if (liquid_.empty()) return;
   if (k == 0) packing_.support_cu = 2 * held_spacing_cu_;
   if (!(packing_.support_cu > 0)) return;
-  const internal::PackingSummary x = internal::MeasurePacking(a, liquid_, packing_.support_cu);
-  const internal::PackingSummary y = internal::MeasurePacking(b, liquid_, packing_.support_cu);
+  const PackingSummary x = MeasurePacking(a, liquid_, packing_.support_cu);
+  const PackingSummary y = MeasurePacking(b, liquid_, packing_.support_cu);
   packing_.Observe(x, y, pairs_[k].first);
 }
 

@@ -56,7 +56,7 @@ class PairReducer {
   // The 3-D centroid distance of group g (0 elastic, 1 liquid) at sampled pair k, of the box.
   double SampleDistance(std::size_t k, int g) const { return sample_distance_.at(k)[g]; }
   bool HasSampleGroup(int g) const { return !sample_groups_[g].empty(); }
-  internal::BodyGates& bodies() { return bodies_; }
+  BodyGates& bodies() { return bodies_; }
   const std::vector<WorstParticle>& worst_particles() const { return worst_; }
   // The tracked particle's (or group centroid's) 3-D offset cand - ref (cu) at pair k.
   const std::array<double, 3>& tracked_offset_cu(std::size_t k) const {
@@ -78,8 +78,8 @@ class PairReducer {
   }
   const ClosestApproach& closest_approach() const { return closest_; }
   // Each run's held pairs (reference, candidate); empty when the scene has no moving particle.
-  const std::optional<internal::HeldPairs>& held_reference() const { return held_[0]; }
-  const std::optional<internal::HeldPairs>& held_candidate() const { return held_[1]; }
+  const std::optional<HeldPairs>& held_reference() const { return held_[0]; }
+  const std::optional<HeldPairs>& held_candidate() const { return held_[1]; }
   double held_spacing_cu() const { return held_spacing_cu_; }
   bool has_moving_particles() const { return !moving_.empty(); }
   bool has_liquid() const { return !liquid_.empty(); }
@@ -109,9 +109,8 @@ class PairReducer {
   // its first paired frame (a pair held farther than that is no near-contact), the hold a tenth
   // of the paired frames, at least three.
   // Returns each run's closest pair within the cap (infinite when none, or not tracked).
-  std::array<internal::ClosestPair, 2> ObserveHeldPairs(std::size_t k, const FrameRef& a,
-                                                        const FrameRef& b);
-  std::optional<internal::HeldPairs> held_[2];
+  std::array<ClosestPair, 2> ObserveHeldPairs(std::size_t k, const FrameRef& a, const FrameRef& b);
+  std::optional<HeldPairs> held_[2];
   double held_spacing_cu_ = 0;
   // The liquid's packing in each run, with a support of twice the reference's median spacing at
   // its first paired frame (Sibernetic's h = 2 r0, its particles placed r0 apart).
@@ -128,7 +127,7 @@ class PairReducer {
   std::vector<std::size_t> tracked_members_;              // the tracked particle or group
   std::vector<std::array<double, 3>> tracked_offset_cu_;  // per pair
   double l2_sum_ = 0;
-  internal::BodyGates bodies_;
+  BodyGates bodies_;
 };
 
 // Reads the paired frames of both sources in time order and reduces them.

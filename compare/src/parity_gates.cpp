@@ -472,20 +472,20 @@ struct HeldWorst {
   double ratio = 0;
   int kind = -1;
 };
-HeldWorst WorstHeldKind(const internal::HeldPairs& ref, const internal::HeldPairs& cand) {
+HeldWorst WorstHeldKind(const HeldPairs& ref, const HeldPairs& cand) {
   HeldWorst worst;
-  for (int c = 0; c < internal::kPairKinds; ++c) {
+  for (int c = 0; c < kPairKinds; ++c) {
     const int jc = cand.held()[c].level, jr = std::max(ref.held()[c].level, 0);
     if (jc < 0) continue;
-    const double ratio = std::exp2(double(jc - jr) / internal::HeldPairs::kLevelsPerOctave);
+    const double ratio = std::exp2(double(jc - jr) / HeldPairs::kLevelsPerOctave);
     if (ratio > worst.ratio) worst = {ratio, c};
   }
   return worst;
 }
 
-std::string HeldDetail(const Trajectory& ref, const Pairs& pairs, const internal::HeldPairs& h,
-                       int kind, const char* who) {
-  const internal::HeldPairs::Held& held = h.held()[kind];
+std::string HeldDetail(const Trajectory& ref, const Pairs& pairs, const HeldPairs& h, int kind,
+                       const char* who) {
+  const HeldPairs::Held& held = h.held()[kind];
   char detail[240];
   if (held.level < 0) {
     std::snprintf(detail, sizeof detail, "%s: none within the cap", who);
@@ -526,7 +526,7 @@ void GateHeldPair(const Trajectory& ref, const Pairs& pairs, const PairReducer& 
   if (worst.kind < 0) {
     g.detail = std::string("the candidate holds no pair within the cap") + scope;
   } else {
-    g.detail = std::string(internal::PairKindName(worst.kind)) + ": " +
+    g.detail = std::string(PairKindName(worst.kind)) + ": " +
                HeldDetail(ref, pairs, *hcand, worst.kind, "candidate") + "; " +
                HeldDetail(ref, pairs, *href, worst.kind, "reference") + scope;
   }
@@ -624,7 +624,7 @@ void GateAcceleration(const PairReducer& reduced, const ParityOptions& o, Parity
 }
 
 // The stencil at which one run's median acceleration stands highest above the other run's
-// (internal::StencilExcesses). A frame written displaced and the next one back (a glitch) makes
+// (StencilExcesses). A frame written displaced and the next one back (a glitch) makes
 // the stencils around it a spike that the averages of `acceleration` dilute over the run. Honest
 // runs whose chaos has diverged strike the floor or a wall a frame or two apart, so each run is
 // measured against the other's neighbourhood, not its same stencil; and against at least the
@@ -634,14 +634,14 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
   Gate g = MakeGate("acceleration.worst_stencil",
                     "per moving kind, the most one run's median acceleration at a stencil of "
                     "three paired frames exceeds the other run's largest within " +
-                        std::to_string(internal::StencilExcesses::kStencilWindow) +
+                        std::to_string(StencilExcesses::kStencilWindow) +
                         " stencils, over that median or the reference's mean over the run "
                         "(whichever is larger); worst kind",
                     NAN, o.gates.acceleration_stencil, "relative");
   PushAccelerationGate(std::move(g), reduced, r, [r](const AccelerationReduction::Kind& k) {
     const double n = double(k.stencils);
     const double mean = std::max(k.median_sum[0] / n, k.PrintedFloor(r->box_scale_cu));
-    const internal::StencilExcess worst = k.excesses.Worst(mean);
+    const StencilExcess worst = k.excesses.Worst(mean);
     char detail[320];
     std::snprintf(detail, sizeof detail,
                   "%s: %.3g at the stencil around reference frame %zu (median candidate %.4g, "
@@ -654,7 +654,7 @@ void GateAccelerationStencil(const PairReducer& reduced, const ParityOptions& o,
 
 // Per moving kind, how far the candidate's frames between two of its paired frames stray
 // outside the box its positions at the pair span, over the distance the reference's fastest
-// particle of the kind covers in that interval (internal::Excursions, internal::PeakSpeed): the
+// particle of the kind covers in that interval (Excursions, PeakSpeed): the
 // only gate that reads a finer candidate's frames between the pairs. An honest excursion is at
 // most half the path, so at most 0.5 where the candidate is no faster than the reference. A
 // reference whose kind barely moves is judged against the printed precision instead: two prints
@@ -668,8 +668,8 @@ void GateUnpairedFrames(const PairReducer& reduced, const ParityOptions& o, Pari
                     "frames covers in that interval; worst kind",
                     NAN, o.gates.unpaired_frames, "of the reference's reach");
   for (const SpeedKind& s : reduced.speeds()) {
-    const internal::PeakSpeed& ref = s.reference;
-    const internal::Excursions& cand = s.candidate;
+    const PeakSpeed& ref = s.reference;
+    const Excursions& cand = s.candidate;
     if (ref.intervals() == 0 || cand.unpaired_frames() == 0) continue;
     const double floor = InitialState::kPrintedDigitsRounding * r->box_scale_cu *
                          double(ref.intervals()) / ref.duration_s();

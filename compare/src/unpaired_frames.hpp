@@ -87,8 +87,8 @@ struct SpeedKind {
   SpeedKind(const char* kind_name, const std::vector<std::size_t>& members)
       : name(kind_name), reference(members), candidate(members) {}
   const char* name;
-  internal::PeakSpeed reference;
-  internal::Excursions candidate;
+  PeakSpeed reference;
+  Excursions candidate;
 };
 
 }  // namespace owval::compare::internal
