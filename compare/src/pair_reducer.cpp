@@ -15,42 +15,36 @@ PairReducer::PairReducer(const Trajectory& ref, const Trajectory& cand, FrameSou
       moving_(MovingParticles(ref)),
       sampled_(pairs.size(), false),
       bodies_(ref, cand, ref_frames, o.gates) {
-  for (std::size_t p : moving_)
-    if (KindOf(ref.type[p]) == ParticleKind::kLiquid) liquid_.push_back(p);
-  for (const auto& [name, kind] :
-       {std::pair{"elastic", ParticleKind::kElastic}, std::pair{"liquid", ParticleKind::kLiquid}}) {
-    std::vector<std::size_t> members;
-    for (std::size_t p : moving_)
-      if (KindOf(ref.type[p]) == kind) members.push_back(p);
+  // Each kind's particles in file order, found once: every reduction below reads these lists.
+  std::vector<std::size_t> elastic, boundary;
+  for (std::size_t p = 0; p < ref.particle_count(); ++p) {
+    const ParticleKind kind = KindOf(ref.type[p]);
+    if (kind == ParticleKind::kElastic)
+      elastic.push_back(p);
+    else if (kind == ParticleKind::kLiquid)
+      liquid_.push_back(p);
+    else
+      boundary.push_back(p);
+  }
+  for (const auto& [name, members] :
+       {std::pair<const char*, const std::vector<std::size_t>&>{"elastic", elastic},
+        {"liquid", liquid_}}) {
+    sample_groups_.push_back(members);
     if (members.empty()) continue;
     acceleration_.kinds.emplace_back(name, members);
     speeds_.emplace_back(name, members);
-  }
-  for (const char* group : {"elastic", "liquid"}) {
     DriftAccumulator g;
-    g.d.group = group;
-    for (std::size_t p : moving_)
-      if (KindName(KindOf(ref.type[p])) == std::string(group)) g.members.push_back(p);
-    if (!g.members.empty()) drift_.push_back(std::move(g));
+    g.d.group = name;
+    g.members = members;
+    drift_.push_back(std::move(g));
+    worst_.push_back({name, members});
   }
+  if (!boundary.empty()) worst_.push_back({"boundary", boundary});
+  boundary_ = std::move(boundary);
   if (!o.sample_frames.empty())
     for (std::size_t k : gated) sampled_[k] = true;
   tracked_members_ = o.track.group.empty() ? std::vector<std::size_t>{o.track.particle}
                                            : GroupIndices(ref, o.track.group);
-  for (const char* group : {"elastic", "liquid"}) {
-    const ParticleKind kind = group[0] == 'e' ? ParticleKind::kElastic : ParticleKind::kLiquid;
-    sample_groups_.push_back(ref.count(kind) == 0 ? std::vector<std::size_t>{}
-                                                  : GroupIndices(ref, group));
-  }
-  for (const auto& [group, kind] :
-       {std::pair{"elastic", ParticleKind::kElastic}, std::pair{"liquid", ParticleKind::kLiquid},
-        std::pair{"boundary", ParticleKind::kBoundary}}) {
-    WorstParticle w{group, {}};
-    for (std::size_t p = 0; p < ref.particle_count(); ++p)
-      if (KindOf(ref.type[p]) == kind) w.members.push_back(p);
-    if (kind == ParticleKind::kBoundary) boundary_ = w.members;
-    if (!w.members.empty()) worst_.push_back(std::move(w));
-  }
 }
 
 void PairReducer::Observe(std::size_t k, const FrameRef& a, const FrameRef& b, double cand_time) {
